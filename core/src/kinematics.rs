@@ -1,0 +1,116 @@
+//! The exact discrete kinematics on `R² × SE(2)`.
+//!
+//! ```text
+//! α_{k+1} = α_k + h·u_k,     g_{k+1} = g_k · exp(X_k),     X_k = −h·A(α_k)·u_k
+//! ```
+//!
+//! The group update is exact for a shape velocity held constant over the step at its value
+//! `u_k` and the connection frozen at `α_k`: no projection, no drift off SE(2).
+
+use crate::se2::{self, Se2, Tangent};
+use crate::swimmer::check_shape;
+use crate::{Error, Real, Swimmer};
+use nalgebra::{Matrix3x2, Vector2};
+
+/// The swimmer's configuration: shape `α` (joint angles) and position `g ∈ SE(2)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct State<T> {
+    /// Joint angles `(α1, α2)`, radians, each in `]−π, π[`.
+    pub alpha: Vector2<T>,
+    /// Position of the middle link's frame.
+    pub g: Se2<T>,
+}
+
+impl<T: Real> State<T> {
+    /// Shape `α` at the identity position.
+    pub fn at_origin(alpha: Vector2<T>) -> Self {
+        State {
+            alpha,
+            g: Se2::identity(),
+        }
+    }
+
+    /// `Ok` if the shape is admissible (`|α_i| < π`) and every number is finite.
+    pub fn check(&self) -> Result<(), Error> {
+        check_shape(&self.alpha)?;
+        if self.g.is_finite() {
+            Ok(())
+        } else {
+            Err(Error::NonFinite)
+        }
+    }
+}
+
+/// A swimmer with a fixed time step `h`: the discrete system the control law runs on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Kinematics<T> {
+    swimmer: Swimmer<T>,
+    h: T,
+}
+
+impl<T: Real> Kinematics<T> {
+    /// Errors: [`Error::InvalidStep`] unless `h` is finite and positive.
+    pub fn new(swimmer: Swimmer<T>, h: T) -> Result<Self, Error> {
+        if h.is_finite() && h > T::zero() {
+            Ok(Kinematics { swimmer, h })
+        } else {
+            Err(Error::InvalidStep)
+        }
+    }
+
+    /// The swimmer.
+    pub fn swimmer(&self) -> &Swimmer<T> {
+        &self.swimmer
+    }
+
+    /// The time step `h`.
+    pub fn h(&self) -> T {
+        self.h
+    }
+
+    /// The body twist of one step, `X = −h·A·u`.
+    #[inline]
+    pub fn twist(&self, a: &Matrix3x2<T>, u: &Vector2<T>) -> Tangent<T> {
+        let hu = Vector2::new(self.h * u.x, self.h * u.y);
+        Tangent::new(
+            -(a.m11 * hu.x + a.m12 * hu.y),
+            -(a.m21 * hu.x + a.m22 * hu.y),
+            -(a.m31 * hu.x + a.m32 * hu.y),
+        )
+    }
+
+    /// One step of the kinematics under the control `u` (rad/s).
+    ///
+    /// Errors: [`Error::NonFinite`], or [`Error::ShapeLimit`] if `α_k` or `α_{k+1}` is at or
+    /// past the link-overlap limit.
+    pub fn step(&self, state: &State<T>, u: &Vector2<T>) -> Result<State<T>, Error> {
+        state.check()?;
+        if !(u.x.is_finite() && u.y.is_finite()) {
+            return Err(Error::NonFinite);
+        }
+        let a = self.swimmer.connection(&state.alpha)?;
+        let x = self.twist(&a, u);
+        self.advance(state, u, &se2::exp(&x))
+    }
+
+    /// `(α + h·u, g·step)`, checked.
+    #[inline]
+    pub(crate) fn advance(
+        &self,
+        state: &State<T>,
+        u: &Vector2<T>,
+        step: &Se2<T>,
+    ) -> Result<State<T>, Error> {
+        let next = State {
+            alpha: Vector2::new(
+                state.alpha.x + self.h * u.x,
+                state.alpha.y + self.h * u.y,
+            ),
+            g: state.g.compose(step),
+        };
+        next.check()?;
+        Ok(next)
+    }
+}
