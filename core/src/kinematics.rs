@@ -104,10 +104,7 @@ impl<T: Real> Kinematics<T> {
         step: &Se2<T>,
     ) -> Result<State<T>, Error> {
         let next = State {
-            alpha: Vector2::new(
-                state.alpha.x + self.h * u.x,
-                state.alpha.y + self.h * u.y,
-            ),
+            alpha: Vector2::new(state.alpha.x + self.h * u.x, state.alpha.y + self.h * u.y),
             g: state.g.compose(step),
         };
         next.check()?;

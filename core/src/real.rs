@@ -51,6 +51,8 @@ pub trait Real:
     fn sqrt(self) -> Self;
     /// Whether the value (and for a compound type, every part of it) is finite.
     fn is_finite(self) -> bool;
+    /// The IEEE 754 bit pattern of the value (widened to 64 bits), for bit-exact digests.
+    fn to_bits(self) -> u64;
 
     /// Absolute value (by comparison, so it is generic).
     #[inline(always)]
@@ -97,6 +99,10 @@ impl Real for f64 {
     fn is_finite(self) -> bool {
         f64::is_finite(self)
     }
+    #[inline(always)]
+    fn to_bits(self) -> u64 {
+        f64::to_bits(self)
+    }
 }
 
 impl Real for f32 {
@@ -126,6 +132,10 @@ impl Real for f32 {
     #[inline(always)]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn to_bits(self) -> u64 {
+        u64::from(f32::to_bits(self))
     }
 }
 

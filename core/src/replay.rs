@@ -53,9 +53,7 @@ impl<T: Real, const CAP: usize> Checkpoints<T, CAP> {
         if self.0.last().is_some_and(|last| last.k >= checkpoint.k) {
             return Err(Error::CheckpointOrder);
         }
-        self.0
-            .push(checkpoint)
-            .map_err(|_| Error::CapacityExceeded)
+        self.0.push(checkpoint).map_err(|_| Error::CapacityExceeded)
     }
 
     /// The checkpoints in order.

@@ -72,8 +72,7 @@ impl<T: Real> ExpCoefficients<T> {
         let small = w.abs() < T::from_f64(0.1);
         let c3 = if w.abs() < T::from_f64(T::SERIES_THRESHOLD) {
             // Σ (−1)ᵏ zᵏ/(2k+3)!, truncation < 2e-19 relative for |ω| < 0.5.
-            T::from_f64(1.0 / 6.0)
-                * alternating_series(z, &[20.0, 42.0, 72.0, 110.0, 156.0, 210.0])
+            T::from_f64(1.0 / 6.0) * alternating_series(z, &[20.0, 42.0, 72.0, 110.0, 156.0, 210.0])
         } else {
             (w - w.sin_cos().0) / (z * w)
         };
@@ -258,9 +257,7 @@ impl<T: Real> Se2<T> {
     /// `Ad_g`, so that `g·exp(X)·g⁻¹ = exp(Ad_g·X)`.
     pub fn adjoint(&self) -> Matrix3<T> {
         let (z, o) = (T::zero(), T::one());
-        Matrix3::new(
-            self.c, -self.s, self.y, self.s, self.c, -self.x, z, z, o,
-        )
+        Matrix3::new(self.c, -self.s, self.y, self.s, self.c, -self.x, z, z, o)
     }
 
     /// `Ad_gᵀ·μ`: a spatial momentum `μ ∈ se(2)*` seen in the body frame.

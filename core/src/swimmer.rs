@@ -275,7 +275,9 @@ mod tests {
     #[test]
     fn connection_at_straight_shape_matches_model_test_vector() {
         let sw = Swimmer::<f64>::purcell();
-        let c = sw.connection_with_derivatives(&Vector2::new(0.0, 0.0)).unwrap();
+        let c = sw
+            .connection_with_derivatives(&Vector2::new(0.0, 0.0))
+            .unwrap();
         let a = Matrix3x2::new(0.0, 0.0, 1.0 / 6.0, -1.0 / 6.0, 7.0 / 27.0, 7.0 / 27.0);
         assert_relative_eq!(c.a, a, epsilon = 1e-14);
         let d1 = Matrix3x2::new(-4.0 / 27.0, 2.0 / 27.0, 0.0, 0.0, 0.0, 0.0);
