@@ -18,7 +18,7 @@
 //! `dexp` corrections. The work per step is fixed: no loop runs to a tolerance.
 
 use crate::kinematics::{Kinematics, State};
-use crate::se2::{self, ExpCoefficients};
+use crate::se2::{self, ExpCoefficients, Tangent};
 use crate::{Error, Real};
 use nalgebra::{Vector2, Vector3};
 
@@ -65,15 +65,18 @@ impl<T: Real> Kinematics<T> {
             return Err(Error::NonFinite);
         }
         state.check()?;
-        let conn = self.swimmer().connection_with_derivatives(&state.alpha)?;
-        let (a, [d1, d2]) = (&conn.a, &conn.da);
+        let conn = self.swimmer().connection_unchecked(&state.alpha)?;
         let h = self.h();
+        let a = &conn.a;
+        // Scaled once per step: h·∂A/∂α_i (so the loop forms h·B directly) and −h·A (the twist).
+        let [d1, d2] = conn.da.map(|d| d * h);
+        let nha = a * -h;
         let m = state.g.adjoint_transpose_mul(mu);
 
         let mut zeta = m;
         let mut pass = 0;
         loop {
-            // B_ij = ζᵀ ∂A/∂α_i e_j.
+            // hB_ij = ζᵀ h∂A/∂α_i e_j.
             let b11 = zeta.x * d1.m11 + zeta.y * d1.m21 + zeta.z * d1.m31;
             let b12 = zeta.x * d1.m12 + zeta.y * d1.m22 + zeta.z * d1.m32;
             let b21 = zeta.x * d2.m11 + zeta.y * d2.m21 + zeta.z * d2.m31;
@@ -82,20 +85,24 @@ impl<T: Real> Kinematics<T> {
             let r1 = xi_prev.x - (a.m11 * zeta.x + a.m21 * zeta.y + a.m31 * zeta.z);
             let r2 = xi_prev.y - (a.m12 * zeta.x + a.m22 * zeta.y + a.m32 * zeta.z);
             // u = (I − hB)⁻¹ rhs by Cramer's rule.
-            let (p11, p12) = (T::one() - h * b11, -(h * b12));
-            let (p21, p22) = (-(h * b21), T::one() - h * b22);
-            let det = p11 * p22 - p12 * p21;
+            let (p11, p22) = (T::one() - b11, T::one() - b22);
+            let det = p11 * p22 - b12 * b21;
             if !(det.is_finite() && det.abs() > T::from_f64(1e-6)) {
                 return Err(Error::Singular);
             }
             let inv = T::one() / det;
-            let u = Vector2::new((p22 * r1 - p12 * r2) * inv, (p11 * r2 - p21 * r1) * inv);
-            let x = self.twist(a, &u);
+            let u = Vector2::new((p22 * r1 + b12 * r2) * inv, (p11 * r2 + b21 * r1) * inv);
+            // X = −h A u.
+            let x = Tangent::new(
+                nha.m11 * u.x + nha.m12 * u.y,
+                nha.m21 * u.x + nha.m22 * u.y,
+                nha.m31 * u.x + nha.m32 * u.y,
+            );
             let k = ExpCoefficients::new(x.z);
             if pass == passes {
                 let xi = Vector2::new(
-                    xi_prev.x + h * (b11 * u.x + b12 * u.y),
-                    xi_prev.y + h * (b21 * u.x + b22 * u.y),
+                    xi_prev.x + (b11 * u.x + b12 * u.y),
+                    xi_prev.y + (b21 * u.x + b22 * u.y),
                 );
                 let next = self.advance(state, &u, &se2::exp_with(&k, &x))?;
                 if !(u.x.is_finite() && u.y.is_finite() && xi.x.is_finite() && xi.y.is_finite()) {
@@ -106,5 +113,50 @@ impl<T: Real> Kinematics<T> {
             zeta = k.dexp_transpose_mul(&x, &m);
             pass += 1;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{Kinematics, Se2, State, Swimmer};
+    use approx::assert_relative_eq;
+    use nalgebra::{Vector2, Vector3};
+
+    #[test]
+    fn one_step_matches_model_test_vector() {
+        let kin = Kinematics::new(Swimmer::<f64>::purcell(), 0.01).unwrap();
+        let state = State {
+            alpha: Vector2::new(0.3, -0.4),
+            g: Se2::new(0.05, -0.02, 0.2),
+        };
+        let mu = Vector3::new(1.5, 13.2, 0.6);
+        let s = kin
+            .law_step(&state, &Vector2::new(0.01, -0.03), &mu)
+            .unwrap();
+        let eps = 1e-13;
+        assert_relative_eq!(
+            s.u,
+            Vector2::new(-1.9485070881797708, 2.204985349281734),
+            epsilon = eps
+        );
+        assert_relative_eq!(
+            s.next.alpha,
+            Vector2::new(0.2805149291182023, -0.37795014650718267),
+            epsilon = eps
+        );
+        assert_relative_eq!(
+            s.next.g.to_xytheta(),
+            Vector3::new(
+                0.04918563550870081,
+                -0.013271901098288786,
+                0.19942863681122489
+            ),
+            epsilon = eps
+        );
+        assert_relative_eq!(
+            s.xi,
+            Vector2::new(0.03179965609005496, -0.019447012540811347),
+            epsilon = eps
+        );
     }
 }

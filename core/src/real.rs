@@ -36,9 +36,6 @@ pub trait Real:
     /// the paper's problem (measured by `core/tests/law.rs::fixed_point_passes_reach_rounding`).
     const FIXED_POINT_PASSES: usize;
 
-    /// Below this `|ω|`, `(ω − sin ω)/ω³` and `sin x / x` use their Taylor series (see [`crate::se2`]).
-    const SERIES_THRESHOLD: f64 = 0.5;
-
     /// Converts a constant. Exact for the values the core uses (small rationals, π).
     fn from_f64(x: f64) -> Self;
     /// The value as an `f64` (for a dual number: its real part).

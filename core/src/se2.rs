@@ -16,10 +16,10 @@
 //! `dexp_X` is the left Jacobian of `exp`: `exp(X + δ) = exp(dexp_X·δ)·exp(X) + O(|δ|²)`.
 //!
 //! Small angles: per-step twists here have `|ω| ≈ 1e-3…1e-2`, where `1 − cos ω` loses every
-//! digit in f32. Below `|ω| = 0.1` all coefficients come from their Taylor series in `ω²`
-//! (truncation below 3e-18, so exact in f64; no trigonometry and no division on the MCU);
-//! above, from the half angle (`1 − cos ω = 2 sin²(ω/2)`), which has no cancellation.
-//! `c₃` keeps its series up to `|ω| = 0.5`.
+//! digit in f32. Below `|ω| = 0.01` ([`SMALL_ANGLE`]) all coefficients come from three terms
+//! of their Taylor series in `ω²` (truncation ≤ 2e-16, so exact in f64; no trigonometry and
+//! no division on the MCU); above, from the half angle (`1 − cos ω = 2 sin²(ω/2)`), which has
+//! no cancellation. `c₃` keeps a longer series up to `|ω| = 0.5` ([`C3_SERIES_LIMIT`]).
 
 use crate::Real;
 use nalgebra::{Matrix3, Vector2, Vector3};
@@ -54,6 +54,11 @@ pub struct ExpCoefficients<T> {
     pub c3: T,
 }
 
+/// Below this `|ω|` every coefficient is a three-term Taylor series in `ω²`.
+pub const SMALL_ANGLE: f64 = 0.01;
+/// Below this `|ω|`, `c₃ = (ω − sin ω)/ω³` keeps its series (the closed form cancels).
+pub const C3_SERIES_LIMIT: f64 = 0.5;
+
 /// `1 − z/d₁·(1 − z/d₂·(…))`: the nested form of an alternating Taylor series in `z = ω²`.
 #[inline(always)]
 fn alternating_series<T: Real>(z: T, divisors: &[f64]) -> T {
@@ -69,39 +74,43 @@ impl<T: Real> ExpCoefficients<T> {
     #[inline]
     pub fn new(w: T) -> Self {
         let z = w * w;
-        let small = w.abs() < T::from_f64(0.1);
-        let c3 = if w.abs() < T::from_f64(T::SERIES_THRESHOLD) {
-            // Σ (−1)ᵏ zᵏ/(2k+3)!, truncation < 2e-19 relative for |ω| < 0.5.
-            T::from_f64(1.0 / 6.0) * alternating_series(z, &[20.0, 42.0, 72.0, 110.0, 156.0, 210.0])
-        } else {
-            (w - w.sin_cos().0) / (z * w)
-        };
-        if small {
-            // sin ω/ω = Σ (−1)ᵏ zᵏ/(2k+1)!,  (1 − cos ω)/ω² = Σ (−1)ᵏ zᵏ/(2k+2)!.
-            let a = alternating_series(z, &[6.0, 20.0, 42.0, 72.0]);
-            let c2 = T::half() * alternating_series(z, &[12.0, 30.0, 56.0, 90.0]);
+        let aw = w.abs();
+        if aw < T::from_f64(SMALL_ANGLE) {
+            // Three terms of each series; truncation ≤ z³/5040 ≤ 2e-16 for |ω| < 0.01.
+            let poly = |c0: f64, c1: f64, c2: f64| {
+                T::from_f64(c0) + z * (T::from_f64(c1) + z * T::from_f64(c2))
+            };
+            let a = poly(1.0, -1.0 / 6.0, 1.0 / 120.0);
+            let c2 = poly(0.5, -1.0 / 24.0, 1.0 / 720.0);
+            let c3 = poly(1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0);
             let b = w * c2;
-            ExpCoefficients {
+            return ExpCoefficients {
                 sin: w * a,
                 cos: T::one() - w * b,
                 a,
                 b,
                 c2,
                 c3,
-            }
+            };
+        }
+        let half_w = T::half() * w;
+        let (sh, ch) = half_w.sin_cos();
+        let sinc_h = sh / half_w;
+        let two = T::from_f64(2.0);
+        let sin = two * sh * ch;
+        let c3 = if aw < T::from_f64(C3_SERIES_LIMIT) {
+            // Σ (−1)ᵏ zᵏ/(2k+3)!, truncation < 2e-19 relative for |ω| < 0.5.
+            T::from_f64(1.0 / 6.0) * alternating_series(z, &[20.0, 42.0, 72.0, 110.0, 156.0, 210.0])
         } else {
-            let half_w = T::half() * w;
-            let (sh, ch) = half_w.sin_cos();
-            let sinc_h = sh / half_w;
-            let two = T::from_f64(2.0);
-            ExpCoefficients {
-                sin: two * sh * ch,
-                cos: T::one() - two * sh * sh,
-                a: sinc_h * ch,
-                b: sinc_h * sh,
-                c2: T::half() * sinc_h * sinc_h,
-                c3,
-            }
+            (w - sin) / (z * w)
+        };
+        ExpCoefficients {
+            sin,
+            cos: T::one() - two * sh * sh,
+            a: sinc_h * ch,
+            b: sinc_h * sh,
+            c2: T::half() * sinc_h * sinc_h,
+            c3,
         }
     }
 
@@ -301,7 +310,7 @@ mod tests {
 
     #[test]
     fn coefficient_branches_agree_at_the_switch() {
-        for w in [0.1f64, 0.5] {
+        for w in [SMALL_ANGLE, C3_SERIES_LIMIT] {
             let lo = ExpCoefficients::new(w * (1.0 - 1e-15));
             let hi = ExpCoefficients::new(w);
             for (p, q) in [

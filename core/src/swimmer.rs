@@ -80,14 +80,22 @@ impl<T: Real> Swimmer<T> {
     /// Errors: [`Error::NonFinite`] for a non-finite `α`, [`Error::ShapeLimit`] for
     /// `|α_i| ≥ π`, [`Error::Singular`] if `W_ξ` is degenerate.
     pub fn connection(&self, alpha: &Vector2<T>) -> Result<Matrix3x2<T>, Error> {
+        check_shape(alpha)?;
         Ok(Frame::new(self, alpha)?.a().0)
     }
 
     /// `A(α)` and `∂A/∂α1`, `∂A/∂α2`; errors as [`Swimmer::connection`].
     pub fn connection_with_derivatives(&self, alpha: &Vector2<T>) -> Result<Connection<T>, Error> {
+        check_shape(alpha)?;
+        self.connection_unchecked(alpha)
+    }
+
+    /// [`Swimmer::connection_with_derivatives`] for a shape already checked by [`check_shape`].
+    #[inline(always)]
+    pub(crate) fn connection_unchecked(&self, alpha: &Vector2<T>) -> Result<Connection<T>, Error> {
         let f = Frame::new(self, alpha)?;
         let a = f.a();
-        let da = [f.da(&a, 0), f.da(&a, 1)];
+        let da = f.da(&a);
         Ok(Connection { a: a.0, da })
     }
 }
@@ -107,18 +115,6 @@ pub fn check_shape<T: Real>(alpha: &Vector2<T>) -> Result<(), Error> {
 
 /// A symmetric 3×3 matrix by its upper triangle `[xx, xy, xz, yy, yz, zz]`.
 type Sym3<T> = [T; 6];
-
-/// `w += s·(a bᵀ + b aᵀ)/2`, or `s·a aᵀ` when `a = b`, on a symmetric matrix.
-#[inline(always)]
-fn add_sym_outer<T: Real>(w: &mut Sym3<T>, a: &[T; 3], b: &[T; 3], s: T) {
-    let h = T::half() * s;
-    w[0] += s * a[0] * b[0];
-    w[1] += h * (a[0] * b[1] + a[1] * b[0]);
-    w[2] += h * (a[0] * b[2] + a[2] * b[0]);
-    w[3] += s * a[1] * b[1];
-    w[4] += h * (a[1] * b[2] + a[2] * b[1]);
-    w[5] += s * a[2] * b[2];
-}
 
 /// `S·M` for symmetric `S` and a 3×2 `M` given by rows.
 #[inline(always)]
@@ -140,46 +136,120 @@ fn to_matrix<T: Real>(m: &[[T; 2]; 3]) -> Matrix3x2<T> {
     Matrix3x2::new(m[0][0], m[0][1], m[1][0], m[1][1], m[2][0], m[2][1])
 }
 
+/// One outer link (front or rear) at its current angle.
+///
+/// `τ = (cos α, sin α, τ_z)`, `ν = (−sin α, cos α, ν_z)`. Both links satisfy
+/// `∂τ/∂α = ν + σ·(l/2)·e₃` and `∂ν/∂α = −τ`, with `σ = −1` (front) or `+1` (rear), so
+///
+/// ```text
+/// ∂W_ξ/∂α = l·(1 − r)·(ν τᵀ + τ νᵀ) + σ·l²/2·(e₃τᵀ + τ e₃ᵀ),    ∂W_α/∂α (own column) = σ·r·l²/2·τ
+/// ```
+struct Link<T> {
+    l: T,
+    sigma: T,
+    tau: [T; 3],
+    nu: [T; 3],
+}
+
+impl<T: Real> Link<T> {
+    /// `w += l·(τ τᵀ + r·ν νᵀ)`, using `cos² + sin² = 1`.
+    #[inline(always)]
+    fn add_drag(&self, w: &mut Sym3<T>, r: T) {
+        let [c, s, tz] = self.tau;
+        let nz = self.nu[2];
+        let l = self.l;
+        let rl = r * l;
+        let kl = rl - l; // (r − 1)·l
+        let (ss, cc, cs) = (s * s, c * c, c * s);
+        w[0] += l + kl * ss;
+        w[1] -= kl * cs;
+        w[2] += l * c * tz - rl * s * nz;
+        w[3] += l + kl * cc;
+        w[4] += l * s * tz + rl * c * nz;
+        w[5] += l * tz * tz + rl * nz * nz;
+    }
+
+    /// `E = ∂W_α/∂α − ∂W_ξ/∂α · A` for this link's angle, by rows; `own` selects this
+    /// link's column of `W_α` (0 front, 1 rear).
+    #[inline(always)]
+    fn de(&self, a: &[[T; 2]; 3], r: T, own: Own) -> [[T; 2]; 3] {
+        let [t0, t1, t2] = self.tau;
+        let [n0, n1, n2] = self.nu;
+        let [a0, a1, a2] = a;
+        // τᵀA and νᵀA (1×2 each).
+        let ta = [
+            t0 * a0[0] + t1 * a1[0] + t2 * a2[0],
+            t0 * a0[1] + t1 * a1[1] + t2 * a2[1],
+        ];
+        let na = [
+            n0 * a0[0] + n1 * a1[0] + n2 * a2[0],
+            n0 * a0[1] + n1 * a1[1] + n2 * a2[1],
+        ];
+        let l = self.l;
+        let kl = l - r * l; // (1 − r)·l
+        let hl2 = self.sigma * T::half() * l * l; // σ·l²/2
+        // E = −(ν⊗p + τ⊗q + e₃⊗s), with ∂W_α/∂α folded into q.
+        let p = [kl * ta[0], kl * ta[1]];
+        let mut q = [kl * na[0] + hl2 * a2[0], kl * na[1] + hl2 * a2[1]];
+        match own {
+            Own::Front => q[0] -= r * hl2,
+            Own::Rear => q[1] -= r * hl2,
+        }
+        let s = [hl2 * ta[0], hl2 * ta[1]];
+        let row = |n: T, t: T| [-(n * p[0] + t * q[0]), -(n * p[1] + t * q[1])];
+        let [e0, e1, mut e2] = [row(n0, t0), row(n1, t1), row(n2, t2)];
+        e2[0] -= s[0];
+        e2[1] -= s[1];
+        [e0, e1, e2]
+    }
+}
+
+/// Which column of `W_α` belongs to a link.
+#[derive(Clone, Copy)]
+enum Own {
+    Front,
+    Rear,
+}
+
 /// The per-shape quantities shared by `A` and its derivatives.
 struct Frame<T> {
-    l: [T; 3],
     r: T,
-    /// `τ, ν` of the front (index 0) and rear (index 1) link, and their `α`-derivatives.
-    tau: [[T; 3]; 2],
-    nu: [[T; 3]; 2],
-    dtau: [[T; 3]; 2],
-    dnu: [[T; 3]; 2],
+    links: [Link<T>; 2],
     /// `W_ξ⁻¹` (symmetric) and `W_α` (by rows).
     w_inv: Sym3<T>,
     w_alpha: [[T; 2]; 3],
 }
 
-/// `A` by rows, as computed once per shape.
+/// `A` as a matrix and by rows.
 struct ARows<T>(Matrix3x2<T>, [[T; 2]; 3]);
 
 impl<T: Real> Frame<T> {
+    /// Assumes `α` was checked by [`check_shape`].
+    #[inline(always)]
     fn new(sw: &Swimmer<T>, alpha: &Vector2<T>) -> Result<Self, Error> {
-        check_shape(alpha)?;
         let [l0, l1, l2] = sw.lengths;
         let r = sw.ratio;
         let half = T::half();
         let (s1, c1) = alpha.x.sin_cos();
         let (s2, c2) = alpha.y.sin_cos();
         let h0 = half * l0;
-        // Front link: t = (c1, s1), n = (−s1, c1), centre (L0/2 + L1/2·c1, L1/2·s1).
-        let tau1 = [c1, s1, h0 * s1];
-        let nu1 = [-s1, c1, h0 * c1 + half * l1];
-        let dtau1 = [-s1, c1, h0 * c1];
-        let dnu1 = [-c1, -s1, -(h0 * s1)];
-        // Rear link: t = (c2, s2), n = (−s2, c2), centre (−L0/2 − L2/2·c2, −L2/2·s2).
-        let tau2 = [c2, s2, -(h0 * s2)];
-        let nu2 = [-s2, c2, -(h0 * c2) - half * l2];
-        let dtau2 = [-s2, c2, -(h0 * c2)];
-        let dnu2 = [-c2, -s2, h0 * s2];
+        // Front link: centre (L0/2 + L1/2·c1, L1/2·s1); rear: (−L0/2 − L2/2·c2, −L2/2·s2).
+        let front = Link {
+            l: l1,
+            sigma: -T::one(),
+            tau: [c1, s1, h0 * s1],
+            nu: [-s1, c1, h0 * c1 + half * l1],
+        };
+        let rear = Link {
+            l: l2,
+            sigma: T::one(),
+            tau: [c2, s2, -(h0 * s2)],
+            nu: [-s2, c2, -(h0 * c2) - half * l2],
+        };
 
         let twelfth = T::from_f64(1.0 / 12.0);
         let z = T::zero();
-        // Middle link: τ = e1, ν = e2.
+        // Middle link: τ = e1, ν = e2; every link's own rotation adds r·l³/12 to W_zz.
         let mut w: Sym3<T> = [
             l0,
             z,
@@ -188,10 +258,8 @@ impl<T: Real> Frame<T> {
             z,
             r * twelfth * (l0 * l0 * l0 + l1 * l1 * l1 + l2 * l2 * l2),
         ];
-        add_sym_outer(&mut w, &tau1, &tau1, l1);
-        add_sym_outer(&mut w, &nu1, &nu1, r * l1);
-        add_sym_outer(&mut w, &tau2, &tau2, l2);
-        add_sym_outer(&mut w, &nu2, &nu2, r * l2);
+        front.add_drag(&mut w, r);
+        rear.add_drag(&mut w, r);
 
         // Inverse by cofactors: one division.
         let [xx, xy, xz, yy, yz, zz] = w;
@@ -205,65 +273,44 @@ impl<T: Real> Frame<T> {
         ];
         let det = xx * cof[0] + xy * cof[1] + xz * cof[2];
         // W_ξ is positive definite for positive parameters; refuse anything else.
-        let scale = xx * yy * zz;
-        if !(det.is_finite() && det > T::from_f64(1e-12) * scale) {
+        if !(det.is_finite() && det > T::from_f64(1e-12) * (xx * yy * zz)) {
             return Err(Error::Singular);
         }
         let inv_det = T::one() / det;
         let w_inv = cof.map(|v| v * inv_det);
 
-        let a1 = r * l1 * l1;
-        let a2 = r * l2 * l2;
+        let (a1, a2) = (r * l1 * l1, r * l2 * l2);
+        let (n1, n2) = (&front.nu, &rear.nu);
         let w_alpha = [
-            [a1 * half * nu1[0], -(a2 * half * nu2[0])],
-            [a1 * half * nu1[1], -(a2 * half * nu2[1])],
+            [a1 * half * n1[0], -(a2 * half * n2[0])],
+            [a1 * half * n1[1], -(a2 * half * n2[1])],
             [
-                a1 * (half * nu1[2] + twelfth * l1),
-                a2 * (twelfth * l2 - half * nu2[2]),
+                a1 * (half * n1[2] + twelfth * l1),
+                a2 * (twelfth * l2 - half * n2[2]),
             ],
         ];
         Ok(Frame {
-            l: [l0, l1, l2],
             r,
-            tau: [tau1, tau2],
-            nu: [nu1, nu2],
-            dtau: [dtau1, dtau2],
-            dnu: [dnu1, dnu2],
+            links: [front, rear],
             w_inv,
             w_alpha,
         })
     }
 
+    #[inline(always)]
     fn a(&self) -> ARows<T> {
         let rows = sym_mul(&self.w_inv, &self.w_alpha);
         ARows(to_matrix(&rows), rows)
     }
 
-    /// `∂A/∂α_i = W_ξ⁻¹ (∂W_α/∂α_i − ∂W_ξ/∂α_i · A)`, `i` = 0 (front) or 1 (rear).
-    fn da(&self, a: &ARows<T>, i: usize) -> Matrix3x2<T> {
-        let (tau, nu, dtau, dnu) = match i {
-            0 => (&self.tau[0], &self.nu[0], &self.dtau[0], &self.dnu[0]),
-            _ => (&self.tau[1], &self.nu[1], &self.dtau[1], &self.dnu[1]),
-        };
-        let l = if i == 0 { self.l[1] } else { self.l[2] };
-        let two = T::from_f64(2.0);
-        let mut dw: Sym3<T> = [T::zero(); 6];
-        add_sym_outer(&mut dw, dtau, tau, two * l);
-        add_sym_outer(&mut dw, dnu, nu, two * self.r * l);
-        let dwa = sym_mul(&dw, &a.1);
-        // ∂W_α/∂α_i has one non-zero column: ±r·l²/2·∂ν.
-        let col = self.r * l * l * T::half();
-        let mut e = [[T::zero(); 2]; 3];
-        for ((erow, d), &dnu_r) in e.iter_mut().zip(dwa.iter()).zip(dnu.iter()) {
-            if i == 0 {
-                erow[0] = col * dnu_r - d[0];
-                erow[1] = -d[1];
-            } else {
-                erow[0] = -d[0];
-                erow[1] = -(col * dnu_r) - d[1];
-            }
-        }
-        to_matrix(&sym_mul(&self.w_inv, &e))
+    /// `∂A/∂α_i = W_ξ⁻¹ (∂W_α/∂α_i − ∂W_ξ/∂α_i · A)`.
+    #[inline(always)]
+    fn da(&self, a: &ARows<T>) -> [Matrix3x2<T>; 2] {
+        let [front, rear] = &self.links;
+        [
+            to_matrix(&sym_mul(&self.w_inv, &front.de(&a.1, self.r, Own::Front))),
+            to_matrix(&sym_mul(&self.w_inv, &rear.de(&a.1, self.r, Own::Rear))),
+        ]
     }
 }
 
@@ -284,5 +331,33 @@ mod tests {
         let d2 = Matrix3x2::new(-2.0 / 27.0, 4.0 / 27.0, 0.0, 0.0, 0.0, 0.0);
         assert_relative_eq!(c.da[0], d1, epsilon = 1e-14);
         assert_relative_eq!(c.da[1], d2, epsilon = 1e-14);
+    }
+
+    #[test]
+    fn connection_at_bent_shapes_matches_model_test_vectors() {
+        let sw = Swimmer::<f64>::purcell();
+        let c = sw
+            .connection_with_derivatives(&Vector2::new(0.5, -0.3))
+            .unwrap();
+        #[rustfmt::skip]
+        let (a, d1, d2) = (
+            Matrix3x2::new(-0.0524221297521321, -0.00701686926608808,
+                0.159747833925603, -0.161423254304907, 0.251599627307099, 0.261512677482497),
+            Matrix3x2::new(-0.152107617787388, 0.0760042030565476,
+                -0.0305217670699354, 0.0194176398898804, -0.0372440829755903, 0.0271626047148062),
+            Matrix3x2::new(-0.0753891916765094, 0.14775179529546,
+                7.14311629219022e-05, -0.00608113087579642, -0.00723135028726835, 0.02713380574958),
+        );
+        assert_relative_eq!(c.a, a, epsilon = 1e-13);
+        assert_relative_eq!(c.da[0], d1, epsilon = 1e-13);
+        assert_relative_eq!(c.da[1], d2, epsilon = 1e-13);
+        #[rustfmt::skip]
+        let a = Matrix3x2::new(-0.117128022444034, -0.0477262695677959,
+            -0.139451363319512, 0.17511652971135, 0.340289571904178, 0.248062865707986);
+        assert_relative_eq!(
+            sw.connection(&Vector2::new(2.5, -2.9)).unwrap(),
+            a,
+            epsilon = 1e-13
+        );
     }
 }
