@@ -14,7 +14,7 @@
 //!
 //! `ζ^k` depends on `u_k` only through `dexp_{X_k}`, an `O(h|A u|) ≈ 1e-3` effect, so a fixed
 //! number of fixed-point passes (`ζ ← m`, solve for `u`, `ζ ← dexp_Xᵀ m`, solve again, …)
-//! reaches rounding level: [`Real::FIXED_POINT_PASSES`] (3 in f32, 5 in f64) counts the
+//! reaches rounding level: [`Real::FIXED_POINT_PASSES`] (2 in f32, 5 in f64) counts the
 //! `dexp` corrections. The work per step is fixed: no loop runs to a tolerance.
 
 use crate::kinematics::{Kinematics, State};

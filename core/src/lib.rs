@@ -29,3 +29,19 @@ pub use real::Real;
 pub use replay::{Checkpoint, Checkpoints, Costate, Replay, Sample};
 pub use se2::{Se2, Tangent};
 pub use swimmer::{Connection, Swimmer};
+
+/// With the `defmt` feature, every public value type can be logged (checked at compile time).
+#[cfg(feature = "defmt")]
+const _: () = {
+    const fn loggable<T: defmt::Format>() {}
+    loggable::<Error>();
+    loggable::<State<f32>>();
+    loggable::<Se2<f32>>();
+    loggable::<Swimmer<f32>>();
+    loggable::<LawStep<f32>>();
+    loggable::<Costate<f32>>();
+    loggable::<Checkpoint<f32>>();
+    loggable::<Sample<f32>>();
+    loggable::<TrajectoryDigest>();
+    loggable::<State<f64>>();
+};
