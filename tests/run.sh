@@ -16,3 +16,5 @@ cargo test --workspace
 step "core for the MCU (thumbv7em-none-eabihf)"
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release --features defmt
+step "firmware in QEMU: M4F f32 and M7 f64, bit-identical to the host, instruction budget"
+bash benches/mcu/check.sh

@@ -65,6 +65,21 @@ impl<T: Real> Kinematics<T> {
             return Err(Error::NonFinite);
         }
         state.check()?;
+        self.law_step_trusted(state, xi_prev, mu, passes)
+    }
+
+    /// [`Kinematics::law_step_with_passes`] for inputs already known to be valid: `state`
+    /// passes [`State::check`], `ξ^{k−1}` and `μ` are finite (a [`crate::Replay`] knows
+    /// this from its start checks and the previous step's output checks). Still checks
+    /// every output, so it cannot return a non-finite or inadmissible result.
+    #[inline]
+    pub(crate) fn law_step_trusted(
+        &self,
+        state: &State<T>,
+        xi_prev: &Vector2<T>,
+        mu: &Vector3<T>,
+        passes: usize,
+    ) -> Result<LawStep<T>, Error> {
         let conn = self.swimmer().connection_unchecked(&state.alpha)?;
         let h = self.h();
         let a = &conn.a;
@@ -104,9 +119,29 @@ impl<T: Real> Kinematics<T> {
                     xi_prev.x + (b11 * u.x + b12 * u.y),
                     xi_prev.y + (b21 * u.x + b22 * u.y),
                 );
-                let next = self.advance(state, &u, &se2::exp_with(&k, &x))?;
-                if !(u.x.is_finite() && u.y.is_finite() && xi.x.is_finite() && xi.y.is_finite()) {
+                let next = State {
+                    alpha: Vector2::new(state.alpha.x + h * u.x, state.alpha.y + h * u.y),
+                    g: state.g.compose(&se2::exp_with(&k, &x)),
+                };
+                // Every output at once (one comparison), then the shape limit.
+                let (an, g) = (&next.alpha, &next.g);
+                if !T::all_finite([
+                    u.x,
+                    u.y,
+                    xi.x,
+                    xi.y,
+                    an.x,
+                    an.y,
+                    g.x(),
+                    g.y(),
+                    g.cos(),
+                    g.sin(),
+                ]) {
                     return Err(Error::NonFinite);
+                }
+                let pi = T::pi();
+                if !(an.x.abs() < pi && an.y.abs() < pi) {
+                    return Err(Error::ShapeLimit);
                 }
                 return Ok(LawStep { u, next, xi });
             }

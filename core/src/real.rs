@@ -51,7 +51,18 @@ pub trait Real:
     /// The IEEE 754 bit pattern of the value (widened to 64 bits), for bit-exact digests.
     fn to_bits(self) -> u64;
 
-    /// Absolute value (by comparison, so it is generic).
+    /// Whether every value is finite (and for a compound type, every part of each).
+    ///
+    /// The same as `xs.iter().all(|x| x.is_finite())`; `f32` and `f64` answer it with one
+    /// multiply-add per value and a single comparison (`Σ xᵢ·0 = 0` exactly when no `xᵢ` is
+    /// NaN or infinite), instead of a branch or a bit test per value.
+    #[inline(always)]
+    fn all_finite<const N: usize>(xs: [Self; N]) -> bool {
+        xs.iter().all(|x| x.is_finite())
+    }
+
+    /// Absolute value (by comparison, so it is generic; `f32` and `f64` use the sign bit).
+    /// Only compared against in the core, so the sign of a zero does not matter.
     #[inline(always)]
     fn abs(self) -> Self {
         if self < Self::zero() { -self } else { self }
@@ -101,6 +112,15 @@ impl Real for f64 {
     fn to_bits(self) -> u64 {
         f64::to_bits(self)
     }
+    #[inline(always)]
+    fn all_finite<const N: usize>(xs: [Self; N]) -> bool {
+        // x·0 is ±0 for finite x and NaN for NaN or ±∞; a sum of ±0 is ±0, which equals 0.
+        xs.iter().fold(0.0, |acc, &x| acc + x * 0.0) == 0.0
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
 }
 
 impl Real for f32 {
@@ -135,6 +155,15 @@ impl Real for f32 {
     #[inline(always)]
     fn to_bits(self) -> u64 {
         u64::from(f32::to_bits(self))
+    }
+    #[inline(always)]
+    fn all_finite<const N: usize>(xs: [Self; N]) -> bool {
+        // As for f64: one (unfused) multiply-add per value, one comparison.
+        xs.iter().fold(0.0, |acc, &x| acc + x * 0.0) == 0.0
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
     }
 }
 

@@ -1,13 +1,19 @@
 //! Fixed-horizon replay of the control law from an initial costate, without a heap.
 //!
-//! [`Replay`] is an iterator over the `N` steps: item `k` is the state `(α_k, g_k)`, the
-//! control `u_k` and the costate `ξ^k`. The work per item is one [`Kinematics::law_step`].
-//! After the last step, [`Replay::state`] is `(α_N, g_N)`.
+//! [`Replay::step`] runs one step in place and lends the step's [`Sample`] (state
+//! `(α_k, g_k)`, control `u_k`, costate `ξ^k`); [`Replay`] is also an iterator of owned
+//! samples. The work per step is one control-law step. After the last step,
+//! [`Replay::state`] is `(α_N, g_N)`.
 //!
-//! In `f32` the costate `ξ` drifts (it integrates `h·B_k·u_k` in rounding arithmetic, and
-//! the boundary-value problem is ill-conditioned), while `μ` is exactly constant. Costate
-//! checkpoints `(k, ξ^{k−1})`, taken from an `f64` solution, reset `ξ` at chosen steps and
-//! so bound the drift; [`Checkpoints`] stores them in fixed capacity.
+//! The forward recursion is unstable: the boundary-value problem has a Jacobian condition
+//! number near `4·10⁸` on the paper's problem, and in `f32` the rounding of every step grows
+//! along the unstable mode until the gait leaves the solution (on the paper's problem an
+//! `f32` replay from `(μ, ξ^{−1})` alone ends `1.6·10⁻²` from `ḡ`). [`Checkpoint`]s taken from
+//! an `f64` replay reset the recursion's whole state `(α_k, g_k, ξ^{k−1})` at chosen steps, so
+//! the error only grows over one checkpoint interval. They must reset all of it: resetting
+//! `ξ` alone, against an `(α, g)` that has drifted, puts the recursion on a different
+//! extremal, and on the paper's problem that ends past the link-overlap limit (see the
+//! README's table). [`Checkpoints`] stores them in fixed capacity.
 
 use crate::kinematics::{Kinematics, State};
 use crate::{Error, Real};
@@ -23,14 +29,28 @@ pub struct Costate<T> {
     pub xi: Vector2<T>,
 }
 
-/// The shape costate `ξ^{k−1}` to use at step `k`.
+/// The recursion's state at the start of step `k`, from a reference (`f64`) replay.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Checkpoint<T> {
     /// Step index `k`.
     pub k: u32,
+    /// `(α_k, g_k)`.
+    pub state: State<T>,
     /// `ξ^{k−1}`.
     pub xi: Vector2<T>,
+}
+
+impl<T: Real> Checkpoint<T> {
+    /// `Ok` if the state is admissible and every number finite.
+    fn check(&self) -> Result<(), Error> {
+        self.state.check()?;
+        if self.xi.x.is_finite() && self.xi.y.is_finite() {
+            Ok(())
+        } else {
+            Err(Error::NonFinite)
+        }
+    }
 }
 
 /// Up to `CAP` checkpoints with strictly increasing step indices.
@@ -44,12 +64,10 @@ impl<T: Real, const CAP: usize> Checkpoints<T, CAP> {
     }
 
     /// Appends a checkpoint. Errors: [`Error::CheckpointOrder`] unless `k` is above the last
-    /// one's, [`Error::NonFinite`], [`Error::CapacityExceeded`] when full. A refused
-    /// checkpoint leaves the table as it was.
+    /// one's, [`Error::NonFinite`] or [`Error::ShapeLimit`] for its state,
+    /// [`Error::CapacityExceeded`] when full. A refused checkpoint leaves the table as it was.
     pub fn push(&mut self, checkpoint: Checkpoint<T>) -> Result<(), Error> {
-        if !(checkpoint.xi.x.is_finite() && checkpoint.xi.y.is_finite()) {
-            return Err(Error::NonFinite);
-        }
+        checkpoint.check()?;
         if self.0.last().is_some_and(|last| last.k >= checkpoint.k) {
             return Err(Error::CheckpointOrder);
         }
@@ -81,20 +99,24 @@ pub struct Sample<T> {
 pub struct Replay<'a, T> {
     kinematics: Kinematics<T>,
     mu: Vector3<T>,
-    xi: Vector2<T>,
+    /// The step just done (its `state` is `(α_k, g_k)`, its `xi` is `ξ^k`).
+    sample: Sample<T>,
+    /// `(α_k, g_k)` for the next step `k`.
     state: State<T>,
+    /// `ξ^{k−1}` for the next step.
+    xi: Vector2<T>,
     k: u32,
     steps: u32,
     checkpoints: &'a [Checkpoint<T>],
-    failed: bool,
+    failed: Option<Error>,
 }
 
 impl<'a, T: Real> Replay<'a, T> {
     /// A replay of `steps` steps. `checkpoints` must be strictly increasing in `k` with
     /// `k < steps` (a [`Checkpoints`] table's slice is); pass `&[]` for none.
     ///
-    /// Errors: [`Error::NonFinite`], [`Error::ShapeLimit`] for the start state or costate,
-    /// [`Error::CheckpointOrder`] for a malformed checkpoint list.
+    /// Errors: [`Error::NonFinite`], [`Error::ShapeLimit`] for the start state, the costate
+    /// or a checkpoint, [`Error::CheckpointOrder`] for a malformed checkpoint list.
     pub fn new(
         kinematics: Kinematics<T>,
         start: State<T>,
@@ -112,21 +134,71 @@ impl<'a, T: Real> Replay<'a, T> {
             if c.k >= steps || last.is_some_and(|l| l >= c.k) {
                 return Err(Error::CheckpointOrder);
             }
-            if !finite(c.xi.as_slice()) {
-                return Err(Error::NonFinite);
-            }
+            c.check()?;
             last = Some(c.k);
         }
         Ok(Replay {
             kinematics,
             mu: costate.mu,
-            xi: costate.xi,
+            sample: Sample {
+                k: 0,
+                state: start,
+                u: Vector2::zeros(),
+                xi: costate.xi,
+            },
             state: start,
+            xi: costate.xi,
             k: 0,
             steps,
             checkpoints,
-            failed: false,
+            failed: None,
         })
+    }
+
+    /// Runs step `k` in place and lends its sample; `Ok(None)` once all steps are done.
+    ///
+    /// Errors: the step's (see [`Kinematics::law_step`]); the replay then stays failed and
+    /// returns the same error again.
+    #[inline]
+    pub fn step(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        if let Some(e) = self.failed {
+            return Err(e);
+        }
+        if self.k >= self.steps {
+            return Ok(None);
+        }
+        if let Some((first, rest)) = self.checkpoints.split_first()
+            && first.k == self.k
+        {
+            self.state = first.state;
+            self.xi = first.xi;
+            self.checkpoints = rest;
+        }
+        // The state and ξ were checked by `new` (start, checkpoints) or as the previous
+        // step's outputs, and μ by `new`.
+        match self.kinematics.law_step_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            T::FIXED_POINT_PASSES,
+        ) {
+            Ok(step) => {
+                self.sample = Sample {
+                    k: self.k,
+                    state: self.state,
+                    u: step.u,
+                    xi: step.xi,
+                };
+                self.state = step.next;
+                self.xi = step.xi;
+                self.k += 1;
+                Ok(Some(&self.sample))
+            }
+            Err(e) => {
+                self.failed = Some(e);
+                Err(e)
+            }
+        }
     }
 
     /// The current state: `(α_k, g_k)` before step `k`, `(α_N, g_N)` at the end.
@@ -146,48 +218,24 @@ impl<'a, T: Real> Replay<'a, T> {
 
     /// Runs the remaining steps and returns the final state `(α_N, g_N)`.
     pub fn finish(mut self) -> Result<State<T>, Error> {
-        for item in self.by_ref() {
-            item?;
-        }
+        while self.step()?.is_some() {}
         Ok(self.state)
     }
 }
 
+/// Owned samples; after an error the iterator yields it once and then ends.
 impl<T: Real> Iterator for Replay<'_, T> {
     type Item = Result<Sample<T>, Error>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        if self.failed || self.k >= self.steps {
+        if self.failed.is_some() {
             return None;
         }
-        if let Some((first, rest)) = self.checkpoints.split_first()
-            && first.k == self.k
-        {
-            self.xi = first.xi;
-            self.checkpoints = rest;
-        }
-        match self.kinematics.law_step(&self.state, &self.xi, &self.mu) {
-            Ok(step) => {
-                let sample = Sample {
-                    k: self.k,
-                    state: self.state,
-                    u: step.u,
-                    xi: step.xi,
-                };
-                self.state = step.next;
-                self.xi = step.xi;
-                self.k += 1;
-                Some(Ok(sample))
-            }
-            Err(e) => {
-                self.failed = true;
-                Some(Err(e))
-            }
-        }
+        self.step().map(|s| s.copied()).transpose()
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let left = if self.failed {
+        let left = if self.failed.is_some() {
             0
         } else {
             (self.steps - self.k) as usize

@@ -182,6 +182,19 @@ impl<T: Real> Se2<T> {
         Se2 { x, y, c, s }
     }
 
+    /// The motion with translation `(x, y)` and rotation `(cos θ, sin θ)` given directly, as
+    /// read back from [`Se2::cos`] and [`Se2::sin`] (say of an `f64` motion rounded to `f32`),
+    /// so a stored motion comes back bit for bit. `(cos, sin)` must have unit length to
+    /// rounding; [`Se2::compose`] keeps it there from then on.
+    pub fn from_rotation(x: T, y: T, cos: T, sin: T) -> Self {
+        Se2 {
+            x,
+            y,
+            c: cos,
+            s: sin,
+        }
+    }
+
     /// Translation `x`.
     pub fn x(&self) -> T {
         self.x

@@ -79,15 +79,24 @@ impl<T: Real> Swimmer<T> {
     ///
     /// Errors: [`Error::NonFinite`] for a non-finite `α`, [`Error::ShapeLimit`] for
     /// `|α_i| ≥ π`, [`Error::Singular`] if `W_ξ` is degenerate.
+    /// With parameters of wildly different scales (say a link of `10⁻²⁷⁴` beside one of
+    /// `1`), `W_ξ` can be numerically degenerate although positive definite; a result that
+    /// is not finite is then [`Error::Singular`], never an `Ok` holding NaN.
     pub fn connection(&self, alpha: &Vector2<T>) -> Result<Matrix3x2<T>, Error> {
         check_shape(alpha)?;
-        Ok(Frame::new(self, alpha)?.a().0)
+        let a = Frame::new(self, alpha)?.a().0;
+        finite_or_singular(a.as_slice())?;
+        Ok(a)
     }
 
     /// `A(α)` and `∂A/∂α1`, `∂A/∂α2`; errors as [`Swimmer::connection`].
     pub fn connection_with_derivatives(&self, alpha: &Vector2<T>) -> Result<Connection<T>, Error> {
         check_shape(alpha)?;
-        self.connection_unchecked(alpha)
+        let c = self.connection_unchecked(alpha)?;
+        finite_or_singular(c.a.as_slice())?;
+        finite_or_singular(c.da[0].as_slice())?;
+        finite_or_singular(c.da[1].as_slice())?;
+        Ok(c)
     }
 
     /// [`Swimmer::connection_with_derivatives`] for a shape already checked by [`check_shape`].
@@ -97,6 +106,15 @@ impl<T: Real> Swimmer<T> {
         let a = f.a();
         let da = f.da(&a);
         Ok(Connection { a: a.0, da })
+    }
+}
+
+/// `Err(Singular)` unless every entry is finite.
+fn finite_or_singular<T: Real>(v: &[T]) -> Result<(), Error> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::Singular)
     }
 }
 

@@ -1,0 +1,340 @@
+//! The firmware: replays the costate file through the core, counts instructions per step,
+//! measures the step's stack, digests the trajectory, and exits through semihosting.
+//!
+//! Default build (Cortex-M4F, QEMU `mps2-an386`): `f32`. Feature `m7` (Cortex-M7 with a
+//! double-precision FPU, QEMU `mps2-an500`, built with `-C target-cpu=cortex-m7`): `f64`.
+//!
+//! Counting (default): QEMU runs with `-icount shift=6`, so one instruction is 64 ns of
+//! virtual time, and the SysTick, clocked at 25 MHz, advances exactly 8/5 ticks per
+//! instruction. The counter is read before and after each step; differences are taken modulo
+//! its 24-bit wrap, so no interrupt runs inside a measured step. A run of 1 000 `nop`s checks
+//! the conversion at start-up (the firmware fails if QEMU was started without `-icount`).
+//! Feature `dwt`: the DWT cycle counter instead (real hardware; QEMU's reads 0).
+
+use core::hint::black_box;
+use core::sync::atomic::{AtomicBool, Ordering, compiler_fence};
+use cortex_m_rt::{ExceptionFrame, entry, exception};
+use defmt_semihosting as _;
+use purcell_core::{Error, Real, Replay, Sample};
+use purcell_mcu::{CHECKPOINT_CAPACITY, Problem, Scalar, Stats, costate, replay_digest};
+
+/// The scalar type flown on this board.
+#[cfg(not(feature = "m7"))]
+type S = f32;
+/// The scalar type flown on this board.
+#[cfg(feature = "m7")]
+type S = f64;
+
+/// The QEMU machine this build is for; the cargo runner looks for this tag in the ELF.
+#[cfg(not(feature = "m7"))]
+#[used]
+#[unsafe(no_mangle)]
+static PURCELL_BOARD: [u8; 24] = *b"purcell-board:mps2-an386";
+#[cfg(feature = "m7")]
+#[used]
+#[unsafe(no_mangle)]
+static PURCELL_BOARD: [u8; 24] = *b"purcell-board:mps2-an500";
+
+#[cfg(not(feature = "m7"))]
+const BOARD: &str = "mps2-an386";
+#[cfg(feature = "m7")]
+const BOARD: &str = "mps2-an500";
+
+/// Stack below the measuring function that is painted and scanned, bytes.
+const STACK_WINDOW: usize = 16 * 1024;
+const PAINT: u32 = 0xA5C3_5A3C;
+
+/// Why the firmware fails (it then exits with status 1).
+#[derive(Clone, Copy, Debug, defmt::Format)]
+enum Failure {
+    /// The core refused the problem or a step.
+    Core(Error),
+    /// The core peripherals were already taken.
+    Peripherals,
+    /// 1 000 extra `nop`s did not count as 1 000 instructions.
+    #[cfg(not(feature = "dwt"))]
+    Counting { nops: u64 },
+    /// The stack of a step reached the bottom of the painted window.
+    StackWindow,
+    /// Two replays of the same problem differed.
+    NotDeterministic,
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Core(e)
+    }
+}
+
+/// The counter behind the per-step figures.
+mod counter {
+    use core::sync::atomic::{Ordering, compiler_fence};
+    use cortex_m::Peripherals;
+
+    /// Unit of the figures.
+    #[cfg(not(feature = "dwt"))]
+    pub const LINE: &str = "insn_per_step";
+    /// Unit of the figures.
+    #[cfg(feature = "dwt")]
+    pub const LINE: &str = "cycles_per_step";
+
+    /// Starts the counter.
+    #[cfg(not(feature = "dwt"))]
+    pub fn start(cp: &mut Peripherals) {
+        use cortex_m::peripheral::syst::SystClkSource;
+        cp.SYST.set_clock_source(SystClkSource::Core);
+        cp.SYST.set_reload(0x00FF_FFFF);
+        cp.SYST.clear_current();
+        cp.SYST.disable_interrupt();
+        cp.SYST.enable_counter();
+    }
+
+    /// Starts the counter.
+    #[cfg(feature = "dwt")]
+    pub fn start(cp: &mut Peripherals) {
+        cp.DCB.enable_trace();
+        cp.DWT.enable_cycle_counter();
+    }
+
+    /// The raw counter.
+    #[inline(always)]
+    pub fn now() -> u32 {
+        compiler_fence(Ordering::SeqCst);
+        #[cfg(not(feature = "dwt"))]
+        let t = cortex_m::peripheral::SYST::get_current();
+        #[cfg(feature = "dwt")]
+        let t = cortex_m::peripheral::DWT::cycle_count();
+        compiler_fence(Ordering::SeqCst);
+        t
+    }
+
+    /// Raw units elapsed from `start` to `end`.
+    #[inline(always)]
+    pub fn elapsed(start: u32, end: u32) -> u32 {
+        #[cfg(not(feature = "dwt"))]
+        return purcell_mcu::systick_elapsed(start, end);
+        #[cfg(feature = "dwt")]
+        return end.wrapping_sub(start);
+    }
+
+    /// `(num, den)`: reported units per raw unit (instructions per SysTick tick = 5/8).
+    #[cfg(not(feature = "dwt"))]
+    pub const SCALE: (u64, u64) = (
+        purcell_mcu::TICKS_PER_INSN_DEN,
+        purcell_mcu::TICKS_PER_INSN_NUM,
+    );
+    /// `(num, den)`: reported units per raw unit.
+    #[cfg(feature = "dwt")]
+    pub const SCALE: (u64, u64) = (1, 1);
+}
+
+/// Reported units in `raw` counter units, rounded to nearest.
+fn scaled(raw: u64) -> u64 {
+    let (num, den) = counter::SCALE;
+    (raw * num + den / 2) / den
+}
+
+/// Mean of `stats` (raw units) in reported units, as (integer part, tenths).
+fn scaled_mean(stats: &Stats) -> (u64, u64) {
+    let (num, den) = counter::SCALE;
+    let n = u64::from(stats.n.max(1));
+    let tenths = (stats.sum * 10 * num + n * den / 2) / (n * den);
+    (tenths / 10, tenths % 10)
+}
+
+/// Raw units of an empty measurement (subtracted from every measurement).
+fn overhead() -> u32 {
+    let mut least = u32::MAX;
+    for _ in 0..16 {
+        let t0 = counter::now();
+        let t1 = counter::now();
+        least = least.min(counter::elapsed(t0, t1));
+    }
+    least
+}
+
+/// Measures `f` on `input` (both passed through `black_box` inside the measured span, so the
+/// compiler can neither hoist nor sink the work), net of `base`.
+#[cfg(not(feature = "dwt"))]
+#[inline(always)]
+fn measure<I, R>(base: u32, input: I, f: impl FnOnce(I) -> R) -> (u32, R) {
+    let t0 = counter::now();
+    let r = black_box(f(black_box(input)));
+    let t1 = counter::now();
+    (counter::elapsed(t0, t1).saturating_sub(base), r)
+}
+
+/// One control step: the function whose instructions are counted and whose disassembly is
+/// checked for soft-float helpers (`purcell-mcu disasm`).
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn purcell_mcu_step<'r>(replay: &'r mut Replay<'_, S>) -> Result<Option<&'r Sample<S>>, Error> {
+    replay.step()
+}
+
+/// `N` `nop`s (and the call's own two instructions), to check the counter's conversion.
+#[cfg(not(feature = "dwt"))]
+#[inline(never)]
+fn nops<const N: usize>() {
+    // SAFETY: `nop` has no effect.
+    unsafe {
+        core::arch::asm!(".rept {n}", "nop", ".endr", n = const N, options(nomem, nostack, preserves_flags));
+    }
+}
+
+/// Checks that each extra 1 000 `nop`s count as 1 000 ± 1 instructions (the call itself
+/// is the same in each measurement and cancels).
+#[cfg(not(feature = "dwt"))]
+fn self_test(base: u32) -> Result<(), Failure> {
+    let count = |f: fn()| scaled(u64::from(measure(base, (), |()| f()).0));
+    let (n0, n1, n2) = (count(nops::<0>), count(nops::<1000>), count(nops::<2000>));
+    defmt::println!(
+        "insn_calibration: overhead_ticks={=u32} call+0nop={=u64} call+1000nop={=u64} call+2000nop={=u64}",
+        base,
+        n0,
+        n1,
+        n2
+    );
+    for nops in [n1.wrapping_sub(n0), n2.wrapping_sub(n1)] {
+        if nops.abs_diff(1000) > 1 {
+            return Err(Failure::Counting { nops });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(feature = "dwt")]
+fn self_test(base: u32) -> Result<(), Failure> {
+    defmt::println!("cycle_calibration: overhead_cycles={=u32}", base);
+    Ok(())
+}
+
+/// Deepest stack use of one step over a whole replay, bytes: paints the stack below this
+/// function's frame, replays, and finds the lowest word the steps overwrote.
+#[inline(never)]
+fn step_stack_bytes(problem: &Problem<S>) -> Result<u32, Failure> {
+    let mut replay = problem.replay(true)?;
+    let sp = cortex_m::register::msp::read() as usize;
+    let bottom = sp - STACK_WINDOW;
+    for a in (bottom..sp).step_by(4) {
+        // SAFETY: free stack below the current frame, inside RAM (the window is far smaller
+        // than the RAM between the statics and the stack top); nothing else uses it now.
+        unsafe { core::ptr::write_volatile(a as *mut u32, PAINT) };
+    }
+    while purcell_mcu_step(black_box(&mut replay))?.is_some() {}
+    let lowest = (bottom..sp)
+        .step_by(4)
+        // SAFETY: as above; reading back the painted words.
+        .find(|&a| unsafe { core::ptr::read_volatile(a as *const u32) } != PAINT)
+        .unwrap_or(sp);
+    if lowest == bottom {
+        return Err(Failure::StackWindow);
+    }
+    Ok((sp - lowest) as u32)
+}
+
+fn run() -> Result<(), Failure> {
+    let mut cp = cortex_m::Peripherals::take().ok_or(Failure::Peripherals)?;
+    counter::start(&mut cp);
+    let base = overhead();
+    self_test(base)?;
+
+    let problem = Problem::<S>::load()?;
+    defmt::println!(
+        "purcell-mcu: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} provisional={=bool} tag={=[u8]:a}",
+        BOARD,
+        S::NAME,
+        problem.steps,
+        S::FIXED_POINT_PASSES,
+        CHECKPOINT_CAPACITY,
+        costate::PROVISIONAL,
+        black_box(&PURCELL_BOARD)[..]
+    );
+
+    let mut stats = Stats::default();
+    let outcome = replay_digest(problem.replay(true)?, |r| {
+        let t0 = counter::now();
+        let item = purcell_mcu_step(r);
+        let t1 = counter::now();
+        if let Ok(Some(_)) = item {
+            stats.add(counter::elapsed(t0, t1).saturating_sub(base));
+        }
+        item
+    })?;
+    let (mean, tenths) = scaled_mean(&stats);
+    defmt::println!(
+        "{=str}: mean={=u64}.{=u64} max={=u64}",
+        counter::LINE,
+        mean,
+        tenths,
+        scaled(u64::from(stats.max))
+    );
+    defmt::println!(
+        "replay_total: steps={=u32} units={=u64}",
+        stats.n,
+        scaled(stats.sum)
+    );
+
+    let stack = step_stack_bytes(&problem)?;
+    defmt::println!("stack_step: bytes={=u32}", stack);
+
+    // The measured replay must be the plain replay: run it again untimed.
+    let again = replay_digest(problem.replay(true)?, Replay::step)?;
+    if again != outcome {
+        return Err(Failure::NotDeterministic);
+    }
+    defmt::println!("digest: {=u64:#x}", outcome.digest.value());
+    let b = outcome.final_bits();
+    defmt::println!(
+        "final_state_bits: {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x}",
+        b[0],
+        b[1],
+        b[2],
+        b[3],
+        b[4],
+        b[5]
+    );
+    defmt::println!("result: ok");
+    Ok(())
+}
+
+#[entry]
+fn main() -> ! {
+    match run() {
+        Ok(()) => semihosting::process::exit(0),
+        Err(f) => {
+            defmt::error!("failed: {}", f);
+            semihosting::process::exit(1)
+        }
+    }
+}
+
+/// Set by the first fault or panic: a second one exits at once without logging (the logger
+/// may be what failed).
+static FAILING: AtomicBool = AtomicBool::new(false);
+
+fn fail_once(log: impl FnOnce()) -> ! {
+    compiler_fence(Ordering::SeqCst);
+    if !FAILING.swap(true, Ordering::Relaxed) {
+        log();
+    }
+    semihosting::process::exit(1)
+}
+
+#[exception]
+unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
+    fail_once(|| defmt::error!("HardFault at pc={=u32:#x}", ef.pc()))
+}
+
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    fail_once(|| defmt::error!("unexpected exception {=i16}", irqn))
+}
+
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    fail_once(|| match info.location() {
+        Some(l) => defmt::error!("panic at {=str}:{=u32}", l.file(), l.line()),
+        None => defmt::error!("panic"),
+    })
+}

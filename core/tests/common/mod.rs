@@ -1,0 +1,139 @@
+//! Helpers shared by the integration tests of `purcell-core`: proptest strategies in the
+//! manif discipline (identity, tiny perturbations, random elements), realistic states of the
+//! paper's problem, and comparisons.
+#![allow(dead_code)]
+
+use nalgebra::{Vector2, Vector3};
+use proptest::prelude::*;
+use purcell_core::{Costate, Kinematics, Replay, Se2, State, Swimmer, Tangent};
+
+/// proptest's default 256 cases (`PROPTEST_CASES` overrides), no regression files written into the source tree (failures print their
+/// minimal input; add it as an explicit test case instead).
+pub fn config() -> ProptestConfig {
+    ProptestConfig {
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
+
+/// A twist `(vx, vy, ω)`: the zero twist, a tiny one (components ≤ 1e-8), or a random one
+/// with `|ω| < π` (so that `log(exp(X)) = X`).
+pub fn tangent() -> impl Strategy<Value = Tangent<f64>> {
+    prop_oneof![
+        1 => Just(Tangent::zeros()),
+        2 => (-1e-8..1e-8f64, -1e-8..1e-8f64, -1e-8..1e-8f64)
+            .prop_map(|(a, b, c)| Tangent::new(a, b, c)),
+        2 => (-1.0..1.0f64, -1.0..1.0f64, -1e-4..1e-4f64)
+            .prop_map(|(a, b, c)| Tangent::new(a, b, c)),
+        6 => (-5.0..5.0f64, -5.0..5.0f64, -3.1..3.1f64)
+            .prop_map(|(a, b, c)| Tangent::new(a, b, c)),
+    ]
+}
+
+/// A twist with `|ω|` within `1e-9 … 1e-3` of `π`, either sign.
+pub fn tangent_near_pi() -> impl Strategy<Value = Tangent<f64>> {
+    (-5.0..5.0f64, -5.0..5.0f64, -9.0..-3.0f64, any::<bool>()).prop_map(|(a, b, e, neg)| {
+        let w = core::f64::consts::PI - 10f64.powf(e);
+        Tangent::new(a, b, if neg { -w } else { w })
+    })
+}
+
+/// A group element: identity, a tiny perturbation of it, or random (any angle, including ±π).
+pub fn se2() -> impl Strategy<Value = Se2<f64>> {
+    prop_oneof![
+        1 => Just(Se2::identity()),
+        2 => (-1e-8..1e-8f64, -1e-8..1e-8f64, -1e-8..1e-8f64)
+            .prop_map(|(a, b, c)| Se2::new(a, b, c)),
+        1 => (-5.0..5.0f64, -5.0..5.0f64, any::<bool>()).prop_map(|(a, b, neg)| {
+            Se2::new(a, b, if neg { -core::f64::consts::PI } else { core::f64::consts::PI })
+        }),
+        6 => (-5.0..5.0f64, -5.0..5.0f64, -4.0..4.0f64).prop_map(|(a, b, c)| Se2::new(a, b, c)),
+    ]
+}
+
+/// An admissible shape, `|α_i| ≤ 3` (the overlap limit is π).
+pub fn alpha() -> impl Strategy<Value = Vector2<f64>> {
+    (-3.0..3.0f64, -3.0..3.0f64).prop_map(|(a, b)| Vector2::new(a, b))
+}
+
+/// `(x, y, cos θ, sin θ)` widened to f64.
+pub fn parts<T: purcell_core::Real>(g: &Se2<T>) -> [f64; 4] {
+    [g.x(), g.y(), g.cos(), g.sin()].map(|v| v.to_f64())
+}
+
+/// Largest componentwise distance between two motions in `(x, y, cos θ, sin θ)`.
+pub fn dist<T: purcell_core::Real>(g: &Se2<T>, q: &Se2<T>) -> f64 {
+    let (a, b) = (parts(g), parts(q));
+    (0..4).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max)
+}
+
+/// Largest magnitude of the translation of a motion, at least 1 (a scale for tolerances).
+pub fn scale(g: &Se2<f64>) -> f64 {
+    1.0f64.max(g.x().abs()).max(g.y().abs())
+}
+
+/// The paper's swimmer with `h = 0.01` in the scalar `T`.
+pub fn kinematics<T: purcell_core::Real>() -> Kinematics<T> {
+    Kinematics::new(Swimmer::purcell(), T::from_f64(0.01)).unwrap()
+}
+
+/// An extremal of the paper's problem (host-sim) with `|μ| ≈ 13.3`.
+pub fn costate_mu13() -> Costate<f64> {
+    Costate {
+        mu: Vector3::new(
+            1.532_914_552_615_802_8,
+            13.222_390_687_754_31,
+            0.593_346_744_546_872_6,
+        ),
+        xi: Vector2::new(2.262_121_649_874_644, -1.952_433_722_666_657_5),
+    }
+}
+
+/// A costate with `|μ| ≈ 4`: the `|μ| ≈ 6.4` extremal of the paper's problem (host-sim)
+/// scaled by `4/6.4`; its loop is not an extremal but its states are of the same kind.
+pub fn costate_mu4() -> Costate<f64> {
+    let s = 4.0 / 6.4;
+    Costate {
+        mu: Vector3::new(
+            1.267_405_852_682_282_5,
+            6.195_325_497_329_788,
+            -1.054_518_565_868_840_5,
+        ) * s,
+        xi: Vector2::new(0.645_028_386_460_496_6, -1.333_507_114_196_018_2) * s,
+    }
+}
+
+/// States `(α_k, g_k, ξ^{k−1})` every `every` steps along the f64 replay of `costate`
+/// from `α = 0, g = e`, for `steps` steps.
+pub fn states_along(
+    costate: Costate<f64>,
+    steps: u32,
+    every: u32,
+) -> Vec<(State<f64>, Vector2<f64>)> {
+    let replay = Replay::new(
+        kinematics(),
+        State::at_origin(Vector2::zeros()),
+        costate,
+        steps,
+        &[],
+    )
+    .unwrap();
+    let mut xi_prev = costate.xi;
+    let mut out = Vec::new();
+    for s in replay {
+        let s = s.unwrap();
+        if s.k % every == 0 {
+            out.push((s.state, xi_prev));
+        }
+        xi_prev = s.xi;
+    }
+    out
+}
+
+/// f64 state rounded to f32.
+pub fn state_f32(s: &State<f64>) -> State<f32> {
+    State {
+        alpha: s.alpha.map(|v| v as f32),
+        g: Se2::new(s.g.x() as f32, s.g.y() as f32, s.g.theta() as f32),
+    }
+}

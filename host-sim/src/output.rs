@@ -1,0 +1,147 @@
+//! Writing results: `trajectory.csv`, `report.json`, the costate file, and atomic writes.
+//!
+//! A directory is produced whole or not at all: every file is written into a fresh
+//! temporary directory next to the target, which is then renamed into place (an existing
+//! target is moved aside first and removed after). A single file is written to a temporary
+//! file in the same directory and renamed.
+
+use crate::problem::Problem;
+use crate::solve::{Extremal, Trajectory};
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// `trajectory.csv`: `t,alpha1,alpha2,u1,u2,x,y,theta`, rows `k = 0..=N` (last `u` is 0).
+pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
+    let mut s = String::from("t,alpha1,alpha2,u1,u2,x,y,theta\n");
+    for (k, st) in t.states.iter().enumerate() {
+        let u = t.controls.get(k).copied().unwrap_or_default();
+        let g = st.g.to_xytheta();
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{}",
+            problem.h * k as f64,
+            st.alpha.x,
+            st.alpha.y,
+            u.x,
+            u.y,
+            g.x,
+            g.y,
+            g.z
+        );
+    }
+    s
+}
+
+/// The costate file for an extremal, with checkpoints every `every` steps.
+///
+/// The checkpoints are `(α_k, g_k, ξ^{k−1})` of a plain `f64` replay from `(μ, ξ^{−1})`: an
+/// `f64` replay with them is bit-identical to one without, and an `f32` replay restarts from
+/// that `f64` run at each one. (Taking them from the stitched multiple-shooting trajectory
+/// instead would jump by its node defects.)
+pub fn costate_file(
+    problem: &Problem,
+    x: &Extremal,
+    every: u32,
+) -> crate::costate_file::CostateFile {
+    use crate::costate_file::*;
+    let mut checkpoints = Vec::new();
+    if every > 0
+        && let Ok(kin) = problem.kinematics::<f64>()
+        && let Ok(mut replay) = purcell_core::Replay::new(
+            kin,
+            purcell_core::State::at_origin(problem.alpha0),
+            crate::shooting::costate(&x.z),
+            problem.steps,
+            &[],
+        )
+    {
+        while let Ok(Some(sample)) = replay.step() {
+            let k = sample.k + 1;
+            if k % every == 0 && k < problem.steps {
+                let (s, xi) = (replay.state(), replay.xi());
+                checkpoints.push(CheckpointEntry {
+                    k,
+                    alpha: [s.alpha.x, s.alpha.y],
+                    g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
+                    xi: [xi.x, xi.y],
+                });
+            }
+        }
+    }
+    CostateFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        model: Model {
+            links: problem.swimmer.lengths(),
+            drag: problem.swimmer.drag(),
+            ratio: problem.swimmer.ratio(),
+        },
+        h: problem.h,
+        steps: problem.steps,
+        alpha0: [problem.alpha0.x, problem.alpha0.y],
+        target: [problem.target.x, problem.target.y, problem.target.z],
+        mu: [x.z[0], x.z[1], x.z[2]],
+        xi0: [x.z[3], x.z[4]],
+        checkpoint_every: every,
+        checkpoints,
+    }
+}
+
+/// Writes `files` (name, contents) as the directory `dir`, atomically.
+pub fn write_dir_atomically(dir: &Path, files: &[(String, Vec<u8>)]) -> std::io::Result<()> {
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent)?;
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".into());
+    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir(&tmp)?;
+    let result = (|| {
+        for (file, bytes) in files {
+            let mut f = std::fs::File::create(tmp.join(file))?;
+            f.write_all(bytes)?;
+            f.sync_all()?;
+        }
+        if dir.exists() {
+            let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+            std::fs::rename(dir, &old)?;
+            std::fs::rename(&tmp, dir)?;
+            std::fs::remove_dir_all(&old)
+        } else {
+            std::fs::rename(&tmp, dir)
+        }
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    result
+}
+
+/// Writes one file atomically (temporary file in the same directory, then rename).
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "file".into());
+    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}

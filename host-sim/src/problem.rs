@@ -1,0 +1,203 @@
+//! The discrete optimal-control problem (MODEL.md §4) and the validation of its inputs.
+//!
+//! Minimise `J = Σ_{k<N} h/2·|u_k|²` subject to the exact kinematics, `α_0 = α_N = ᾱ`,
+//! `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of steps.
+
+use nalgebra::{Vector2, Vector3};
+use purcell_core::{Kinematics, Real, Se2, Swimmer};
+
+/// Largest horizon accepted, in steps (the replay is linear in `N`; this keeps a run bounded).
+pub const MAX_STEPS: u64 = 10_000_000;
+
+/// Why the inputs of a problem were refused, before any work.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InputError {
+    /// A number is NaN or infinite.
+    #[error("{0} must be a finite number")]
+    NonFinite(&'static str),
+    /// `h ≤ 0`.
+    #[error("step h must be positive (got {0} s)")]
+    Step(f64),
+    /// `T ≤ 0`.
+    #[error("horizon T must be positive (got {0} s)")]
+    Horizon(f64),
+    /// `T/h` is not a whole number.
+    #[error("horizon T = {horizon} s is not a whole number of steps h = {step} s (T/h = {ratio})")]
+    NotWholeSteps {
+        /// `T`.
+        horizon: f64,
+        /// `h`.
+        step: f64,
+        /// `T/h`.
+        ratio: f64,
+    },
+    /// `T/h` above [`MAX_STEPS`].
+    #[error("horizon needs {0} steps, more than the limit {MAX_STEPS}")]
+    TooManySteps(f64),
+    /// A non-positive link length, drag coefficient or drag ratio.
+    #[error("{0} must be positive (got {1})")]
+    NonPositive(&'static str, f64),
+    /// `|α0_i| ≥ π` or beyond the admissibility limit.
+    #[error(
+        "alpha0 = ({0}, {1}) rad: each |alpha0_i| must be below alpha-max = {2} rad (at most pi)"
+    )]
+    ShapeOutOfRange(f64, f64, f64),
+    /// The admissibility limit is outside `]0, π]`.
+    #[error("alpha-max must be in ]0, pi] rad (got {0})")]
+    AlphaMax(f64),
+}
+
+/// The inputs of a solve, as given by a user (SI units, radians).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spec {
+    /// Target `ḡ = (x, y, θ)`, metres and radians.
+    pub target: [f64; 3],
+    /// Horizon `T`, seconds.
+    pub horizon: f64,
+    /// Time step `h`, seconds.
+    pub step: f64,
+    /// Start and end shape `ᾱ`, radians.
+    pub alpha0: [f64; 2],
+    /// Link lengths `(L0 middle, L1 front, L2 rear)`, metres.
+    pub links: [f64; 3],
+    /// Drag coefficient `k`.
+    pub drag: f64,
+    /// Drag ratio `r` (normal over tangential).
+    pub ratio: f64,
+    /// Admissibility limit on `|α_i|` along the whole path, radians.
+    pub alpha_max: f64,
+}
+
+impl Default for Spec {
+    /// The paper's experiment: `ḡ = (0.1, 0.1, 0)`, `T = 100 s`, `h = 0.01 s`, `ᾱ = 0`,
+    /// unit links, `k = 1`, `r = 2`, limit `π`.
+    fn default() -> Self {
+        Spec {
+            target: [0.1, 0.1, 0.0],
+            horizon: 100.0,
+            step: 0.01,
+            alpha0: [0.0, 0.0],
+            links: [1.0; 3],
+            drag: 1.0,
+            ratio: 2.0,
+            alpha_max: core::f64::consts::PI,
+        }
+    }
+}
+
+/// A validated problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Problem {
+    /// Swimmer parameters.
+    pub swimmer: Swimmer<f64>,
+    /// Time step `h`, seconds.
+    pub h: f64,
+    /// Number of steps `N`.
+    pub steps: u32,
+    /// `ᾱ`.
+    pub alpha0: Vector2<f64>,
+    /// `ḡ` as `(x, y, θ)`.
+    pub target: Vector3<f64>,
+    /// Admissibility limit on `|α_i|`.
+    pub alpha_max: f64,
+}
+
+impl Problem {
+    /// Validates a [`Spec`]. Every refusal names the offending input.
+    pub fn new(spec: &Spec) -> Result<Self, InputError> {
+        let finite = |name: &'static str, v: &[f64]| {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(InputError::NonFinite(name))
+            }
+        };
+        finite("target", &spec.target)?;
+        finite("horizon", &[spec.horizon])?;
+        finite("step", &[spec.step])?;
+        finite("alpha0", &spec.alpha0)?;
+        finite("links", &spec.links)?;
+        finite("drag", &[spec.drag])?;
+        finite("ratio", &[spec.ratio])?;
+        finite("alpha-max", &[spec.alpha_max])?;
+        if spec.step <= 0.0 {
+            return Err(InputError::Step(spec.step));
+        }
+        if spec.horizon <= 0.0 {
+            return Err(InputError::Horizon(spec.horizon));
+        }
+        let ratio = spec.horizon / spec.step;
+        if ratio > MAX_STEPS as f64 {
+            return Err(InputError::TooManySteps(ratio));
+        }
+        let steps = ratio.round();
+        if steps < 1.0 || (ratio - steps).abs() > 1e-9 * steps.max(1.0) {
+            return Err(InputError::NotWholeSteps {
+                horizon: spec.horizon,
+                step: spec.step,
+                ratio,
+            });
+        }
+        for (name, v) in [
+            ("link length L0", spec.links[0]),
+            ("link length L1", spec.links[1]),
+            ("link length L2", spec.links[2]),
+            ("drag k", spec.drag),
+            ("drag ratio r", spec.ratio),
+        ] {
+            if v <= 0.0 {
+                return Err(InputError::NonPositive(name, v));
+            }
+        }
+        let pi = core::f64::consts::PI;
+        if !(spec.alpha_max > 0.0 && spec.alpha_max <= pi) {
+            return Err(InputError::AlphaMax(spec.alpha_max));
+        }
+        let [a1, a2] = spec.alpha0;
+        if a1.abs() >= spec.alpha_max || a2.abs() >= spec.alpha_max {
+            return Err(InputError::ShapeOutOfRange(a1, a2, spec.alpha_max));
+        }
+        let swimmer = Swimmer::new(spec.links, spec.drag, spec.ratio)
+            .map_err(|_| InputError::NonPositive("swimmer parameter", f64::NAN))?;
+        Ok(Problem {
+            swimmer,
+            h: spec.step,
+            steps: steps as u32,
+            alpha0: Vector2::new(a1, a2),
+            target: Vector3::from(spec.target),
+            alpha_max: spec.alpha_max,
+        })
+    }
+
+    /// The paper's experiment (MODEL.md §4).
+    pub fn paper() -> Self {
+        match Problem::new(&Spec::default()) {
+            Ok(p) => p,
+            // The default spec is valid by construction (tested).
+            Err(_) => unreachable!("the paper's problem is valid"),
+        }
+    }
+
+    /// Horizon `T = N·h`, seconds.
+    pub fn horizon(&self) -> f64 {
+        self.h * f64::from(self.steps)
+    }
+
+    /// The discrete kinematics in scalar type `T` (fails only if a parameter overflows `T`).
+    pub fn kinematics<T: Real>(&self) -> Result<Kinematics<T>, purcell_core::Error> {
+        let [l0, l1, l2] = self.swimmer.lengths();
+        let c = T::from_f64;
+        let swimmer = Swimmer::new(
+            [c(l0), c(l1), c(l2)],
+            c(self.swimmer.drag()),
+            c(self.swimmer.ratio()),
+        )?;
+        Kinematics::new(swimmer, c(self.h))
+    }
+
+    /// The target `ḡ` in scalar type `T`.
+    pub fn target_se2<T: Real>(&self) -> Se2<T> {
+        let t = self.target.map(T::from_f64);
+        Se2::new(t.x, t.y, t.z)
+    }
+}
