@@ -4,25 +4,21 @@
 //!
 //! The state is step 2 500 of the f64 replay of a `|μ| ≈ 13` extremal of the paper's problem
 //! (α ≈ (1.6, 0.9), g far from the identity), so every branch taken is the one taken in
-//! flight. `replay` runs the whole 10 000-step horizon of the paper's returned extremal
-//! (`J = 0.686`) through [`Replay::step`], with its f64 checkpoints every 100 steps (in f32;
-//! none needed in f64), and reports the time per step as throughput.
+//! flight (the extremals are the fixtures of `purcell-tests`). `replay` runs the whole
+//! 10 000-step horizon of the paper's returned extremal (`J = 0.686`) through
+//! [`Replay::step`], with the f64 replay's checkpoints every 100 steps in f32 (none needed in
+//! f64), and reports the time per step as throughput.
 //! Run: `cargo bench -p purcell-benches --bench step`.
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{Checkpoint, Costate, Kinematics, Real, Replay, Se2, State, Swimmer, se2};
+use purcell_tests::{STEPS, costate_f32, paper_kinematics};
 use std::hint::black_box;
 
 /// `(state, ξ^{k−1}, μ)` at step `k` of the f64 replay of the `|μ| ≈ 13` extremal.
 fn realistic(k: u32) -> (State<f64>, Vector2<f64>, Vector3<f64>) {
-    let costate = Costate {
-        mu: Vector3::new(
-            1.532_914_552_615_802_8,
-            13.222_390_687_754_31,
-            0.593_346_744_546_872_6,
-        ),
-        xi: Vector2::new(2.262_121_649_874_644, -1.952_433_722_666_657_5),
-    };
+    let costate = purcell_tests::costate_mu13();
     let kin = Kinematics::new(Swimmer::purcell(), 0.01).expect("valid step");
     let start = State::at_origin(Vector2::zeros());
     let mut replay = Replay::new(kin, start, costate, k, &[]).expect("valid replay");
@@ -59,70 +55,51 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str, cast: fn(f64) -> T) {
     });
 }
 
-/// The returned extremal of the paper's problem (`J = 0.686`, `|μ| ≈ 6.4`).
-fn paper_costate() -> Costate<f64> {
-    Costate {
-        mu: Vector3::new(
-            1.267_405_852_682_282_5,
-            6.195_325_497_329_788,
-            -1.054_518_565_868_840_5,
-        ),
-        xi: Vector2::new(0.645_028_386_460_496_6, -1.333_507_114_196_018_2),
-    }
-}
-
-/// Full-horizon replay per step, as the firmware runs it.
-fn bench_replay<T: Real>(c: &mut Criterion, name: &str, cast: fn(f64) -> T, every: u32) {
-    const STEPS: u32 = 10_000;
-    let c64 = paper_costate();
-    let kin64 = Kinematics::new(Swimmer::purcell(), 0.01).expect("valid step");
-    let start64 = State::at_origin(Vector2::zeros());
-    let mut checkpoints = Vec::new();
-    let (mut state, mut xi_prev) = (start64, c64.xi);
-    for k in 0..STEPS {
-        if every > 0 && k > 0 && k % every == 0 {
-            let g = &state.g;
-            checkpoints.push(Checkpoint {
-                k,
-                state: State {
-                    alpha: state.alpha.map(cast),
-                    g: Se2::from_rotation(cast(g.x()), cast(g.y()), cast(g.cos()), cast(g.sin())),
-                },
-                xi: xi_prev.map(cast),
-            });
-        }
-        let s = kin64
-            .law_step(&state, &xi_prev, &c64.mu)
-            .expect("admissible");
-        (state, xi_prev) = (s.next, s.xi);
-    }
-    let kin = Kinematics::new(Swimmer::<T>::purcell(), cast(0.01)).expect("valid step");
-    let costate = Costate {
-        mu: c64.mu.map(cast),
-        xi: c64.xi.map(cast),
-    };
-    let start = State::at_origin(Vector2::<T>::zeros());
+/// Full-horizon replay of the returned extremal, per step, as the firmware runs it: f64 from
+/// `(μ, ξ^{−1})` alone, f32 with the f64 replay's checkpoints every 100 steps.
+fn bench_replay(c: &mut Criterion) {
+    let c64 = purcell_tests::costate_mu6();
+    let start = State::at_origin(Vector2::zeros());
+    let (samples, _) = purcell_tests::replay_all(paper_kinematics(), start, c64, STEPS, &[])
+        .expect("admissible extremal");
+    let checkpoints = purcell_tests::checkpoints_f32(&samples, 100);
     let mut group = c.benchmark_group("replay");
     group.throughput(Throughput::Elements(u64::from(STEPS)));
     group.sample_size(20);
+    time_replay(&mut group, "f64", c64, &[]);
+    time_replay(&mut group, "f32", costate_f32(&c64), &checkpoints);
+    group.finish();
+}
+
+fn time_replay<T: Real>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    costate: Costate<T>,
+    checkpoints: &[Checkpoint<T>],
+) {
+    let start = State::at_origin(Vector2::<T>::zeros());
     group.bench_function(format!("{name} (10 000 steps, Replay::step)"), |b| {
         b.iter(|| {
-            let mut replay =
-                Replay::new(kin, start, costate, STEPS, black_box(&checkpoints)).expect("valid");
+            let mut replay = Replay::new(
+                paper_kinematics(),
+                start,
+                costate,
+                STEPS,
+                black_box(checkpoints),
+            )
+            .expect("valid");
             while let Some(s) = replay.step().expect("admissible") {
                 black_box(s);
             }
             *replay.state()
         })
     });
-    group.finish();
 }
 
 fn bench(c: &mut Criterion) {
     bench_type::<f64>(c, "f64", |v| v);
     bench_type::<f32>(c, "f32", |v| v as f32);
-    bench_replay::<f64>(c, "f64", |v| v, 0);
-    bench_replay::<f32>(c, "f32", |v| v as f32, 100);
+    bench_replay(c);
 }
 
 criterion_group!(benches, bench);
