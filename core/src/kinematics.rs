@@ -8,7 +8,7 @@
 //! `u_k` and the connection frozen at `α_k`: no projection, no drift off SE(2).
 
 use crate::se2::{self, Se2, Tangent};
-use crate::swimmer::check_shape;
+use crate::swimmer::within_limit;
 use crate::{Error, Real, Swimmer};
 use nalgebra::{Matrix3x2, Vector2};
 
@@ -32,13 +32,13 @@ impl<T: Real> State<T> {
     }
 
     /// `Ok` if the shape is admissible (`|α_i| < π`) and every number is finite.
+    #[inline]
     pub fn check(&self) -> Result<(), Error> {
-        check_shape(&self.alpha)?;
-        if self.g.is_finite() {
-            Ok(())
-        } else {
-            Err(Error::NonFinite)
+        let (a, g) = (&self.alpha, &self.g);
+        if !T::all_finite([a.x, a.y, g.x(), g.y(), g.cos(), g.sin()]) {
+            return Err(Error::NonFinite);
         }
+        within_limit(a.x, a.y)
     }
 }
 

@@ -119,30 +119,10 @@ impl<T: Real> Kinematics<T> {
                     xi_prev.x + (b11 * u.x + b12 * u.y),
                     xi_prev.y + (b21 * u.x + b22 * u.y),
                 );
-                let next = State {
-                    alpha: Vector2::new(state.alpha.x + h * u.x, state.alpha.y + h * u.y),
-                    g: state.g.compose(&se2::exp_with(&k, &x)),
-                };
-                // Every output at once (one comparison), then the shape limit.
-                let (an, g) = (&next.alpha, &next.g);
-                if !T::all_finite([
-                    u.x,
-                    u.y,
-                    xi.x,
-                    xi.y,
-                    an.x,
-                    an.y,
-                    g.x(),
-                    g.y(),
-                    g.cos(),
-                    g.sin(),
-                ]) {
+                if !T::all_finite([u.x, u.y, xi.x, xi.y]) {
                     return Err(Error::NonFinite);
                 }
-                let pi = T::pi();
-                if !(an.x.abs() < pi && an.y.abs() < pi) {
-                    return Err(Error::ShapeLimit);
-                }
+                let next = self.advance(state, &u, &se2::exp_with(&k, &x))?;
                 return Ok(LawStep { u, next, xi });
             }
             zeta = k.dexp_transpose_mul(&x, &m);

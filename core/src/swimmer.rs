@@ -121,14 +121,21 @@ fn finite_or_singular<T: Real>(v: &[T]) -> Result<(), Error> {
 /// Checks `α` against the link-overlap limit `|α_i| < π`.
 pub fn check_shape<T: Real>(alpha: &Vector2<T>) -> Result<(), Error> {
     let (a1, a2) = (alpha.x, alpha.y);
-    if !(a1.is_finite() && a2.is_finite()) {
+    if !T::all_finite([a1, a2]) {
         return Err(Error::NonFinite);
     }
+    within_limit(a1, a2)
+}
+
+/// `Ok` unless `|α1| ≥ π` or `|α2| ≥ π` (for finite angles).
+#[inline(always)]
+pub(crate) fn within_limit<T: Real>(a1: T, a2: T) -> Result<(), Error> {
     let pi = T::pi();
-    if a1.abs() >= pi || a2.abs() >= pi {
-        return Err(Error::ShapeLimit);
+    if a1.abs() < pi && a2.abs() < pi {
+        Ok(())
+    } else {
+        Err(Error::ShapeLimit)
     }
-    Ok(())
 }
 
 /// A symmetric 3×3 matrix by its upper triangle `[xx, xy, xz, yy, yz, zz]`.

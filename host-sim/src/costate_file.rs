@@ -150,7 +150,8 @@ impl CostateFile {
             if !(finite(&c.xi) && finite(&c.alpha) && finite(&c.g)) {
                 return bad("non-finite checkpoint");
             }
-            if c.alpha.iter().any(|a| a.abs() >= core::f64::consts::PI) {
+            let shape = nalgebra::Vector2::new(c.alpha[0], c.alpha[1]);
+            if purcell_core::swimmer::check_shape(&shape).is_err() {
                 return bad("checkpoint shape at or past the link-overlap limit |alpha_i| >= pi");
             }
             let norm = c.g[2] * c.g[2] + c.g[3] * c.g[3];
