@@ -85,7 +85,7 @@ impl<T: Real> Swimmer<T> {
     pub fn connection(&self, alpha: &Vector2<T>) -> Result<Matrix3x2<T>, Error> {
         check_shape(alpha)?;
         let a = Frame::new(self, alpha)?.a().0;
-        finite_or_singular(a.as_slice())?;
+        finite_or_singular(&a)?;
         Ok(a)
     }
 
@@ -93,9 +93,9 @@ impl<T: Real> Swimmer<T> {
     pub fn connection_with_derivatives(&self, alpha: &Vector2<T>) -> Result<Connection<T>, Error> {
         check_shape(alpha)?;
         let c = self.connection_unchecked(alpha)?;
-        finite_or_singular(c.a.as_slice())?;
-        finite_or_singular(c.da[0].as_slice())?;
-        finite_or_singular(c.da[1].as_slice())?;
+        finite_or_singular(&c.a)?;
+        finite_or_singular(&c.da[0])?;
+        finite_or_singular(&c.da[1])?;
         Ok(c)
     }
 
@@ -110,8 +110,9 @@ impl<T: Real> Swimmer<T> {
 }
 
 /// `Err(Singular)` unless every entry is finite.
-fn finite_or_singular<T: Real>(v: &[T]) -> Result<(), Error> {
-    if v.iter().all(|x| x.is_finite()) {
+#[inline(always)]
+fn finite_or_singular<T: Real>(m: &Matrix3x2<T>) -> Result<(), Error> {
+    if T::all_finite([m.m11, m.m12, m.m21, m.m22, m.m31, m.m32]) {
         Ok(())
     } else {
         Err(Error::Singular)

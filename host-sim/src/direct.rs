@@ -8,8 +8,8 @@
 //!
 //! so `p = (a, b) ∈ R^{4K}` is unconstrained, `u_k = (α_{k+1} − α_k)/h` and
 //! `J(p) = ½ pᵀQp` exactly (Q from the discrete differences). The terminal constraint
-//! `c(p) = log(ḡ⁻¹ g_N(p)) = 0` is evaluated by the core's exact kinematics on
-//! [`Dual`] numbers (one tangent per coefficient), giving `C = ∂c/∂p` exactly.
+//! `c(p) = log(ḡ⁻¹ g_N(p)) = 0` is evaluated by the core's exact kinematics, and its
+//! Jacobian `C = ∂c/∂p` exactly in the same forward pass ([`constraint`]).
 //!
 //! The iteration `p ← argmin ½ qᵀQq  s.t.  c(p) + C (q − p) = 0`, i.e.
 //! `q = Q⁻¹Cᵀ (C Q⁻¹ Cᵀ)⁻¹ (C p − c)`, has the KKT points `Qp = Cᵀλ, c(p) = 0` as fixed
@@ -17,10 +17,9 @@
 //! extremal (exact up to the truncation of the loop to `K` harmonics), which
 //! [`crate::seed::fit`] turns into `(μ, ξ^{−1})` for Newton.
 
-use crate::dual::Dual;
 use crate::problem::Problem;
-use nalgebra::{DMatrix, DVector, SMatrix, SVector, Vector2, Vector3};
-use purcell_core::State;
+use nalgebra::{DMatrix, DVector, Matrix3x2, SMatrix, SVector, Vector2, Vector3};
+use purcell_core::{State, se2};
 
 /// Harmonics per joint.
 pub const HARMONICS: usize = 6;
@@ -117,41 +116,67 @@ pub fn ellipse_coefficients(e: &crate::seed::Ellipse) -> Option<Coefficients> {
     Some(p)
 }
 
-/// `c(p) = log(ḡ⁻¹ g_N)` and `∂c/∂p`, by the core's kinematics on duals.
-/// Errors if the loop leaves the admissible shapes.
+/// `c(p) = log(ḡ⁻¹ g_N)` and `∂c/∂p`, exactly, in one forward pass.
+///
+/// With `g_{k+1} = g_k exp(X_k)` and the left Jacobian (`exp(X + δ) = exp(dexp_X δ) exp(X)`),
+/// a change `δX_k` moves the end by `g_N ← exp(Ad_{g_k} dexp_{X_k} δX_k) g_N`, so
+///
+/// ```text
+/// δc = dexp_c⁻¹ Ad_{ḡ⁻¹} Σ_k W_k δX_k,     W_k = Ad_{g_k} dexp_{X_k},
+/// δX_k = −h Σ_i (∂A/∂α_i u_k) δα_{k,i} − A(α_k) (δα_{k+1} − δα_k),   δα_k = Φ_k δp.
+/// ```
+///
+/// The coefficient of `δα_k` collects `W_k (A_k − h [∂A/∂α_1 u_k, ∂A/∂α_2 u_k])` from step
+/// `k` and `−W_{k−1} A_{k−1}` from step `k − 1`. Errors if the loop leaves the admissible
+/// shapes. (The tests check it against the same kinematics run on dual numbers.)
 pub fn constraint(
     problem: &Problem,
     basis: &Basis,
     p: &Coefficients,
 ) -> Result<(Vector3<f64>, SMatrix<f64, 3, COEFFS>), purcell_core::Error> {
-    type D = Dual<COEFFS>;
-    let kin = problem.kinematics::<D>()?;
+    let kin = problem.kinematics::<f64>()?;
+    let h = problem.h;
+    let alphas = basis.shapes(problem, p);
+    // Σ_k (∂σ/∂α_k)_i r_kᵀ for joint i, as 3 × 2K blocks.
     let m = 2 * HARMONICS;
-    let alpha_of = |r: &[f64; 2 * HARMONICS]| {
-        let mut a = [D::constant(problem.alpha0.x), D::constant(problem.alpha0.y)];
-        let dot = |c: &[f64]| r.iter().zip(c).map(|(x, y)| x * y).sum::<f64>();
-        a[0].v += dot(&p.as_slice()[..m]);
-        a[1].v += dot(&p.as_slice()[m..]);
-        a[0].d[..m].copy_from_slice(r);
-        a[1].d[m..].copy_from_slice(r);
-        Vector2::new(a[0], a[1])
+    let mut jac = SMatrix::<f64, 3, COEFFS>::zeros();
+    let mut accumulate = |v: &Matrix3x2<f64>, r: &[f64; 2 * HARMONICS]| {
+        for row in 0..3 {
+            let (v1, v2) = (v[(row, 0)], v[(row, 1)]);
+            for (j, &rj) in r.iter().enumerate() {
+                jac[(row, j)] += v1 * rj;
+                jac[(row, m + j)] += v2 * rj;
+            }
+        }
     };
-    let inv_h = D::constant(1.0 / problem.h);
-    let mut state = State::at_origin(alpha_of(&basis.rows[0]));
-    for pair in basis.rows.windows(2) {
-        let next = alpha_of(&pair[1]);
-        let u = Vector2::new(
-            (next.x - state.alpha.x) * inv_h,
-            (next.y - state.alpha.y) * inv_h,
-        );
-        state = kin.step(&state, &u)?;
-        // Keep α on the basis exactly (the step's α + h·u differs by rounding only).
-        state.alpha = next;
+    let mut state = State::at_origin(alphas[0]);
+    let mut carry = Matrix3x2::<f64>::zeros();
+    for (k, pair) in alphas.windows(2).enumerate() {
+        let u = (pair[1] - pair[0]) / h;
+        let conn = kin.swimmer().connection_with_derivatives(&state.alpha)?;
+        let x = kin.twist(&conn.a, &u);
+        let w = state.g.adjoint() * se2::dexp(&x);
+        let mut dx_dalpha = conn.a;
+        dx_dalpha.set_column(0, &(conn.a.column(0) - conn.da[0] * u * h));
+        dx_dalpha.set_column(1, &(conn.a.column(1) - conn.da[1] * u * h));
+        accumulate(&(w * dx_dalpha + carry), &basis.rows[k]);
+        carry = -(w * conn.a);
+        // α stays on the basis exactly (α + h·u would differ by rounding only).
+        state = State {
+            alpha: pair[1],
+            g: state.g.compose(&se2::exp(&x)),
+        };
+        state.check()?;
     }
-    let e = problem.target_se2::<D>().between(&state.g).log();
-    let value = Vector3::new(e.x.v, e.y.v, e.z.v);
-    let jac = SMatrix::<f64, 3, COEFFS>::from_fn(|r, c| e[r].d[c]);
-    Ok((value, jac))
+    if let Some(last) = basis.rows.last() {
+        accumulate(&carry, last);
+    }
+    let target = problem.target_se2::<f64>();
+    let c = target.between(&state.g).log();
+    let dexp_inv = se2::dexp(&c)
+        .try_inverse()
+        .ok_or(purcell_core::Error::Singular)?;
+    Ok((c, dexp_inv * target.inverse().adjoint() * jac))
 }
 
 /// `c(p)` only, in `f64`.
@@ -210,6 +235,7 @@ pub fn solve(
     run.violation = c.amax();
     let merit = |p: &Coefficients, c: &Vector3<f64>, rho: f64| basis.cost(p) + rho * c.lp_norm(1);
     let mut rho = 1.0f64;
+    let mut t_last = 1.0f64;
     const K: usize = COEFFS + 3;
     while run.iterations < max_iterations {
         run.iterations += 1;
@@ -232,12 +258,17 @@ pub fn solve(
         let m0 = merit(&p, &c, rho);
         // Directional derivative of the merit along d: ∇Jᵀd − ρ|c|₁.
         let slope = grad.dot(&d) - rho * c.lp_norm(1);
-        let mut t = 1.0;
+        let sufficient = |trial: &Coefficients, ct: &Vector3<f64>, t: f64| {
+            merit(trial, ct, rho) <= m0 + 1e-4 * t * slope.min(0.0) + 1e-15 * m0.abs()
+        };
+        // Backtracking from 4× the last accepted step (at most 1): far from a solution the
+        // merit accepts only short steps, often the same length many iterations in a row.
+        let mut t = (4.0 * t_last).min(1.0);
         let mut accepted = None;
         while t > 1e-6 {
             let trial = p + d * t;
             if let Ok(ct) = constraint_value(problem, basis, &trial)
-                && merit(&trial, &ct, rho) <= m0 + 1e-4 * t * slope.min(0.0) + 1e-15 * m0.abs()
+                && sufficient(&trial, &ct, t)
             {
                 accepted = Some(trial);
                 break;
@@ -245,6 +276,7 @@ pub fn solve(
             t *= 0.5;
         }
         let Some(p_new) = accepted else { break };
+        t_last = t;
         let Ok((c_new, cj_new)) = constraint(problem, basis, &p_new) else {
             break;
         };
@@ -284,4 +316,78 @@ pub fn solve(
 /// Largest `|α_i|` along the loop.
 pub fn max_abs_alpha(shapes: &[Vector2<f64>]) -> f64 {
     shapes.iter().map(|a| a.amax()).fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dual::Dual;
+    use crate::seed::Ellipse;
+
+    /// The reference route for `∂c/∂p`: the core's kinematics on dual numbers with one
+    /// tangent per loop coefficient.
+    fn constraint_by_duals(
+        problem: &Problem,
+        basis: &Basis,
+        p: &Coefficients,
+    ) -> (Vector3<f64>, SMatrix<f64, 3, COEFFS>) {
+        type D = Dual<COEFFS>;
+        let kin = problem.kinematics::<D>().unwrap();
+        let m = 2 * HARMONICS;
+        let alpha_of = |r: &[f64; 2 * HARMONICS]| {
+            let mut a = [D::constant(problem.alpha0.x), D::constant(problem.alpha0.y)];
+            let dot = |c: &[f64]| r.iter().zip(c).map(|(x, y)| x * y).sum::<f64>();
+            a[0].v += dot(&p.as_slice()[..m]);
+            a[1].v += dot(&p.as_slice()[m..]);
+            a[0].d[..m].copy_from_slice(r);
+            a[1].d[m..].copy_from_slice(r);
+            Vector2::new(a[0], a[1])
+        };
+        let inv_h = D::constant(1.0 / problem.h);
+        let mut state = State::at_origin(alpha_of(&basis.rows[0]));
+        for pair in basis.rows.windows(2) {
+            let next = alpha_of(&pair[1]);
+            let u = (next - state.alpha) * inv_h;
+            state = kin.step(&state, &u).unwrap();
+            state.alpha = next;
+        }
+        let e = problem.target_se2::<D>().between(&state.g).log();
+        (
+            Vector3::new(e.x.v, e.y.v, e.z.v),
+            SMatrix::<f64, 3, COEFFS>::from_fn(|r, c| e[r].d[c]),
+        )
+    }
+
+    #[test]
+    fn constraint_jacobian_matches_dual_numbers() {
+        let mut problem = Problem::paper();
+        problem.steps = 2_000;
+        problem.h = 0.05;
+        let basis = Basis::new(&problem);
+        for (turns, phase, psi) in [(1, 0.3, 0.0), (2, 1.1, 0.7), (3, 2.0, -0.4)] {
+            let e = Ellipse {
+                a: 0.6,
+                b: -0.4,
+                psi,
+                phase,
+                turns,
+            };
+            let mut p = ellipse_coefficients(&e).unwrap();
+            // Every harmonic active, so every column of the Jacobian is exercised.
+            for (i, x) in p.iter_mut().enumerate() {
+                *x += 0.02 * ((i * 7 % 5) as f64 - 2.0);
+            }
+            let (c, jac) = constraint(&problem, &basis, &p).unwrap();
+            let (c_ref, jac_ref) = constraint_by_duals(&problem, &basis, &p);
+            assert!((c - c_ref).amax() <= 1e-13, "c {c} vs {c_ref}");
+            let scale = jac_ref.amax();
+            assert!(scale > 1e-3);
+            assert!(
+                (jac - jac_ref).amax() <= 1e-11 * scale,
+                "Jacobian off by {:e} (scale {scale:e})",
+                (jac - jac_ref).amax()
+            );
+            assert_eq!(c, constraint_value(&problem, &basis, &p).unwrap());
+        }
+    }
 }

@@ -7,13 +7,15 @@
 //! less nonlinear than the single-shooting one, so Newton converges from rougher starts
 //! (a direct solution's trajectory and the costate fitted to it). The Jacobian is exact:
 //! each segment runs on [`Dual`] numbers with 10 tangents (its 7 start values and `μ`).
-//! Steps are damped on `|F|₂` (halving, then Levenberg–Marquardt regularisation).
+//! Steps are damped on `|F|₂` (Levenberg–Marquardt regularisation); between exact
+//! Jacobians, steps that converge well reuse the last one with Broyden updates
+//! ([`MultipleShooting::solve`]).
 
 use crate::dual::Dual;
 use crate::problem::Problem;
 use crate::shooting::Unknowns;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
-use purcell_core::{Costate, Replay, Se2, State};
+use purcell_core::{Costate, Real, Replay, Se2, State};
 
 /// Values per interior node.
 const NODE: usize = 7;
@@ -70,119 +72,134 @@ impl MultipleShooting {
         y
     }
 
-    /// Residuals and (if `jac`) the Jacobian at `y`.
+    /// Replays segment `s` from its start in `y` and returns its defects (7 values, or the 5
+    /// terminal ones for the last segment) and its end `g`. `lift(v, t)` makes the scalar
+    /// for the start value `v` of tangent `t` (0..7 the segment's start `(α, x, y, θ, ξ)`,
+    /// 7..10 `μ`); values that are not unknowns of the segment are constants.
+    fn segment<T: Real>(
+        &self,
+        problem: &Problem,
+        y: &DVector<f64>,
+        s: usize,
+        lift: impl Fn(f64, usize) -> T,
+    ) -> Result<(Vec<T>, Se2<T>), purcell_core::Error> {
+        let c = |v: f64| T::from_f64(v);
+        let kin = problem.kinematics::<T>()?;
+        let mu = Vector3::new(lift(y[0], 7), lift(y[1], 8), lift(y[2], 9));
+        let (start, xi) = if s == 0 {
+            let a = problem.alpha0.map(c);
+            (
+                State::at_origin(a),
+                Vector2::new(lift(y[3], 5), lift(y[4], 6)),
+            )
+        } else {
+            let o = 5 + NODE * (s - 1);
+            let st = State {
+                alpha: Vector2::new(lift(y[o], 0), lift(y[o + 1], 1)),
+                g: Se2::new(lift(y[o + 2], 2), lift(y[o + 3], 3), lift(y[o + 4], 4)),
+            };
+            (st, Vector2::new(lift(y[o + 5], 5), lift(y[o + 6], 6)))
+        };
+        let steps = self.nodes[s + 1] - self.nodes[s];
+        let mut replay = Replay::new(kin, start, Costate { mu, xi }, steps, &[])?;
+        while replay.step()?.is_some() {}
+        let end = *replay.state();
+        let xi_end = *replay.xi();
+        if s + 2 == self.nodes.len() {
+            let e = problem.target_se2::<T>().between(&end.g).log();
+            let a0 = problem.alpha0;
+            let vals = vec![end.alpha.x - c(a0.x), end.alpha.y - c(a0.y), e.x, e.y, e.z];
+            return Ok((vals, end.g));
+        }
+        let o = 5 + NODE * s;
+        let node = Se2::new(c(y[o + 2]), c(y[o + 3]), c(y[o + 4]));
+        let e = node.between(&end.g).log();
+        let vals = vec![
+            end.alpha.x - c(y[o]),
+            end.alpha.y - c(y[o + 1]),
+            e.x,
+            e.y,
+            e.z,
+            xi_end.x - c(y[o + 5]),
+            xi_end.y - c(y[o + 6]),
+        ];
+        Ok((vals, end.g))
+    }
+
+    /// First residual row of segment `s`.
+    fn row(&self, s: usize) -> usize {
+        if s + 2 == self.nodes.len() {
+            self.len() - 5
+        } else {
+            NODE * s
+        }
+    }
+
+    /// The residuals at `y`, in `f64`.
+    pub fn residuals(
+        &self,
+        problem: &Problem,
+        y: &DVector<f64>,
+    ) -> Result<DVector<f64>, purcell_core::Error> {
+        let mut f = DVector::zeros(self.len());
+        for s in 0..self.nodes.len() - 1 {
+            let (vals, _) = self.segment(problem, y, s, |v, _| v)?;
+            f.rows_mut(self.row(s), vals.len()).copy_from_slice(&vals);
+        }
+        Ok(f)
+    }
+
+    /// The residuals and their exact Jacobian at `y`.
     pub fn evaluate(
         &self,
         problem: &Problem,
         y: &DVector<f64>,
-        jac: bool,
-    ) -> Result<(DVector<f64>, Option<DMatrix<f64>>), purcell_core::Error> {
+    ) -> Result<(DVector<f64>, DMatrix<f64>), purcell_core::Error> {
         let n = self.len();
         let mut f = DVector::zeros(n);
-        let mut jm = jac.then(|| DMatrix::zeros(n, n));
-        let kin = problem.kinematics::<D>()?;
-        let segs = self.nodes.len() - 1;
-        for s in 0..segs {
-            // Tangents: 0..7 start values (α, x, y, θ, ξ), 7..10 μ.
-            let c = |v: f64, i: usize| {
-                if jac {
-                    D::variable(v, i)
-                } else {
-                    D::constant(v)
-                }
-            };
-            let mu = Vector3::new(c(y[0], 7), c(y[1], 8), c(y[2], 9));
-            let (start, xi) = if s == 0 {
-                let a = problem.alpha0.map(D::constant);
-                (State::at_origin(a), Vector2::new(c(y[3], 5), c(y[4], 6)))
+        let mut jm = DMatrix::zeros(n, n);
+        for s in 0..self.nodes.len() - 1 {
+            let (vals, end_g) = self.segment(problem, y, s, D::variable)?;
+            let row = self.row(s);
+            // Columns of the segment's start values (tangents 0..7).
+            let start_cols: Vec<(usize, usize)> = if s == 0 {
+                vec![(5, 3), (6, 4)]
             } else {
                 let o = 5 + NODE * (s - 1);
-                let st = State {
-                    alpha: Vector2::new(c(y[o], 0), c(y[o + 1], 1)),
-                    g: Se2::new(c(y[o + 2], 2), c(y[o + 3], 3), c(y[o + 4], 4)),
-                };
-                (st, Vector2::new(c(y[o + 5], 5), c(y[o + 6], 6)))
+                (0..NODE).map(|t| (t, o + t)).collect()
             };
-            let steps = self.nodes[s + 1] - self.nodes[s];
-            let mut replay = Replay::new(kin, start, Costate { mu, xi }, steps, &[])?;
-            for item in replay.by_ref() {
-                item?;
-            }
-            let end = *replay.state();
-            let xi_end = *replay.xi();
-            // Residual rows of this segment and the columns its start occupies.
-            let row = if s + 1 == segs { n - 5 } else { NODE * s };
-            let mut vals: Vec<D> = Vec::with_capacity(NODE);
-            let mut next_cols: Option<usize> = None;
-            if s + 1 == segs {
-                let e = problem.target_se2::<D>().between(&end.g).log();
-                let a0 = problem.alpha0;
-                vals.extend([
-                    end.alpha.x - D::constant(a0.x),
-                    end.alpha.y - D::constant(a0.y),
-                    e.x,
-                    e.y,
-                    e.z,
-                ]);
-            } else {
-                let o = 5 + NODE * s;
-                let node = Se2::new(
-                    D::constant(y[o + 2]),
-                    D::constant(y[o + 3]),
-                    D::constant(y[o + 4]),
-                );
-                let e = node.between(&end.g).log();
-                vals.extend([
-                    end.alpha.x - D::constant(y[o]),
-                    end.alpha.y - D::constant(y[o + 1]),
-                    e.x,
-                    e.y,
-                    e.z,
-                    xi_end.x - D::constant(y[o + 5]),
-                    xi_end.y - D::constant(y[o + 6]),
-                ]);
-                next_cols = Some(o);
-            }
             for (i, v) in vals.iter().enumerate() {
                 f[row + i] = v.v;
-            }
-            if let Some(jm) = jm.as_mut() {
-                let start_cols: Vec<(usize, usize)> = if s == 0 {
-                    vec![(5, 3), (6, 4)]
-                } else {
-                    let o = 5 + NODE * (s - 1);
-                    (0..NODE).map(|t| (t, o + t)).collect()
-                };
-                for (i, v) in vals.iter().enumerate() {
-                    for &(t, col) in &start_cols {
-                        jm[(row + i, col)] += v.d[t];
-                    }
-                    for t in 0..3 {
-                        jm[(row + i, t)] += v.d[7 + t];
-                    }
+                for &(t, col) in &start_cols {
+                    jm[(row + i, col)] += v.d[t];
                 }
-                // ∂/∂(next node): −I for α and ξ; for g, −(∂log(node⁻¹g)/∂node) by duals.
-                if let Some(o) = next_cols {
-                    jm[(row, o)] -= 1.0;
-                    jm[(row + 1, o + 1)] -= 1.0;
-                    jm[(row + 5, o + 5)] -= 1.0;
-                    jm[(row + 6, o + 6)] -= 1.0;
-                    let gend = Se2::new(
-                        D::constant(end.g.x().v),
-                        D::constant(end.g.y().v),
-                        D::constant(end.g.theta().v),
-                    );
-                    let node = Se2::new(
-                        D::variable(y[o + 2], 0),
-                        D::variable(y[o + 3], 1),
-                        D::variable(y[o + 4], 2),
-                    );
-                    let e = node.between(&gend).log();
-                    for i in 0..3 {
-                        for t in 0..3 {
-                            jm[(row + 2 + i, o + 2 + t)] += e[i].d[t];
-                        }
-                    }
+                for t in 0..3 {
+                    jm[(row + i, t)] += v.d[7 + t];
+                }
+            }
+            if s + 2 == self.nodes.len() {
+                continue;
+            }
+            // ∂/∂(next node): −I for α and ξ; for g, −(∂log(node⁻¹g)/∂node) by duals.
+            let o = 5 + NODE * s;
+            jm[(row, o)] -= 1.0;
+            jm[(row + 1, o + 1)] -= 1.0;
+            jm[(row + 5, o + 5)] -= 1.0;
+            jm[(row + 6, o + 6)] -= 1.0;
+            let gend = Se2::new(
+                D::constant(end_g.x().v),
+                D::constant(end_g.y().v),
+                D::constant(end_g.theta().v),
+            );
+            let node = Se2::new(
+                D::variable(y[o + 2], 0),
+                D::variable(y[o + 3], 1),
+                D::variable(y[o + 4], 2),
+            );
+            let e = node.between(&gend).log();
+            for i in 0..3 {
+                for t in 0..3 {
+                    jm[(row + 2 + i, o + 2 + t)] += e[i].d[t];
                 }
             }
         }
@@ -191,6 +208,12 @@ impl MultipleShooting {
 
     /// Damped Newton / Levenberg–Marquardt on the residuals; returns the best `y`, its
     /// `max |F_i|` and the iterations used.
+    ///
+    /// A step that removes at least half of the largest defect keeps its Jacobian, updated by
+    /// Broyden's rank-one formula, for the next step: a residual costs a fifteenth of a
+    /// Jacobian (plain `f64` against 10-tangent duals), and from a good start Newton spends
+    /// most of its steps there. A step the updated Jacobian does not make good is retried
+    /// with a fresh one before any damping; slower progress also refreshes it.
     pub fn solve(
         &self,
         problem: &Problem,
@@ -199,21 +222,23 @@ impl MultipleShooting {
         max_iterations: usize,
     ) -> (DVector<f64>, f64, usize) {
         let mut y = y0.clone();
-        let Ok((mut f, Some(mut j))) = self.evaluate(problem, &y, true) else {
+        let Ok((mut f, mut j)) = self.evaluate(problem, &y) else {
             return (y, f64::INFINITY, 0);
         };
+        let mut fresh = true;
         let mut it = 0;
         let mut lambda = 0.0f64;
         let (mut last, mut slow) = (f.amax(), 0);
         while f.amax() > tolerance && it < max_iterations {
             it += 1;
             let norm = f.norm();
-            let jt = j.transpose();
-            let mut accepted = false;
+            let mut lu = j.clone().lu();
+            let mut accepted = None;
             for _ in 0..30 {
                 let step = if lambda == 0.0 {
-                    j.clone().lu().solve(&(-&f))
+                    lu.solve(&(-&f))
                 } else {
+                    let jt = j.transpose();
                     let mut a = &jt * &j;
                     let dmax = a.diagonal().max();
                     for i in 0..a.nrows() {
@@ -221,39 +246,64 @@ impl MultipleShooting {
                     }
                     a.cholesky().map(|c| c.solve(&(-(&jt * &f))))
                 };
-                let Some(step) = step.filter(|s| s.iter().all(|v| v.is_finite())) else {
-                    lambda = if lambda == 0.0 { 1e-6 } else { lambda * 10.0 };
+                if let Some(step) = step.filter(|s| s.iter().all(|v| v.is_finite())) {
+                    let trial = &y + &step;
+                    if let Ok(ft) = self.residuals(problem, &trial)
+                        && ft.norm() < norm
+                    {
+                        accepted = Some((trial, ft));
+                        lambda = if lambda < 1e-9 { 0.0 } else { lambda * 0.1 };
+                        break;
+                    }
+                }
+                if !fresh {
+                    // A kept Jacobian failed: refresh it before damping.
+                    let Ok((_, jy)) = self.evaluate(problem, &y) else {
+                        break;
+                    };
+                    j = jy;
+                    lu = j.clone().lu();
+                    fresh = true;
                     continue;
-                };
-                let trial = &y + &step;
-                if let Ok((ft, _)) = self.evaluate(problem, &trial, false)
-                    && ft.norm() < norm
-                {
-                    y = trial;
-                    lambda = if lambda < 1e-9 { 0.0 } else { lambda * 0.1 };
-                    accepted = true;
-                    break;
                 }
                 lambda = if lambda == 0.0 { 1e-6 } else { lambda * 10.0 };
                 if lambda > 1e8 {
                     break;
                 }
             }
-            if !accepted {
+            let Some((y_new, f_new)) = accepted else {
+                break;
+            };
+            let r = f_new.amax();
+            let keep = r <= 0.5 * last && lambda == 0.0;
+            let s = &y_new - &y;
+            let df = &f_new - &f;
+            y = y_new;
+            f = f_new;
+            if r <= tolerance {
                 break;
             }
-            match self.evaluate(problem, &y, true) {
-                Ok((fy, Some(jy))) => {
-                    f = fy;
-                    j = jy;
+            if keep {
+                // Broyden's update: the least change to J that maps s to df.
+                let ss = s.norm_squared();
+                if ss > 0.0 {
+                    let js = &j * &s;
+                    j += (df - js) * (s.transpose() / ss);
                 }
-                _ => break,
+                fresh = false;
+            } else {
+                match self.evaluate(problem, &y) {
+                    Ok((_, jy)) => {
+                        j = jy;
+                        fresh = true;
+                    }
+                    Err(_) => break,
+                }
             }
             // Give up on a start that stalls: two iterations in a row that each remove
             // less than 10 % of the largest defect (converging starts remove ≥ 45 % per
             // iteration on the paper's problem; stalled ones creep at 1–5 % for the
             // remaining iterations).
-            let r = f.amax();
             slow = if r > 0.9 * last { slow + 1 } else { 0 };
             last = r;
             if slow >= 2 {
