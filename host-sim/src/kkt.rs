@@ -12,7 +12,7 @@
 use crate::dual::Dual;
 use crate::problem::Problem;
 use nalgebra::{SVector, Vector2, Vector3};
-use purcell_core::{Se2, State};
+use purcell_core::{Real, Se2, State};
 
 type D = Dual<7>;
 
@@ -30,13 +30,7 @@ pub fn kkt_residual(
     // Terminal: Φ(s_N) = ⟨λ, log(ḡ⁻¹ g_N)⟩ + ⟨ν, α_N⟩, s = (α1, α2, x, y, θ).
     let lambda = -end.g.adjoint_transpose_mul(mu);
     let nu = -xi_last;
-    let sn = [
-        end.alpha.x,
-        end.alpha.y,
-        end.g.x(),
-        end.g.y(),
-        end.g.theta(),
-    ];
+    let sn = coordinates(end);
     let v = |i: usize| D::variable(sn[i], i);
     let g = Se2::new(v(2), v(3), v(4));
     let e = problem.target_se2::<D>().between(&g).log();
@@ -48,29 +42,15 @@ pub fn kkt_residual(
     let mut adj = SVector::<f64, 5>::from_fn(|i, _| phi.d[i]);
     let mut worst = 0.0f64;
     for (s, u) in states.iter().zip(controls).rev() {
-        let x = [
-            s.alpha.x,
-            s.alpha.y,
-            s.g.x(),
-            s.g.y(),
-            s.g.theta(),
-            u.x,
-            u.y,
-        ];
+        let [a1, a2, px, py, th] = coordinates(s);
+        let x = [a1, a2, px, py, th, u.x, u.y];
         let w = |i: usize| D::variable(x[i], i);
         let st = State {
             alpha: Vector2::new(w(0), w(1)),
             g: Se2::new(w(2), w(3), w(4)),
         };
         let next = kin.step(&st, &Vector2::new(w(5), w(6)))?;
-        // Unwrap θ_{k+1} relative to the input angle so its derivative is the smooth one.
-        let out = [
-            next.alpha.x,
-            next.alpha.y,
-            next.g.x(),
-            next.g.y(),
-            next.g.theta(),
-        ];
+        let out = coordinates(&next);
         let mut grad = [0.0; 7];
         for (o, a) in out.iter().zip(adj.iter()) {
             for (gi, di) in grad.iter_mut().zip(o.d) {
@@ -82,4 +62,9 @@ pub fn kkt_residual(
         adj = SVector::<f64, 5>::from_fn(|i, _| grad[i]);
     }
     Ok(worst)
+}
+
+/// `s = (α1, α2, x, y, θ)` of a state, for any scalar.
+fn coordinates<T: Real>(s: &State<T>) -> [T; 5] {
+    [s.alpha.x, s.alpha.y, s.g.x(), s.g.y(), s.g.theta()]
 }

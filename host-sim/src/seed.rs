@@ -18,9 +18,8 @@
 
 use crate::problem::Problem;
 use crate::shooting::Unknowns;
-use nalgebra::{DMatrix, DVector, Matrix2x3, Matrix3, Vector2};
-use purcell_core::State;
-use purcell_core::se2;
+use nalgebra::{DMatrix, DVector, Matrix2x3, Matrix3, Vector2, Vector3};
+use purcell_core::{Connection, Se2, State, se2};
 
 /// A closed elliptic loop in the shape plane through `ᾱ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,6 +66,30 @@ impl Ellipse {
     }
 }
 
+/// Runs the kinematics along the shape path `alphas` (`α_k` kept on the path) and calls
+/// `visit(k, u_k, connection at α_k, dexp_{X_k}ᵀ, g_k)` for each step; `None` if the path
+/// leaves the admissible shapes.
+fn along_path(
+    problem: &Problem,
+    alphas: &[Vector2<f64>],
+    mut visit: impl FnMut(usize, &Vector2<f64>, &Connection<f64>, &Matrix3<f64>, &Se2<f64>),
+) -> Option<()> {
+    let kin = problem.kinematics::<f64>().ok()?;
+    let mut state = State::at_origin(*alphas.first()?);
+    for (k, pair) in alphas.windows(2).enumerate() {
+        let u = (pair[1] - pair[0]) / problem.h;
+        let conn = problem
+            .swimmer
+            .connection_with_derivatives(&state.alpha)
+            .ok()?;
+        let dexp_t = se2::dexp(&kin.twist(&conn.a, &u)).transpose();
+        visit(k, &u, &conn, &dexp_t, &state.g);
+        state = kin.step(&state, &u).ok()?;
+        state.alpha = pair[1];
+    }
+    Some(())
+}
+
 /// Fits `(μ, ξ^{−1})` to the shape path `alphas` (length `N + 1`); `None` if the path is
 /// not admissible or the fit is degenerate.
 pub fn fit(problem: &Problem, alphas: &[Vector2<f64>]) -> Option<Unknowns> {
@@ -74,37 +97,16 @@ pub fn fit(problem: &Problem, alphas: &[Vector2<f64>]) -> Option<Unknowns> {
     if alphas.len() != n + 1 {
         return None;
     }
-    let kin = problem.kinematics::<f64>().ok()?;
     let h = problem.h;
     let mut rows = DMatrix::<f64>::zeros(2 * n, 5);
     let mut rhs = DVector::<f64>::zeros(2 * n);
-    let mut state = State::at_origin(alphas[0]);
     let mut p = Matrix2x3::<f64>::zeros();
-    for (k, pair) in alphas.windows(2).enumerate() {
-        let u = (pair[1] - pair[0]) / h;
-        let conn = problem
-            .swimmer
-            .connection_with_derivatives(&state.alpha)
-            .ok()?;
-        let x = kin.twist(&conn.a, &u);
-        let g = &state.g;
-        // Ad_gᵀ as a matrix: m = M μ.
-        let m = Matrix3::new(
-            g.cos(),
-            g.sin(),
-            0.0,
-            -g.sin(),
-            g.cos(),
-            0.0,
-            g.y(),
-            -g.x(),
-            1.0,
-        );
-        let z = se2::dexp(&x).transpose() * m;
+    along_path(problem, alphas, |k, u, conn, dexp_t, g| {
+        // Z_k = dexp_{X_k}ᵀ Ad_{g_k}ᵀ, so that ζ^k = Z_k μ.
+        let z = dexp_t * g.adjoint().transpose();
         let c1 = (conn.da[0] * u).transpose() * z;
         let c2 = (conn.da[1] * u).transpose() * z;
-        let inc = Matrix2x3::from_rows(&[c1, c2]);
-        p += inc * h;
+        p += Matrix2x3::from_rows(&[c1, c2]) * h;
         let coef = p - conn.a.transpose() * z;
         for i in 0..2 {
             let r = 2 * k + i;
@@ -114,8 +116,7 @@ pub fn fit(problem: &Problem, alphas: &[Vector2<f64>]) -> Option<Unknowns> {
             rows[(r, 3 + i)] = 1.0;
             rhs[r] = u[i];
         }
-        state = kin.step(&state, &u).ok()?;
-    }
+    })?;
     // Column scaling, then SVD least squares.
     let scale: Vec<f64> = (0..5).map(|j| rows.column(j).norm().max(1e-300)).collect();
     for (j, s) in scale.iter().enumerate() {
@@ -133,25 +134,15 @@ pub fn fitted_costates(
     alphas: &[Vector2<f64>],
     z: &Unknowns,
 ) -> Option<Vec<Vector2<f64>>> {
-    let kin = problem.kinematics::<f64>().ok()?;
     let h = problem.h;
-    let mu = nalgebra::Vector3::new(z[0], z[1], z[2]);
+    let mu = Vector3::new(z[0], z[1], z[2]);
     let mut xi = Vector2::new(z[3], z[4]);
     let mut out = vec![xi];
-    let mut state = State::at_origin(*alphas.first()?);
-    for pair in alphas.windows(2) {
-        let u = (pair[1] - pair[0]) / h;
-        let conn = problem
-            .swimmer
-            .connection_with_derivatives(&state.alpha)
-            .ok()?;
-        let x = kin.twist(&conn.a, &u);
-        let zeta = se2::dexp(&x).transpose() * state.g.adjoint_transpose_mul(&mu);
+    along_path(problem, alphas, |_, u, conn, dexp_t, g| {
+        let zeta = dexp_t * g.adjoint_transpose_mul(&mu);
         xi += Vector2::new((conn.da[0] * u).dot(&zeta), (conn.da[1] * u).dot(&zeta)) * h;
         out.push(xi);
-        state = kin.step(&state, &u).ok()?;
-        state.alpha = pair[1];
-    }
+    })?;
     Some(out)
 }
 
