@@ -60,8 +60,9 @@ impl<T: Real> Kinematics<T> {
         self.law_step_with_passes(state, xi_prev, mu, T::FIXED_POINT_PASSES)
     }
 
-    /// One step of the law with `passes` `dexp` corrections (0: `ζ = m_k`, no `dexp`).
-    /// For measuring the fixed-point residual; use [`Kinematics::law_step`] otherwise.
+    /// One step of the law with `passes` passes of the type's kind ([`Real::QUASI_NEWTON`];
+    /// 0: `ζ = m_k`, no `dexp`). For measuring the residual the passes leave; use
+    /// [`Kinematics::law_step`] otherwise.
     pub fn law_step_with_passes(
         &self,
         state: &State<T>,
