@@ -4,14 +4,11 @@
 //! - `shooting_jacobian`: one exact 5×5 single-shooting Jacobian (dual numbers);
 //! - `default_solve`: the whole default multi-start `solve` (8 starts, rayon).
 use criterion::{Criterion, criterion_group, criterion_main};
-use host_sim::direct::{self, Basis};
-use host_sim::multiple::MultipleShooting;
+use host_sim::direct::Basis;
 use host_sim::problem::Problem;
-use host_sim::seed::{self, Ellipse};
+use host_sim::seed::Ellipse;
 use host_sim::shooting;
-use host_sim::solve::{SolveOptions, solve};
-use nalgebra::Vector3;
-use purcell_core::State;
+use host_sim::solve::{SolveOptions, shooting_start, solve};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
@@ -24,20 +21,9 @@ fn bench(c: &mut Criterion) {
         phase: 0.5 * core::f64::consts::PI,
         turns: 2,
     };
-    let d = direct::solve(&p, &basis, &direct::ellipse_coefficients(&e).unwrap(), 60);
-    let shapes = basis.shapes(&p, &d.p);
-    let z = seed::fit(&p, &shapes).unwrap();
-    let xis = seed::fitted_costates(&p, &shapes, &z).unwrap();
-    let kin = p.kinematics::<f64>().unwrap();
-    let mut st = State::at_origin(shapes[0]);
-    let mut gs = vec![Vector3::zeros()];
-    for w in shapes.windows(2) {
-        st = kin.step(&st, &((w[1] - w[0]) / p.h)).unwrap();
-        st.alpha = w[1];
-        gs.push(st.g.to_xytheta());
-    }
-    let ms = MultipleShooting::new(&p, 20);
-    let y0 = ms.from_path(&z, &shapes, &gs, |k| xis[k]);
+    let (ms, y0) = shooting_start(&p, &basis, &e, &SolveOptions::default()).unwrap();
+    // The fitted (μ, ξ^{−1}) lead the multiple-shooting unknowns.
+    let z = shooting::Unknowns::from_fn(|i, _| y0[i]);
     let mut g = c.benchmark_group("solve");
     g.sample_size(10);
     g.bench_function("newton_from_good_start", |b| {

@@ -13,29 +13,8 @@ pub const H: f64 = 0.01;
 /// Horizon of the paper's problem.
 pub const STEPS: u32 = 10_000;
 
-/// An extremal of the paper's problem with `|μ| ≈ 13.3` (a loop that swings past `|α| = 2.5`).
-pub fn costate_mu13() -> Costate<f64> {
-    Costate {
-        mu: Vector3::new(
-            1.532_914_552_615_802_8,
-            13.222_390_687_754_31,
-            0.593_346_744_546_872_6,
-        ),
-        xi: Vector2::new(2.262_121_649_874_644, -1.952_433_722_666_657_5),
-    }
-}
-
-/// An extremal of the paper's problem with `|μ| ≈ 6.4` (the cheapest admissible one found).
-pub fn costate_mu6() -> Costate<f64> {
-    Costate {
-        mu: Vector3::new(
-            1.267_405_852_682_282_5,
-            6.195_325_497_329_788,
-            -1.054_518_565_868_840_5,
-        ),
-        xi: Vector2::new(0.645_028_386_460_496_6, -1.333_507_114_196_018_2),
-    }
-}
+mod fixtures;
+pub use fixtures::{costate_mu6, costate_mu13};
 
 /// The paper's swimmer and time step in the scalar `T`.
 pub fn paper_kinematics<T: purcell_core::Real>() -> Kinematics<T> {

@@ -87,7 +87,7 @@ impl<T: Real> Kinematics<T> {
     /// past the link-overlap limit.
     pub fn step(&self, state: &State<T>, u: &Vector2<T>) -> Result<State<T>, Error> {
         state.check()?;
-        if !(u.x.is_finite() && u.y.is_finite()) {
+        if !T::all_finite([u.x, u.y]) {
             return Err(Error::NonFinite);
         }
         let a = self.swimmer.connection(&state.alpha)?;

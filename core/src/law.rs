@@ -70,8 +70,7 @@ impl<T: Real> Kinematics<T> {
         mu: &Vector3<T>,
         passes: usize,
     ) -> Result<LawStep<T>, Error> {
-        let finite = |v: &[T]| v.iter().all(|x| x.is_finite());
-        if !(finite(xi_prev.as_slice()) && finite(mu.as_slice())) {
+        if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
             return Err(Error::NonFinite);
         }
         state.check()?;

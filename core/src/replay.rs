@@ -45,7 +45,7 @@ impl<T: Real> Checkpoint<T> {
     /// `Ok` if the state is admissible and every number finite.
     fn check(&self) -> Result<(), Error> {
         self.state.check()?;
-        if self.xi.x.is_finite() && self.xi.y.is_finite() {
+        if T::all_finite([self.xi.x, self.xi.y]) {
             Ok(())
         } else {
             Err(Error::NonFinite)
@@ -125,8 +125,8 @@ impl<'a, T: Real> Replay<'a, T> {
         checkpoints: &'a [Checkpoint<T>],
     ) -> Result<Self, Error> {
         start.check()?;
-        let finite = |v: &[T]| v.iter().all(|x| x.is_finite());
-        if !(finite(costate.mu.as_slice()) && finite(costate.xi.as_slice())) {
+        let (mu, xi) = (costate.mu, costate.xi);
+        if !T::all_finite([mu.x, mu.y, mu.z, xi.x, xi.y]) {
             return Err(Error::NonFinite);
         }
         let mut last: Option<u32> = None;

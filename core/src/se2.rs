@@ -223,7 +223,7 @@ impl<T: Real> Se2<T> {
 
     /// Whether every stored number is finite.
     pub fn is_finite(&self) -> bool {
-        self.x.is_finite() && self.y.is_finite() && self.c.is_finite() && self.s.is_finite()
+        T::all_finite([self.x, self.y, self.c, self.s])
     }
 
     /// `self · other`, with the rotation part renormalised to first order

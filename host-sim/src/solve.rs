@@ -175,6 +175,33 @@ pub fn start_loops(problem: &Problem, options: &SolveOptions) -> Vec<Ellipse> {
     list
 }
 
+/// Steps 1–2 for one start loop: the direct method's loop, the costate fitted to it, and
+/// from them the multiple-shooting system and its starting unknowns; `None` if the loop
+/// leaves the admissible shapes or the fit is degenerate.
+pub fn shooting_start(
+    problem: &Problem,
+    basis: &Basis,
+    e: &Ellipse,
+    options: &SolveOptions,
+) -> Option<(MultipleShooting, DVector<f64>)> {
+    let p0 = direct::ellipse_coefficients(e)?;
+    let d = direct::solve(problem, basis, &p0, options.direct_iterations);
+    let shapes = basis.shapes(problem, &d.p);
+    let z = seed::fit(problem, &shapes)?;
+    let xis = seed::fitted_costates(problem, &shapes, &z)?;
+    let kin = problem.kinematics::<f64>().ok()?;
+    let mut st = State::at_origin(*shapes.first()?);
+    let mut gs = vec![Vector3::zeros()];
+    for w in shapes.windows(2) {
+        st = kin.step(&st, &((w[1] - w[0]) / problem.h)).ok()?;
+        st.alpha = w[1];
+        gs.push(st.g.to_xytheta());
+    }
+    let ms = MultipleShooting::new(problem, options.segments);
+    let y0 = ms.from_path(&z, &shapes, &gs, |k| xis[k]);
+    Some((ms, y0))
+}
+
 /// Runs one start; `Err(best residual)` if it did not converge.
 pub fn run_start(
     problem: &Problem,
@@ -183,23 +210,7 @@ pub fn run_start(
     index: usize,
     options: &SolveOptions,
 ) -> Result<Extremal, f64> {
-    let p0 = direct::ellipse_coefficients(e).ok_or(f64::INFINITY)?;
-    let d = direct::solve(problem, basis, &p0, options.direct_iterations);
-    let shapes = basis.shapes(problem, &d.p);
-    let z = seed::fit(problem, &shapes).ok_or(f64::INFINITY)?;
-    let xis = seed::fitted_costates(problem, &shapes, &z).ok_or(f64::INFINITY)?;
-    let kin = problem.kinematics::<f64>().map_err(|_| f64::INFINITY)?;
-    let mut st = State::at_origin(shapes[0]);
-    let mut gs = vec![Vector3::zeros()];
-    for w in shapes.windows(2) {
-        st = kin
-            .step(&st, &((w[1] - w[0]) / problem.h))
-            .map_err(|_| f64::INFINITY)?;
-        st.alpha = w[1];
-        gs.push(st.g.to_xytheta());
-    }
-    let ms = MultipleShooting::new(problem, options.segments);
-    let y0 = ms.from_path(&z, &shapes, &gs, |k| xis[k]);
+    let (ms, y0) = shooting_start(problem, basis, e, options).ok_or(f64::INFINITY)?;
     let (y, residual, iterations) =
         ms.solve(problem, &y0, options.tolerance, options.newton_iterations);
     if residual.is_nan() || residual > options.tolerance {

@@ -3,7 +3,7 @@
 //! paper's problem, and comparisons.
 #![allow(dead_code)]
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector2;
 use proptest::prelude::*;
 use purcell_core::{Costate, Kinematics, Replay, Se2, State, Swimmer, Tangent};
 
@@ -77,29 +77,19 @@ pub fn kinematics<T: purcell_core::Real>() -> Kinematics<T> {
     Kinematics::new(Swimmer::purcell(), T::from_f64(0.01)).unwrap()
 }
 
-/// An extremal of the paper's problem (host-sim) with `|μ| ≈ 13.3`.
-pub fn costate_mu13() -> Costate<f64> {
-    Costate {
-        mu: Vector3::new(
-            1.532_914_552_615_802_8,
-            13.222_390_687_754_31,
-            0.593_346_744_546_872_6,
-        ),
-        xi: Vector2::new(2.262_121_649_874_644, -1.952_433_722_666_657_5),
-    }
-}
+#[path = "../../../tests/fixtures.rs"]
+mod fixtures;
+#[allow(unused_imports)] // not every test binary uses it
+pub use fixtures::costate_mu13;
 
 /// A costate with `|μ| ≈ 4`: the `|μ| ≈ 6.4` extremal of the paper's problem (host-sim)
 /// scaled by `4/6.4`; its loop is not an extremal but its states are of the same kind.
 pub fn costate_mu4() -> Costate<f64> {
+    let c = fixtures::costate_mu6();
     let s = 4.0 / 6.4;
     Costate {
-        mu: Vector3::new(
-            1.267_405_852_682_282_5,
-            6.195_325_497_329_788,
-            -1.054_518_565_868_840_5,
-        ) * s,
-        xi: Vector2::new(0.645_028_386_460_496_6, -1.333_507_114_196_018_2) * s,
+        mu: c.mu * s,
+        xi: c.xi * s,
     }
 }
 
