@@ -1,42 +1,43 @@
 //! The offline solver on the paper's problem (N = 10 000):
-//! - `newton_from_good_start`: multiple-shooting Newton from the direct method's loop and
-//!   its fitted costate (the start the solver actually uses), to a residual ≤ 1e-12;
-//! - `shooting_jacobian`: one exact 5×5 single-shooting Jacobian (dual numbers);
-//! - `default_solve`: the whole default multi-start `solve` (8 starts, rayon).
+//! - `default_solve`: the whole default `solve` (global search on the coarse grid, refinement
+//!   of the candidates, certificates);
+//! - `refine_cheapest_admissible`: carrying the coarse grid's cheapest admissible extremal to
+//!   the fine grid (Newton on a 1 024-step grid, then on the problem's own);
+//! - `coarse_search`: the global search alone.
 use criterion::{Criterion, criterion_group, criterion_main};
-use host_sim::direct::Basis;
 use host_sim::problem::Problem;
-use host_sim::seed::Ellipse;
-use host_sim::shooting;
-use host_sim::solve::{SolveOptions, shooting_start, solve};
+use host_sim::solver::direct::Grid;
+use host_sim::solver::stage::Rule;
+use host_sim::solver::{SolveOptions, refine, search, solve};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
     let p = Problem::paper();
-    let basis = Basis::new(&p);
-    let e = Ellipse {
-        a: 0.5,
-        b: -0.5,
-        psi: 0.0,
-        phase: 0.5 * core::f64::consts::PI,
-        turns: 2,
-    };
-    let (ms, y0) = shooting_start(&p, &basis, &e, &SolveOptions::default()).unwrap();
-    // The fitted (μ, ξ^{−1}) lead the multiple-shooting unknowns.
-    let z = shooting::Unknowns::from_fn(|i, _| y0[i]);
+    let options = SolveOptions::default();
+    let coarse = Grid::new(
+        &p,
+        options.coarse_steps,
+        Rule::matching(p.horizon() / options.coarse_steps as f64, p.h),
+    )
+    .unwrap();
+    let admissible = |a: f64| a < p.alpha_max;
+    let found = search::search(&coarse, options.starts, options.seed, &admissible, &|| {});
+    let best = found
+        .candidates
+        .iter()
+        .find(|c| admissible(c.max_abs_alpha))
+        .unwrap()
+        .clone();
     let mut g = c.benchmark_group("solve");
     g.sample_size(10);
-    g.bench_function("newton_from_good_start", |b| {
-        b.iter(|| {
-            let (_, r, _) = ms.solve(&p, black_box(&y0), 1e-12, 25);
-            assert!(r <= 1e-12);
-        })
-    });
-    g.bench_function("shooting_jacobian", |b| {
-        b.iter(|| shooting::residual_and_jacobian(&p, black_box(&z)).is_ok())
-    });
     g.bench_function("default_solve", |b| {
-        b.iter(|| solve(&p, &SolveOptions::default(), &|| {}).unwrap())
+        b.iter(|| solve(&p, &options, &|| {}).unwrap())
+    });
+    g.bench_function("refine_cheapest_admissible", |b| {
+        b.iter(|| refine(&p, black_box(&best.u), &best.nu).unwrap())
+    });
+    g.bench_function("coarse_search", |b| {
+        b.iter(|| search::search(&coarse, options.starts, options.seed, &admissible, &|| {}))
     });
     g.finish();
 }

@@ -2,7 +2,8 @@
 
 use crate::costate_file::CostateFile;
 use crate::problem::{Problem, Spec};
-use crate::solve::{SolveOptions, solve};
+use crate::solver::continuation::{self, Lattice};
+use crate::solver::{Extremal, SolveOptions, solve};
 use crate::{output, plots, replay};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde_json::json;
@@ -32,6 +33,10 @@ pub enum Command {
     /// Print the local connection A(alpha) and its derivatives as JSON (rows x, y, theta;
     /// columns alpha1, alpha2).
     Connection(ConnectionArgs),
+    /// Solve a lattice of targets by continuation from neighbours and write DIR/sweep.csv
+    /// (target, cost, residual, largest |alpha_i|, local minimum) and a map of the cost over
+    /// the target plane.
+    Sweep(SweepArgs),
 }
 
 /// Swimmer parameters shared by the subcommands.
@@ -66,10 +71,11 @@ pub struct SolveArgs {
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Number of starts (shape loops) tried in parallel.
-    #[arg(long, default_value_t = 8)]
+    /// Most start loops of the global search (run in batches of 32, in parallel; the search
+    /// stops earlier once its cheapest admissible extremal has been reached from 3 starts).
+    #[arg(long, default_value_t = 256)]
     pub starts: usize,
-    /// Seed for the start generator (0: the built-in starts first, then random ones).
+    /// Orders the start loops (any value gives a diverse family; 0 is the default order).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Admissibility limit on |alpha_i| along the path, radians (links overlap at pi).
@@ -78,16 +84,58 @@ pub struct SolveArgs {
     /// Costate checkpoint spacing M in steps (0: none).
     #[arg(long, default_value_t = 100)]
     pub checkpoint_every: u32,
-    /// Multiple-shooting segments.
-    #[arg(long, default_value_t = 20)]
-    pub segments: u32,
     /// Skip the SVG figures.
+    #[arg(long)]
+    pub no_plots: bool,
+    /// Start from a stored extremal (a costate file of the same swimmer, for a nearby target,
+    /// start shape or horizon) instead of the global search.
+    #[arg(long, value_name = "COSTATE_JSON")]
+    pub from: Option<PathBuf>,
+    /// Output directory (created or replaced atomically).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `sweep` flags.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Target x in metres: a value, or FROM:TO:COUNT for COUNT evenly spaced values.
+    #[arg(long, default_value = "-0.3:0.3:13", allow_negative_numbers = true)]
+    pub x: String,
+    /// Target y in metres: a value or FROM:TO:COUNT.
+    #[arg(long, default_value = "-0.3:0.3:13", allow_negative_numbers = true)]
+    pub y: String,
+    /// Target theta in radians: a value or FROM:TO:COUNT.
+    #[arg(long, default_value = "0", allow_negative_numbers = true)]
+    pub theta: String,
+    /// Horizon T in seconds; must be a whole number of steps.
+    #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]
+    pub horizon: f64,
+    /// Time step h in seconds.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    pub step: f64,
+    /// Start and end shape alpha_bar = A1,A2 in radians (each |A_i| < pi).
+    #[arg(long, value_delimiter = ',', default_values_t = [0.0, 0.0], allow_negative_numbers = true)]
+    pub alpha0: Vec<f64>,
+    /// Swimmer parameters.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Most start loops of each global search (see `solve --help`).
+    #[arg(long, default_value_t = 256)]
+    pub starts: usize,
+    /// Admissibility limit on |alpha_i| along the path, radians (links overlap at pi).
+    #[arg(long, default_value_t = core::f64::consts::PI, allow_negative_numbers = true)]
+    pub alpha_max: f64,
+    /// Skip the figure.
     #[arg(long)]
     pub no_plots: bool,
     /// Output directory (created or replaced atomically).
     #[arg(long)]
     pub out: PathBuf,
 }
+
+/// Largest number of targets a sweep accepts.
+pub const MAX_SWEEP_TARGETS: usize = 10_000;
 
 /// Replay precision selection.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -167,6 +215,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
         Command::Solve(a) => run_solve(a),
         Command::Replay(a) => run_replay(a),
         Command::Connection(a) => run_connection(a),
+        Command::Sweep(a) => run_sweep(a),
     }
 }
 
@@ -182,22 +231,19 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         alpha_max: a.alpha_max,
     };
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
-    if a.starts == 0 || a.segments == 0 {
-        return Err(fail(2, "--starts and --segments must be at least 1"));
+    if a.starts == 0 {
+        return Err(fail(2, "--starts must be at least 1"));
     }
     let options = SolveOptions {
         starts: a.starts,
         seed: a.seed,
-        segments: a.segments,
         ..SolveOptions::default()
     };
     let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new(a.starts as u64);
+        let b = indicatif::ProgressBar::new(a.starts as u64 + 1);
         b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "solving {bar:30} {pos}/{len} starts ({elapsed})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template("searching {bar:30} {pos} starts ({elapsed})")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         b
     });
@@ -206,8 +252,15 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
             b.inc(1);
         }
     };
+    let warm = match &a.from {
+        None => None,
+        Some(path) => Some(warm_start(path, &problem)?),
+    };
     let t0 = Instant::now();
-    let result = solve(&problem, &options, &tick);
+    let result = match &warm {
+        None => solve(&problem, &options, &tick),
+        Some(w) => continuation::solve_from(&problem, w),
+    };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -215,31 +268,20 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     let seconds = t0.elapsed().as_secs_f64();
     let best = &solution.extremals[solution.best];
     let file = output::costate_file(&problem, best, a.checkpoint_every);
-    let extremals: Vec<_> = solution
-        .extremals
-        .iter()
-        .map(|x| {
-            json!({
-                "cost": x.cost, "residual": x.residual, "terminal_residual": x.terminal_residual,
-                "single_shooting_residual": x.single_shooting_residual,
-                "max_abs_alpha": x.max_abs_alpha, "admissible": x.admissible,
-                "kkt_residual": x.kkt_residual, "newton_iterations": x.newton_iterations,
-                "start": x.start, "mu": [x.z[0], x.z[1], x.z[2]], "xi0": [x.z[3], x.z[4]],
-            })
-        })
-        .collect();
+    let extremals: Vec<_> = solution.extremals.iter().map(extremal_json).collect();
     let report = json!({
         "cost": best.cost,
         "residual": best.residual,
         "terminal_residual": best.terminal_residual,
-        "single_shooting_residual": best.single_shooting_residual,
         "kkt_residual": best.kkt_residual,
-        "newton_iterations": best.newton_iterations,
+        "law_residual": best.law_residual,
+        "local_min": best.local_min,
         "max_abs_alpha": best.max_abs_alpha,
         "admissible": best.admissible,
+        "returned": solution.best,
         "solve_seconds": seconds,
         "starts": solution.starts,
-        "segments": a.segments,
+        "coarse_minima": solution.coarse_minima,
         "mu": file.mu, "xi0": file.xi0,
         "problem": {"target": file.target, "horizon": problem.horizon(), "step": problem.h,
                     "steps": problem.steps, "alpha0": file.alpha0, "links": file.model.links,
@@ -268,6 +310,157 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     output::write_dir_atomically(&a.out, &files)
         .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
     Ok(report_text)
+}
+
+/// The stored extremal of `path` as a start for `problem`: same swimmer required.
+fn warm_start(path: &std::path::Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?;
+    let file =
+        CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    let stored = file
+        .problem()
+        .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    if stored.swimmer != problem.swimmer {
+        return Err(fail(
+            2,
+            format!(
+                "{}: stored for another swimmer (links, drag or ratio differ); --from needs the same model",
+                path.display()
+            ),
+        ));
+    }
+    let t = replay::trajectory(&file)
+        .map_err(|e| fail(2, format!("{}: its replay fails ({e})", path.display())))?;
+    let mu = nalgebra::Vector3::from(file.mu);
+    continuation::Warm::from_trajectory(&t, &mu, stored.horizon())
+        .ok_or_else(|| fail(2, format!("{}: empty trajectory", path.display())))
+}
+
+/// `FROM:TO:COUNT` or a single value.
+fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
+    let bad = || {
+        fail(
+            2,
+            format!("--{name} takes a number or FROM:TO:COUNT (got {text:?})"),
+        )
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let num = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+    match parts.as_slice() {
+        [v] => Ok(vec![num(v).ok_or_else(bad)?]),
+        [a, b, n] => {
+            let (a, b) = (num(a).ok_or_else(bad)?, num(b).ok_or_else(bad)?);
+            let n: usize = n.trim().parse().map_err(|_| bad())?;
+            if n == 0 || n > MAX_SWEEP_TARGETS {
+                return Err(bad());
+            }
+            Ok((0..n)
+                .map(|i| {
+                    if n == 1 {
+                        a
+                    } else {
+                        // Symmetric in a and b, so a symmetric range gives exact negatives.
+                        (a * (n - 1 - i) as f64 + b * i as f64) / (n - 1) as f64
+                    }
+                })
+                .collect())
+        }
+        _ => Err(bad()),
+    }
+}
+
+fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
+    let lattice = Lattice {
+        axes: [axis("x", &a.x)?, axis("y", &a.y)?, axis("theta", &a.theta)?],
+    };
+    if lattice.len() > MAX_SWEEP_TARGETS {
+        return Err(fail(
+            2,
+            format!(
+                "{} targets: more than the limit {MAX_SWEEP_TARGETS}",
+                lattice.len()
+            ),
+        ));
+    }
+    if a.starts == 0 {
+        return Err(fail(2, "--starts must be at least 1"));
+    }
+    let spec = Spec {
+        target: [0.0; 3],
+        horizon: a.horizon,
+        step: a.step,
+        alpha0: arr("alpha0", &a.alpha0)?,
+        links: arr("links", &a.model.links)?,
+        drag: a.model.drag,
+        ratio: a.model.ratio,
+        alpha_max: a.alpha_max,
+    };
+    Problem::new(&spec).map_err(|e| fail(2, e))?;
+    let options = SolveOptions {
+        starts: a.starts,
+        ..SolveOptions::default()
+    };
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(lattice.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "refining {bar:30} {pos}/{len} targets ({elapsed})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let tick = || {
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+    };
+    let t0 = Instant::now();
+    let points = continuation::sweep(&spec, &lattice, &options, &tick).map_err(|e| fail(2, e))?;
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    let csv = output::sweep_csv(&points);
+    let solved = points
+        .iter()
+        .filter(|p| p.result.as_ref().is_ok_and(|x| x.admissible))
+        .count();
+    let summary = json!({
+        "targets": points.len(), "solved": solved, "sweep_seconds": seconds,
+        "axes": {"x": lattice.axes[0], "y": lattice.axes[1], "theta": lattice.axes[2]},
+        "problem": {"horizon": a.horizon, "step": a.step, "alpha0": spec.alpha0,
+                    "links": spec.links, "drag": spec.drag, "ratio": spec.ratio,
+                    "alpha_max": spec.alpha_max},
+    });
+    let summary_text = serde_json::to_string_pretty(&summary).map_err(|e| fail(1, e))? + "\n";
+    let mut files = vec![
+        ("sweep.csv".to_string(), csv.into_bytes()),
+        ("report.json".to_string(), summary_text.clone().into_bytes()),
+    ];
+    if !a.no_plots {
+        for (name, bytes) in plots::sweep_figures(&lattice, &points)
+            .map_err(|e| fail(1, format!("plotting: {e}")))?
+        {
+            files.push((name, bytes.into_bytes()));
+        }
+    }
+    output::write_dir_atomically(&a.out, &files)
+        .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
+    Ok(summary_text)
+}
+
+/// One extremal in `report.json`.
+fn extremal_json(x: &Extremal) -> serde_json::Value {
+    json!({
+        "cost": x.cost, "max_abs_alpha": x.max_abs_alpha, "admissible": x.admissible,
+        "local_min": x.local_min, "residual": x.residual,
+        "terminal_residual": x.terminal_residual, "kkt_residual": x.kkt_residual,
+        "stationarity": x.stationarity, "law_residual": x.law_residual,
+        "newton_iterations": x.iterations, "start": x.start, "hits": x.hits, "twin_of": x.twin_of,
+        "mu": [x.mu.x, x.mu.y, x.mu.z], "xi0": [x.xi0.x, x.xi0.y],
+    })
 }
 
 fn run_replay(a: ReplayArgs) -> Result<String, Failure> {

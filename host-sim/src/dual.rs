@@ -1,9 +1,10 @@
-//! Forward-mode dual numbers with five tangent components.
+//! Forward-mode dual numbers with `N` tangent components.
 //!
 //! A [`Dual`] is `v + Σᵢ dᵢ εᵢ` with `εᵢ εⱼ = 0`: evaluating any smooth `f` on duals seeded
 //! with `dᵢ = ∂xⱼ/∂zᵢ` gives `f(x)` and its exact directional derivatives `∂f/∂zᵢ`, to
-//! rounding, with no step size. The shooting Jacobian uses `N = 5` (the unknowns `(μ, ξ^{−1})`); the direct
-//! loop solver of [`crate::direct`] one component per loop coefficient.
+//! rounding, with no step size. The solver uses `N = 2` for the second derivatives of the
+//! connection ([`crate::solver::stage`]) and `N = 7` for its independent KKT check
+//! ([`crate::solver::certificate`]).
 //!
 //! It implements [`purcell_core::Real`], so the core's generic control law runs on it
 //! unchanged: comparisons and [`Real::to_bits`] look at the value only (the core's branches

@@ -1,25 +1,18 @@
 //! Offline solver for the initial costate of the Purcell swimmer, and replay through the core.
 //!
-//! Pipeline of `purcell-sim solve` ([`solve`]): elliptic start loops ([`seed`]) → a direct
-//! method on Fourier loops ([`direct`]) → a least-squares fit of `(μ, ξ^{−1})` ([`seed::fit`])
-//! → Newton on the multiple-shooting system ([`multiple`]), whose Jacobian comes from the
-//! core's own control law run on dual numbers ([`dual`]); then an independent optimality
-//! check ([`kkt`]), the costate file ([`costate_file`]), outputs ([`output`], [`plots`]) and
-//! replays in `f64`/`f32` ([`replay`]). [`shooting`] holds the single-shooting map and its
-//! Levenberg–Marquardt solver and homotopy; [`problem`] the validated inputs; [`cli`] the
-//! command line.
+//! [`solver`] finds the cheapest admissible extremal (global search on a coarse grid, Newton–SQP
+//! with a Riccati step on the problem's own grid, the costate from the multipliers,
+//! independent certificates); [`costate_file`] is the file format the firmware flies,
+//! [`output`] and [`plots`] the outputs, [`replay`] replays a costate file through the core in
+//! `f64`/`f32`; [`problem`] holds the validated inputs, [`dual`] dual numbers for exact
+//! derivatives, [`cli`] the command line.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod costate_file;
-pub mod direct;
 pub mod dual;
-pub mod kkt;
-pub mod multiple;
 pub mod output;
 pub mod plots;
 pub mod problem;
 pub mod replay;
-pub mod seed;
-pub mod shooting;
-pub mod solve;
+pub mod solver;

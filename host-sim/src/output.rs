@@ -6,7 +6,7 @@
 //! file in the same directory and renamed.
 
 use crate::problem::Problem;
-use crate::solve::{Extremal, Trajectory};
+use crate::solver::{Extremal, Trajectory};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -35,40 +35,32 @@ pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
 
 /// The costate file for an extremal, with checkpoints every `every` steps.
 ///
-/// The checkpoints are `(α_k, g_k, ξ^{k−1})` of a plain `f64` replay from `(μ, ξ^{−1})`: an
-/// `f64` replay with them is bit-identical to one without, and an `f32` replay restarts from
-/// that `f64` run at each one. (Taking them from the stitched multiple-shooting trajectory
-/// instead would jump by its node defects.)
+/// The checkpoints are `(α_k, g_k, ξ^{k−1})` of the converged trajectory itself (states of the
+/// direct method, costates from its multipliers), not of a free replay of `(μ, ξ^{−1})`, which
+/// drifts from it on unstable problems: a replay restarts on the extremal at each one.
 pub fn costate_file(
     problem: &Problem,
     x: &Extremal,
     every: u32,
 ) -> crate::costate_file::CostateFile {
     use crate::costate_file::*;
-    let mut checkpoints = Vec::new();
-    if every > 0
-        && let Ok(kin) = problem.kinematics::<f64>()
-        && let Ok(mut replay) = purcell_core::Replay::new(
-            kin,
-            purcell_core::State::at_origin(problem.alpha0),
-            crate::shooting::costate(&x.z),
-            problem.steps,
-            &[],
-        )
-    {
-        while let Ok(Some(sample)) = replay.step() {
-            let k = sample.k + 1;
-            if k % every == 0 && k < problem.steps {
-                let (s, xi) = (replay.state(), replay.xi());
-                checkpoints.push(CheckpointEntry {
+    let t = &x.trajectory;
+    let checkpoints = if every == 0 {
+        Vec::new()
+    } else {
+        (every..problem.steps)
+            .step_by(every as usize)
+            .filter_map(|k| {
+                let (s, xi) = (t.states.get(k as usize)?, t.xis.get(k as usize)?);
+                Some(CheckpointEntry {
                     k,
                     alpha: [s.alpha.x, s.alpha.y],
                     g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
                     xi: [xi.x, xi.y],
-                });
-            }
-        }
-    }
+                })
+            })
+            .collect()
+    };
     CostateFile {
         format: FORMAT.into(),
         version: VERSION,
@@ -81,11 +73,40 @@ pub fn costate_file(
         steps: problem.steps,
         alpha0: [problem.alpha0.x, problem.alpha0.y],
         target: [problem.target.x, problem.target.y, problem.target.z],
-        mu: [x.z[0], x.z[1], x.z[2]],
-        xi0: [x.z[3], x.z[4]],
+        mu: [x.mu.x, x.mu.y, x.mu.z],
+        xi0: [x.xi0.x, x.xi0.y],
         checkpoint_every: every,
         checkpoints,
     }
+}
+
+/// `sweep.csv`: `x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status`
+/// (m, m, rad, –, m/rad, rad, bool, bool, rad/s, text), one row per target; for a target
+/// without an extremal the numbers are empty and `status` says why.
+pub fn sweep_csv(points: &[crate::solver::continuation::SweepPoint]) -> String {
+    let mut s = String::from(
+        "x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status\n",
+    );
+    for p in points {
+        let t = p.target;
+        let _ = match &p.result {
+            Ok(x) => writeln!(
+                s,
+                "{},{},{},{},{:e},{},{},{},{},ok",
+                t.x,
+                t.y,
+                t.z,
+                x.cost,
+                x.residual,
+                x.max_abs_alpha,
+                x.admissible,
+                x.local_min,
+                x.kkt_residual.map_or(String::new(), |k| format!("{k:e}"))
+            ),
+            Err(e) => writeln!(s, "{},{},{},,,,,,,\"{e}\"", t.x, t.y, t.z),
+        };
+    }
+    s
 }
 
 /// Writes `files` (name, contents) as the directory `dir`, atomically.

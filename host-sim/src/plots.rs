@@ -2,7 +2,8 @@
 //! `x(t), y(t)`, `θ(t)`, and the swimmer drawn in the plane every 5 s.
 
 use crate::problem::Problem;
-use crate::solve::Trajectory;
+use crate::solver::Trajectory;
+use crate::solver::continuation::{Lattice, SweepPoint};
 use plotters::prelude::*;
 
 type Series<'a> = (&'a str, Vec<(f64, f64)>, RGBColor);
@@ -197,4 +198,133 @@ pub fn figures(problem: &Problem, t: &Trajectory) -> Result<Vec<(String, String)
         )?,
     ));
     Ok(out)
+}
+
+/// The sweep's figure as `(file name, SVG text)`: `sweep.svg`, the cost over the plane of the
+/// first two axes of the lattice that vary (colour; grey where no admissible gait was found),
+/// or the cost along the one that varies.
+pub fn sweep_figures(
+    lattice: &Lattice,
+    points: &[SweepPoint],
+) -> Result<Vec<(String, String)>, String> {
+    let names = ["x (m)", "y (m)", "theta (rad)"];
+    let varying: Vec<usize> = (0..3).filter(|&i| lattice.axes[i].len() > 1).collect();
+    let cost = |p: &SweepPoint| {
+        p.result
+            .as_ref()
+            .ok()
+            .filter(|x| x.admissible)
+            .map(|x| x.cost)
+    };
+    let coord = |p: &SweepPoint, axis: usize| p.target[axis];
+    let mut svg = String::new();
+    match varying.as_slice() {
+        [] | [_] => {
+            let axis = varying.first().copied().unwrap_or(0);
+            let pts: Vec<(f64, f64)> = points
+                .iter()
+                .filter_map(|p| Some((coord(p, axis), cost(p)?)))
+                .collect();
+            svg = line_plot(
+                "Cost of the cheapest gait",
+                names[axis],
+                "J",
+                &[("J", pts, BLUE)],
+                false,
+            )?;
+        }
+        [a, b, ..] => {
+            let (a, b) = (*a, *b);
+            let (xa, xb) = (&lattice.axes[a], &lattice.axes[b]);
+            let step = |v: &[f64]| (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64;
+            let (da, db) = (step(xa), step(xb));
+            let (lo, hi) = points
+                .iter()
+                .filter_map(cost)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| {
+                    (l.min(c), h.max(c))
+                });
+            {
+                let root = SVGBackend::with_string(&mut svg, (760, 640)).into_drawing_area();
+                root.fill(&WHITE).map_err(|e| e.to_string())?;
+                let (main, bar) = root.split_horizontally(660);
+                let x0 = xa[0] - 0.5 * da;
+                let x1 = xa[xa.len() - 1] + 0.5 * da;
+                let y0 = xb[0] - 0.5 * db;
+                let y1 = xb[xb.len() - 1] + 0.5 * db;
+                let mut chart = ChartBuilder::on(&main)
+                    .caption("Cost J of the cheapest admissible gait", ("sans-serif", 20))
+                    .margin(10)
+                    .x_label_area_size(40)
+                    .y_label_area_size(60)
+                    .build_cartesian_2d(x0..x1, y0..y1)
+                    .map_err(|e| e.to_string())?;
+                chart
+                    .configure_mesh()
+                    .disable_mesh()
+                    .x_desc(names[a])
+                    .y_desc(names[b])
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+                let colour = |c: Option<f64>| match c {
+                    Some(c) if hi > lo => viridis((c - lo) / (hi - lo)),
+                    Some(_) => viridis(0.5),
+                    None => RGBColor(200, 200, 200),
+                };
+                chart
+                    .draw_series(points.iter().map(|p| {
+                        let (u, v) = (coord(p, a), coord(p, b));
+                        Rectangle::new(
+                            [(u - 0.5 * da, v - 0.5 * db), (u + 0.5 * da, v + 0.5 * db)],
+                            colour(cost(p)).filled(),
+                        )
+                    }))
+                    .map_err(|e| e.to_string())?;
+                // Colour bar.
+                let mut scale = ChartBuilder::on(&bar)
+                    .margin_top(40)
+                    .margin_bottom(50)
+                    .y_label_area_size(50)
+                    .build_cartesian_2d(0.0..1.0, lo.min(hi)..hi.max(lo + 1e-12))
+                    .map_err(|e| e.to_string())?;
+                scale
+                    .configure_mesh()
+                    .disable_mesh()
+                    .disable_x_axis()
+                    .y_desc("J")
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+                let n = 64;
+                scale
+                    .draw_series((0..n).map(|i| {
+                        let f0 = i as f64 / n as f64;
+                        let f1 = (i + 1) as f64 / n as f64;
+                        Rectangle::new(
+                            [(0.0, lo + f0 * (hi - lo)), (1.0, lo + f1 * (hi - lo))],
+                            viridis(f0).filled(),
+                        )
+                    }))
+                    .map_err(|e| e.to_string())?;
+                root.present().map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    Ok(vec![("sweep.svg".into(), svg)])
+}
+
+/// The viridis colour map at `f ∈ [0, 1]` (piecewise linear through five of its colours).
+fn viridis(f: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let x = f.clamp(0.0, 1.0) * 4.0;
+    let i = (x.floor() as usize).min(3);
+    let t = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let mix = |p: f64, q: f64| (p + (q - p) * t).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }

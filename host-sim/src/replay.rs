@@ -2,8 +2,9 @@
 //! the end lands from `(ᾱ, ḡ)`.
 
 use crate::costate_file::CostateFile;
+use crate::solver::Trajectory;
 use nalgebra::{Vector2, Vector3};
-use purcell_core::{Checkpoint, Costate, Real, Replay, State};
+use purcell_core::{Checkpoint, Costate, Kinematics, Real, Replay, State};
 use serde::Serialize;
 
 /// Terminal error of one replay.
@@ -38,32 +39,7 @@ pub fn replay<T: Real>(
         failure: None,
     };
     let run = || -> Result<State<T>, String> {
-        let problem = file.problem().map_err(|e| e.to_string())?;
-        let kin = problem.kinematics::<T>().map_err(|e| e.to_string())?;
-        let c = T::from_f64;
-        let cs = Costate {
-            mu: Vector3::new(c(file.mu[0]), c(file.mu[1]), c(file.mu[2])),
-            xi: Vector2::new(c(file.xi0[0]), c(file.xi0[1])),
-        };
-        let cps: Vec<Checkpoint<T>> = if checkpoints {
-            file.checkpoints
-                .iter()
-                .map(|e| {
-                    let [x, y, cos, sin] = e.g.map(c);
-                    Checkpoint {
-                        k: e.k,
-                        state: State {
-                            alpha: Vector2::new(c(e.alpha[0]), c(e.alpha[1])),
-                            g: purcell_core::Se2::from_rotation(x, y, cos, sin),
-                        },
-                        xi: Vector2::new(c(e.xi[0]), c(e.xi[1])),
-                    }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let start = State::at_origin(Vector2::new(c(file.alpha0[0]), c(file.alpha0[1])));
+        let (kin, start, cs, cps) = parts::<T>(file, checkpoints)?;
         Replay::new(kin, start, cs, file.steps, &cps)
             .and_then(|r| r.finish())
             .map_err(|e| e.to_string())
@@ -88,6 +64,56 @@ pub fn replay<T: Real>(
         Err(e) => out.failure = Some(e),
     }
     out
+}
+
+/// What a replay of `file` in scalar `T` starts from: the kinematics, the start state, the
+/// initial costate and (if `checkpoints`) the file's checkpoints.
+type Parts<T> = (Kinematics<T>, State<T>, Costate<T>, Vec<Checkpoint<T>>);
+
+fn parts<T: Real>(file: &CostateFile, checkpoints: bool) -> Result<Parts<T>, String> {
+    let problem = file.problem().map_err(|e| e.to_string())?;
+    let kin = problem.kinematics::<T>().map_err(|e| e.to_string())?;
+    let c = T::from_f64;
+    let cs = Costate {
+        mu: Vector3::new(c(file.mu[0]), c(file.mu[1]), c(file.mu[2])),
+        xi: Vector2::new(c(file.xi0[0]), c(file.xi0[1])),
+    };
+    let cps: Vec<Checkpoint<T>> = if checkpoints {
+        file.checkpoints
+            .iter()
+            .map(|e| {
+                let [x, y, cos, sin] = e.g.map(c);
+                Checkpoint {
+                    k: e.k,
+                    state: State {
+                        alpha: Vector2::new(c(e.alpha[0]), c(e.alpha[1])),
+                        g: purcell_core::Se2::from_rotation(x, y, cos, sin),
+                    },
+                    xi: Vector2::new(c(e.xi[0]), c(e.xi[1])),
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let start = State::at_origin(Vector2::new(c(file.alpha0[0]), c(file.alpha0[1])));
+    Ok((kin, start, cs, cps))
+}
+
+/// The whole trajectory of an `f64` replay of `file` with its checkpoints: states, controls
+/// and the costates `ξ^{k−1}` (with `ξ^{N−1}` last).
+pub fn trajectory(file: &CostateFile) -> Result<Trajectory, String> {
+    let (kin, start, cs, cps) = parts::<f64>(file, true)?;
+    let mut replay = Replay::new(kin, start, cs, file.steps, &cps).map_err(|e| e.to_string())?;
+    let mut t = Trajectory::default();
+    while let Some(sample) = replay.step().map_err(|e| e.to_string())? {
+        t.states.push(sample.state);
+        t.controls.push(sample.u);
+        t.xis.push(*replay.xi());
+    }
+    t.states.push(*replay.state());
+    t.xis.insert(0, cs.xi);
+    Ok(t)
 }
 
 /// The three replays the `replay` command reports: f64 with checkpoints, f32 with, f32 without.

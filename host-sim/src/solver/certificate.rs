@@ -1,0 +1,107 @@
+//! Checks of an extremal by routes independent of the direct method that found it.
+//!
+//! - [`law_residual`]: the core's control law ([`purcell_core::Kinematics::law_step`], the
+//!   forward recursion the firmware runs), started at every step from the trajectory's state
+//!   and costate, must give back the trajectory's control.
+//! - [`terminal_residual`]: the controls re-integrated from scratch through the core's
+//!   [`purcell_core::Kinematics::step`] must reach `(ᾱ, ḡ)`.
+//! - [`kkt_residual`]: the gradient of the direct problem's Lagrangian with respect to the
+//!   controls, in reverse mode through the core's kinematics on dual numbers, with the
+//!   multipliers the costate gives (MODEL.md §5, "Multipliers"): `λ = −Ad_{g_N}ᵀμ` for
+//!   `log(ḡ⁻¹g_N) = 0` and `ν = −ξ^{N−1}` for `α_N = ᾱ`.
+//!
+//! The second-order check (no conjugate point) is the inertia of the direct method's own
+//! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
+
+use super::Trajectory;
+use crate::dual::Dual;
+use crate::problem::Problem;
+use nalgebra::{SVector, Vector2, Vector3};
+use purcell_core::{Real, Se2, State};
+
+/// `max_k |u_law(α_k, g_k, ξ^{k−1}, μ) − u_k|_∞`, relative to `max_k |u_k|_∞` (absolute when
+/// the controls are zero). Errors if the law refuses a state (e.g. past the overlap limit).
+pub fn law_residual(
+    problem: &Problem,
+    t: &Trajectory,
+    mu: &Vector3<f64>,
+) -> Result<f64, purcell_core::Error> {
+    let kin = problem.kinematics::<f64>()?;
+    let mut worst = 0.0f64;
+    let mut scale = 0.0f64;
+    for ((s, u), xi) in t.states.iter().zip(&t.controls).zip(&t.xis) {
+        let step = kin.law_step(s, xi, mu)?;
+        worst = worst.max((step.u - u).amax());
+        scale = scale.max(u.amax());
+    }
+    Ok(if scale > 0.0 { worst / scale } else { worst })
+}
+
+/// The largest component of `(α_N − ᾱ, log(ḡ⁻¹g_N))` when the controls are re-integrated
+/// through [`purcell_core::Kinematics::step`] from `(ᾱ, e)`.
+pub fn terminal_residual(
+    problem: &Problem,
+    controls: &[Vector2<f64>],
+) -> Result<f64, purcell_core::Error> {
+    let kin = problem.kinematics::<f64>()?;
+    let mut s = State::at_origin(problem.alpha0);
+    for u in controls {
+        s = kin.step(&s, u)?;
+    }
+    let e = problem.target_se2::<f64>().between(&s.g).log();
+    Ok((s.alpha - problem.alpha0).amax().max(e.amax()))
+}
+
+type D = Dual<7>;
+
+/// `max_k |∂L/∂u_k|_∞ / h` (see the module docs) for the trajectory and the costate's `μ`.
+pub fn kkt_residual(
+    problem: &Problem,
+    t: &Trajectory,
+    mu: &Vector3<f64>,
+) -> Result<f64, purcell_core::Error> {
+    let kin = problem.kinematics::<D>()?;
+    let (Some(end), Some(xi_last)) = (t.states.last(), t.xis.last()) else {
+        return Err(purcell_core::Error::NonFinite);
+    };
+    // Terminal: Φ(s_N) = ⟨λ, log(ḡ⁻¹ g_N)⟩ + ⟨ν, α_N⟩, s = (α1, α2, x, y, θ).
+    let lambda = -end.g.adjoint_transpose_mul(mu);
+    let nu = -xi_last;
+    let sn = coordinates(end);
+    let v = |i: usize| D::variable(sn[i], i);
+    let g = Se2::new(v(2), v(3), v(4));
+    let e = problem.target_se2::<D>().between(&g).log();
+    let phi = e.x * D::constant(lambda.x)
+        + e.y * D::constant(lambda.y)
+        + e.z * D::constant(lambda.z)
+        + v(0) * D::constant(nu.x)
+        + v(1) * D::constant(nu.y);
+    let mut adj = SVector::<f64, 5>::from_fn(|i, _| phi.d[i]);
+    let mut worst = 0.0f64;
+    for (s, u) in t.states.iter().zip(&t.controls).rev() {
+        let [a1, a2, px, py, th] = coordinates(s);
+        let x = [a1, a2, px, py, th, u.x, u.y];
+        let w = |i: usize| D::variable(x[i], i);
+        let st = State {
+            alpha: Vector2::new(w(0), w(1)),
+            g: Se2::new(w(2), w(3), w(4)),
+        };
+        let next = kin.step(&st, &Vector2::new(w(5), w(6)))?;
+        let out = coordinates(&next);
+        let mut grad = [0.0; 7];
+        for (o, a) in out.iter().zip(adj.iter()) {
+            for (gi, di) in grad.iter_mut().zip(o.d) {
+                *gi += a * di;
+            }
+        }
+        let gu = Vector2::new(problem.h * u.x + grad[5], problem.h * u.y + grad[6]);
+        worst = worst.max(gu.amax() / problem.h);
+        adj = SVector::<f64, 5>::from_fn(|i, _| grad[i]);
+    }
+    Ok(worst)
+}
+
+/// `s = (α1, α2, x, y, θ)` of a state, for any scalar.
+fn coordinates<T: Real>(s: &State<T>) -> [T; 5] {
+    [s.alpha.x, s.alpha.y, s.g.x(), s.g.y(), s.g.theta()]
+}

@@ -1,0 +1,437 @@
+//! Solving from a known extremal: a stored one (`solve --from`) or a neighbour's in a sweep of
+//! targets (`sweep`).
+//!
+//! An extremal of one problem is a start for a nearby one: its shape path, carried to the new
+//! grid (and horizon: `α(t/T)` kept, so controls scale by `T_old/T_new`), with its terminal
+//! multiplier. [`continue_to`] first tries Newton on the target itself; if that fails, it
+//! walks the target from the old one to the new one in steps that halve on failure and grow
+//! on success (natural-parameter continuation), on a medium grid, then refines.
+
+use super::direct::{self, Grid, Point, Settings};
+use super::search::{self, Candidate};
+use super::stage::{Rule, StageState};
+use super::symmetry::{self, Symmetry};
+use super::{
+    Extremal, Solution, SolveError, SolveOptions, Trajectory, coarse_grid, costate, extremal,
+    refine,
+};
+use crate::problem::{Problem, Spec};
+use nalgebra::{Vector2, Vector3, Vector5};
+use rayon::prelude::*;
+
+/// A known extremal as a start: its controls on its own grid, its horizon and terminal
+/// multiplier.
+#[derive(Clone, Debug)]
+pub struct Warm {
+    /// Controls `u_0 … u_{N−1}`.
+    pub u: Vec<Vector2<f64>>,
+    /// Its horizon `T`.
+    pub horizon: f64,
+    /// `ν` (coordinates `(α, x, y, θ)`).
+    pub nu: Vector5<f64>,
+    /// Its target `ḡ`.
+    pub target: Vector3<f64>,
+}
+
+impl Warm {
+    /// From a trajectory with its costates (e.g. a replayed costate file) and `μ`.
+    pub fn from_trajectory(t: &Trajectory, mu: &Vector3<f64>, horizon: f64) -> Option<Self> {
+        let (end, xi) = (t.states.last()?, t.xis.last()?);
+        let s = StageState::new(
+            end.alpha.x,
+            end.alpha.y,
+            end.g.x(),
+            end.g.y(),
+            end.g.theta(),
+        );
+        Some(Warm {
+            u: t.controls.clone(),
+            horizon,
+            nu: costate::multiplier(mu, xi, &s),
+            target: Vector3::new(s[2], s[3], s[4]),
+        })
+    }
+
+    /// The start on `grid` (a grid of `problem` over horizon `horizon`).
+    fn point(&self, grid: &Grid, horizon: f64) -> Result<Point, purcell_core::Error> {
+        let scale = self.horizon / horizon;
+        let u = direct::prolong(&self.u, grid.steps)
+            .into_iter()
+            .map(|v| v * scale)
+            .collect();
+        Point::new(grid, u, self.nu * scale)
+    }
+}
+
+/// The extremal of `problem` reached from `warm` (see the module docs).
+pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveError> {
+    let unreachable = |best_residual| SolveError::Unreachable { best_residual };
+    let horizon = problem.horizon();
+    // Directly on the problem's own grid.
+    let fine = Grid::new(problem, problem.steps as usize, Rule::LEFT_POINT)
+        .map_err(|_| unreachable(f64::INFINITY))?;
+    if let Ok(p) = warm.point(&fine, horizon) {
+        let settings = super::fine_settings(problem, &p.u);
+        if let Ok(run) = direct::newton(&fine, p, &settings)
+            && run.converged
+        {
+            return Ok(extremal(problem, &fine, &run));
+        }
+    }
+    // Natural-parameter continuation in the target on a medium grid.
+    let steps = (problem.steps as usize).min(1024);
+    let rule = if steps == problem.steps as usize {
+        Rule::LEFT_POINT
+    } else {
+        Rule::matching(horizon / steps as f64, problem.h)
+    };
+    let medium = Grid::new(problem, steps, rule).map_err(|_| unreachable(f64::INFINITY))?;
+    let mut point = warm
+        .point(&medium, horizon)
+        .map_err(|_| unreachable(f64::INFINITY))?;
+    let settings = Settings {
+        max_iterations: 30,
+        tol_defect: 1e-10,
+        tol_kkt: 1e-8,
+    };
+    let (from, to) = (warm.target, problem.target);
+    let (mut s, mut ds) = (0.0f64, 0.25f64);
+    let mut best_residual = f64::INFINITY;
+    while s < 1.0 {
+        if ds < 1e-3 {
+            return Err(unreachable(best_residual));
+        }
+        let next = (s + ds).min(1.0);
+        let t = from + (to - from) * next;
+        let mut grid = medium;
+        grid.target = StageState::new(grid.target[0], grid.target[1], t.x, t.y, t.z);
+        let start =
+            Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
+        match direct::newton(&grid, start, &settings) {
+            Ok(run) if run.converged => {
+                point = run.point;
+                s = next;
+                ds *= 1.5;
+            }
+            Ok(run) => {
+                best_residual = best_residual.min(run.defect);
+                ds *= 0.5;
+            }
+            Err(_) => ds *= 0.5,
+        }
+    }
+    let (fine, run) = refine(problem, &point.u, &point.nu).map_err(unreachable)?;
+    Ok(extremal(problem, &fine, &run))
+}
+
+/// `solve --from`: the extremal reached from a stored one, as a solution of one extremal.
+pub fn solve_from(problem: &Problem, warm: &Warm) -> Result<Solution, SolveError> {
+    let x = continue_to(problem, warm)?;
+    if !x.admissible {
+        return Err(SolveError::NoneAdmissible {
+            found: 1,
+            best_alpha: x.max_abs_alpha,
+        });
+    }
+    Ok(Solution {
+        best: 0,
+        extremals: vec![x],
+        starts: 0,
+        coarse_minima: 0,
+    })
+}
+
+/// A lattice of targets: every combination of the values on the three axes `x`, `y`, `θ`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lattice {
+    /// Values of `x`, `y`, `θ`.
+    pub axes: [Vec<f64>; 3],
+}
+
+impl Lattice {
+    /// Number of targets.
+    pub fn len(&self) -> usize {
+        self.axes.iter().map(Vec::len).product()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn index(&self, i: [usize; 3]) -> usize {
+        (i[0] * self.axes[1].len() + i[1]) * self.axes[2].len() + i[2]
+    }
+
+    fn coordinates(&self, mut n: usize) -> [usize; 3] {
+        let l = self.axes[2].len();
+        let c2 = n % l;
+        n /= l;
+        let m = self.axes[1].len();
+        [n / m, n % m, c2]
+    }
+
+    /// The targets, `x` slowest, `θ` fastest.
+    pub fn targets(&self) -> Vec<Vector3<f64>> {
+        (0..self.len())
+            .map(|n| {
+                let c = self.coordinates(n);
+                Vector3::new(self.axes[0][c[0]], self.axes[1][c[1]], self.axes[2][c[2]])
+            })
+            .collect()
+    }
+
+    /// The targets one lattice step away from target `n` along each axis.
+    pub fn neighbours(&self, n: usize) -> Vec<usize> {
+        let c = self.coordinates(n);
+        let mut out = Vec::new();
+        for axis in 0..3 {
+            for delta in [-1i64, 1] {
+                let v = c[axis] as i64 + delta;
+                if v >= 0 && (v as usize) < self.axes[axis].len() {
+                    let mut d = c;
+                    d[axis] = v as usize;
+                    out.push(self.index(d));
+                }
+            }
+        }
+        out
+    }
+
+    /// Every `every`-th target along each axis, and the last one of each axis.
+    pub fn seeds(&self, every: usize) -> Vec<usize> {
+        let pick = |len: usize| -> Vec<usize> {
+            let mut v: Vec<usize> = (0..len).step_by(every.max(1)).collect();
+            if len > 0 && v.last() != Some(&(len - 1)) {
+                v.push(len - 1);
+            }
+            v
+        };
+        let [a, b, c] = [0, 1, 2].map(|i| pick(self.axes[i].len()));
+        let mut out = Vec::new();
+        for &i in &a {
+            for &j in &b {
+                for &l in &c {
+                    out.push(self.index([i, j, l]));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The outcome of a sweep at one target.
+#[derive(Clone, Debug)]
+pub struct SweepPoint {
+    /// The target.
+    pub target: Vector3<f64>,
+    /// The cheapest admissible extremal found, or why there is none.
+    pub result: Result<Extremal, SolveError>,
+}
+
+/// Coarse extremals kept per target in a sweep ([`sweep`]): the cheapest admissible ones, distinct.
+pub const KEEP: usize = 3;
+
+/// Solves every target of `lattice` (the other inputs from `spec`) by continuation from its
+/// neighbours on the coarse grid: a global search ([`search::search`]) at every third target
+/// along each axis; then passes in which every target runs Newton from its neighbours'
+/// coarse extremals (the [`KEEP`] cheapest admissible of each) and takes over the images of
+/// the extremals of the targets a symmetry of the swimmer maps onto it ([`symmetry`]),
+/// keeping its own [`KEEP`] cheapest, until no target changes (a target that still has none
+/// gets a global search of its own, and the passes resume); finally each target's cheapest
+/// coarse extremal is carried to the fine grid ([`refine`]), the next one if that fails or
+/// leaves the admissible shapes on the fine grid.
+/// Targets are solved in parallel within each phase. `progress` is called once per finished
+/// target.
+pub fn sweep(
+    spec: &Spec,
+    lattice: &Lattice,
+    options: &SolveOptions,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Vec<SweepPoint>, crate::problem::InputError> {
+    let targets = lattice.targets();
+    let problems: Vec<Problem> = targets
+        .iter()
+        .map(|t| {
+            Problem::new(&Spec {
+                target: [t.x, t.y, t.z],
+                ..spec.clone()
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let grids: Vec<Option<Grid>> = problems.iter().map(|p| coarse_grid(p, options)).collect();
+    // For each target, the targets a symmetry maps onto it, with that symmetry.
+    let lookup = |t: &Vector3<f64>| {
+        targets
+            .iter()
+            .position(|u| (u - t).amax() <= 1e-12 * (1.0 + t.amax()))
+    };
+    let images: Vec<Vec<(usize, Symmetry)>> = problems
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            symmetry::of_swimmer(p)
+                .into_iter()
+                .filter_map(|sym| Some((lookup(&sym.target(&targets[i]))?, sym)))
+                .filter(|(j, _)| *j != i)
+                .collect()
+        })
+        .collect();
+    let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
+    let mut searched = vec![false; targets.len()];
+    let mut to_search = lattice.seeds(3);
+    let settings = Settings {
+        max_iterations: 40,
+        tol_defect: 1e-10,
+        tol_kkt: 1e-8,
+    };
+    while !to_search.is_empty() {
+        let found: Vec<(usize, Vec<Candidate>)> = to_search
+            .par_iter()
+            .map(|&i| {
+                let Some(g) = grids[i].as_ref() else {
+                    return (i, Vec::new());
+                };
+                let p = &problems[i];
+                let s = search::search(
+                    g,
+                    options.starts,
+                    options.seed,
+                    &|a| a < p.alpha_max,
+                    &|| {},
+                );
+                (i, s.candidates)
+            })
+            .collect();
+        // Targets whose kept extremals changed in the last phase: their neighbours try them.
+        let mut changed = vec![false; targets.len()];
+        for (i, list) in found {
+            searched[i] = true;
+            changed[i] = merge(&mut kept[i], list, &problems[i], grids[i].as_ref());
+        }
+        loop {
+            let updates: Vec<(usize, Vec<Candidate>)> = (0..targets.len())
+                .into_par_iter()
+                .filter_map(|i| {
+                    let grid = grids[i].as_ref()?;
+                    let mut new = Vec::new();
+                    for j in lattice.neighbours(i) {
+                        if !changed[j] {
+                            continue;
+                        }
+                        for c in &kept[j] {
+                            if !kept[i]
+                                .iter()
+                                .any(|m| search::same_path(&m.u, &c.u, grid.h()))
+                            {
+                                new.extend(newton_from(grid, c, &settings));
+                            }
+                        }
+                    }
+                    for (j, sym) in &images[i] {
+                        if changed[*j] {
+                            new.extend(kept[*j].iter().map(|c| Candidate {
+                                u: c.u.iter().map(|v| sym.shape(v)).collect(),
+                                nu: sym.coordinates(&c.nu),
+                                ..c.clone()
+                            }));
+                        }
+                    }
+                    let mut list = kept[i].clone();
+                    merge(&mut list, new, &problems[i], Some(grid)).then_some((i, list))
+                })
+                .collect();
+            if updates.is_empty() {
+                break;
+            }
+            changed = vec![false; targets.len()];
+            for (i, list) in updates {
+                kept[i] = list;
+                changed[i] = true;
+            }
+        }
+        to_search = (0..targets.len())
+            .filter(|&i| kept[i].is_empty() && !searched[i])
+            .collect();
+    }
+    // Refine each target's cheapest coarse extremal (the next one if that fails).
+    Ok((0..targets.len())
+        .into_par_iter()
+        .map(|i| {
+            let p = &problems[i];
+            let mut result = Err(SolveError::Unreachable {
+                best_residual: f64::INFINITY,
+            });
+            for c in &kept[i] {
+                match refine(p, &c.u, &c.nu) {
+                    Ok((g, run)) => {
+                        let x = extremal(p, &g, &run);
+                        let admissible = x.admissible;
+                        if result.as_ref().is_err() || admissible {
+                            result = Ok(x);
+                        }
+                        if admissible {
+                            break;
+                        }
+                    }
+                    Err(r) if result.is_err() => {
+                        result = Err(SolveError::Unreachable { best_residual: r })
+                    }
+                    Err(_) => {}
+                }
+            }
+            progress();
+            SweepPoint {
+                target: targets[i],
+                result,
+            }
+        })
+        .collect())
+}
+
+/// Merges `new` coarse extremals into a target's kept list (admissible, distinct, the
+/// [`KEEP`] cheapest); whether the list changed.
+fn merge(
+    kept: &mut Vec<Candidate>,
+    new: Vec<Candidate>,
+    problem: &Problem,
+    grid: Option<&Grid>,
+) -> bool {
+    let Some(grid) = grid else { return false };
+    let before: Vec<f64> = kept.iter().map(|c| c.cost).collect();
+    for c in new {
+        if c.max_abs_alpha < problem.alpha_max
+            && !kept.iter().any(|m| search::same_path(&m.u, &c.u, grid.h()))
+        {
+            kept.push(c);
+        }
+    }
+    kept.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    kept.truncate(KEEP);
+    kept.iter().map(|c| c.cost).collect::<Vec<_>>() != before
+}
+
+/// Newton at one target from another target's coarse extremal; the extremal it converges to,
+/// if its motion is resolved by the grid.
+fn newton_from(grid: &Grid, from: &Candidate, settings: &Settings) -> Option<Candidate> {
+    let p = Point::new(grid, from.u.clone(), from.nu).ok()?;
+    let run = direct::newton(grid, p, settings).ok()?;
+    if !run.converged || !grid.resolves(&run.point.u) {
+        return None;
+    }
+    let max_abs_alpha = run
+        .point
+        .states
+        .iter()
+        .map(|s| s[0].abs().max(s[1].abs()))
+        .fold(0.0, f64::max);
+    Some(Candidate {
+        cost: grid.cost(&run.point.u),
+        u: run.point.u,
+        nu: run.point.nu,
+        max_abs_alpha,
+        start: 0,
+        hits: 1,
+        start_loop: None,
+    })
+}

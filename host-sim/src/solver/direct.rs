@@ -1,0 +1,478 @@
+//! The direct method: Newton–SQP on the controls of the exact discrete problem, with the exact
+//! Hessian of the Lagrangian and a Riccati-structured step.
+//!
+//! Unknowns: the controls `u_0 … u_{N−1}`; the states follow by the exact kinematics
+//! ([`super::stage::step`]), so every iterate is a trajectory of the swimmer and only the
+//! terminal constraint `c(u) = s_N − s̄ = 0` (five equations: `α_N = ᾱ`, `(x, y, θ)_N = ḡ`)
+//! can be violated. With `L = J + νᵀc`, the costates `λ_N = ν`, `λ_k = A_kᵀλ_{k+1}` give
+//! `∇_{u_k}L = h·u_k + B_kᵀλ_{k+1}`, and the Newton step is the LQ problem of
+//! [`super::riccati`] with the stage Hessians of `λ_{k+1}ᵀf`. Per iteration: one rollout, one
+//! backward sweep (derivatives, costates, Riccati), one forward sweep — `O(N)`.
+//!
+//! Globalisation: an `ℓ1` merit `J + ρ|c|₁` with Armijo backtracking and one second-order
+//! correction of a rejected full step (the terminal constraint is curved: without it the
+//! merit rejects good Newton steps, the Maratos effect); when the QP is not convex on the
+//! constraint's null space (wrong inertia), `δ·I` is added to the control Hessian until it is
+//! (as IPOPT corrects inertia). Near a local minimum no correction is needed and the
+//! iteration is Newton's method on the KKT system: quadratic convergence.
+//!
+//! A rollout that leaves the admissible shapes (`|α_i| ≥ π`) fails, and the line search
+//! treats the trial point as infeasible: every iterate stays admissible.
+
+use super::riccati::Factor;
+use super::stage::{Linearised, Rule, StageModel, StageState};
+use crate::problem::Problem;
+use nalgebra::{Vector2, Vector5};
+use purcell_core::{Error, Kinematics};
+
+/// One time grid of the problem: `steps` steps over the horizon `T`.
+#[derive(Clone, Copy, Debug)]
+pub struct Grid {
+    /// The stage model with `h = T/steps`.
+    pub model: StageModel,
+    /// Steps `N`.
+    pub steps: usize,
+    /// `s_0 = (ᾱ, 0, 0, 0)`.
+    pub start: StageState,
+    /// `s̄ = (ᾱ, x̄, ȳ, θ̄)`.
+    pub target: StageState,
+}
+
+impl Grid {
+    /// The problem on a grid of `steps` steps with the connection evaluated by `rule`
+    /// (`steps = problem.steps` with [`Rule::LEFT_POINT`] is the problem itself).
+    pub fn new(problem: &Problem, steps: usize, rule: Rule) -> Result<Self, Error> {
+        let h = problem.horizon() / steps as f64;
+        let kin = Kinematics::new(*problem.kinematics::<f64>()?.swimmer(), h)?;
+        let a = problem.alpha0;
+        let t = problem.target;
+        Ok(Grid {
+            model: StageModel::new(kin, rule)?,
+            steps,
+            start: StageState::new(a.x, a.y, 0.0, 0.0, 0.0),
+            target: StageState::new(a.x, a.y, t.x, t.y, t.z),
+        })
+    }
+
+    /// Step `h`.
+    pub fn h(&self) -> f64 {
+        self.model.h()
+    }
+
+    /// The same problem on `steps` steps with `rule`.
+    pub fn resampled(&self, steps: usize, rule: Rule) -> Result<Self, Error> {
+        let h = self.h() * self.steps as f64 / steps as f64;
+        let kin = Kinematics::new(*self.model.kin.swimmer(), h)?;
+        Ok(Grid {
+            model: StageModel::new(kin, rule)?,
+            steps,
+            ..*self
+        })
+    }
+
+    /// Whether the net motion of the controls `u` is resolved by this grid: the end of their
+    /// shape path integrated 16 times finer by the midpoint rule (second order) lies within a
+    /// fifth of the displacement asked for from the end of `u`'s own rollout. A solution that
+    /// exists only through the discretisation error of a coarse grid (e.g. with equal drag
+    /// along and across the links, where no loop moves the body) fails this.
+    pub fn resolves(&self, u: &[Vector2<f64>]) -> bool {
+        let (Ok(fine), Ok(own)) = (
+            self.resampled(16 * self.steps, Rule::MIDPOINT),
+            self.rollout(u),
+        ) else {
+            return false;
+        };
+        let Ok(accurate) = fine.rollout(&prolong(u, fine.steps)) else {
+            return false;
+        };
+        let (Some(a), Some(b)) = (accurate.last(), own.last()) else {
+            return false;
+        };
+        let scale = self.model.kin.swimmer().lengths()[0];
+        let dist = |p: &StageState, q: &StageState| {
+            ((p[2] - q[2]).powi(2) + (p[3] - q[3]).powi(2) + (scale * (p[4] - q[4])).powi(2)).sqrt()
+        };
+        dist(a, b) <= 0.2 * dist(&self.target, &self.start)
+    }
+
+    /// The states `s_0 … s_N` under the controls `u`.
+    pub fn rollout(&self, u: &[Vector2<f64>]) -> Result<Vec<StageState>, Error> {
+        let mut s = self.start;
+        let mut out = Vec::with_capacity(u.len() + 1);
+        out.push(s);
+        for uk in u {
+            s = self.model.step(&s, uk)?;
+            out.push(s);
+        }
+        Ok(out)
+    }
+
+    /// `J = Σ h/2·|u_k|²`.
+    pub fn cost(&self, u: &[Vector2<f64>]) -> f64 {
+        0.5 * self.h() * u.iter().map(|v| v.norm_squared()).sum::<f64>()
+    }
+
+    /// `c = s_N − s̄` of a rollout.
+    pub fn defect(&self, states: &[StageState]) -> Vector5<f64> {
+        states
+            .last()
+            .map_or(Vector5::repeat(f64::INFINITY), |s| s - self.target)
+    }
+
+    /// Stage derivatives along a rollout for the terminal multiplier `nu` (see [`Linearised`]).
+    pub fn linearise(
+        &self,
+        states: &[StageState],
+        u: &[Vector2<f64>],
+        nu: &Vector5<f64>,
+    ) -> Result<Linearisation, Error> {
+        let n = u.len();
+        let h = self.h();
+        let mut lin = Vec::with_capacity(n);
+        let mut lambda = vec![StageState::zeros(); n + 1];
+        lambda[n] = *nu;
+        let mut kkt = 0.0f64;
+        let mut grad = vec![Vector2::zeros(); n];
+        // Least-squares multiplier: minimise Σ_k |h·u_k + G_k ν|², G_k = B_kᵀΨ_{k+1},
+        // Ψ_N = I, Ψ_k = A_kᵀΨ_{k+1} (so that λ_{k+1} = Ψ_{k+1}ν).
+        let mut psi = nalgebra::Matrix5::<f64>::identity();
+        let mut normal = nalgebra::Matrix5::<f64>::zeros();
+        let mut rhs = Vector5::<f64>::zeros();
+        for k in (0..n).rev() {
+            let l = self.model.linearise(&states[k], &u[k], &lambda[k + 1])?;
+            let g = u[k] * h + l.b.transpose() * lambda[k + 1];
+            kkt = kkt.max(g.amax() / h);
+            grad[k] = g;
+            lambda[k] = l.a.transpose() * lambda[k + 1];
+            let gk = l.b.transpose() * psi;
+            normal += gk.transpose() * gk;
+            rhs -= gk.transpose() * (u[k] * h);
+            psi = l.a.transpose() * psi;
+            lin.push(l);
+        }
+        lin.reverse();
+        let nu_ls = normal.cholesky().map(|c| c.solve(&rhs));
+        Ok(Linearisation {
+            lin,
+            lambda,
+            grad,
+            kkt,
+            nu_ls,
+        })
+    }
+}
+
+/// Derivatives of the problem along a rollout.
+#[derive(Clone, Debug)]
+pub struct Linearisation {
+    /// Stage derivatives, `k = 0 … N−1`.
+    pub lin: Vec<Linearised>,
+    /// Costates `λ_0 … λ_N` for the given `ν`.
+    pub lambda: Vec<StageState>,
+    /// `∇_{u_k}L = h·u_k + B_kᵀλ_{k+1}`.
+    pub grad: Vec<Vector2<f64>>,
+    /// Stationarity residual `max_k |h·u_k + B_kᵀλ_{k+1}|_∞ / h`.
+    pub kkt: f64,
+    /// The least-squares multiplier `argmin_ν Σ_k |h·u_k + B_kᵀλ_{k+1}(ν)|²` (`None` if the
+    /// terminal state does not depend on the controls in every direction).
+    pub nu_ls: Option<Vector5<f64>>,
+}
+
+/// An iterate: controls, their rollout and a terminal multiplier estimate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// `u_0 … u_{N−1}`.
+    pub u: Vec<Vector2<f64>>,
+    /// `s_0 … s_N`.
+    pub states: Vec<StageState>,
+    /// `ν`.
+    pub nu: Vector5<f64>,
+}
+
+impl Point {
+    /// The controls `u` with multiplier `nu` on `grid`; `Err` if the rollout fails.
+    pub fn new(grid: &Grid, u: Vec<Vector2<f64>>, nu: Vector5<f64>) -> Result<Self, Error> {
+        let states = grid.rollout(&u)?;
+        Ok(Point { u, states, nu })
+    }
+}
+
+/// Stopping rules.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Iteration limit.
+    pub max_iterations: usize,
+    /// Largest terminal defect accepted (m, rad).
+    pub tol_defect: f64,
+    /// Largest stationarity residual accepted (rad/s).
+    pub tol_kkt: f64,
+}
+
+/// Outcome of [`newton`].
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// The last iterate.
+    pub point: Point,
+    /// Its costates `λ_0 … λ_N`.
+    pub lambda: Vec<StageState>,
+    /// `|c|_∞` there.
+    pub defect: f64,
+    /// Stationarity residual there.
+    pub kkt: f64,
+    /// Iterations used.
+    pub iterations: usize,
+    /// Whether both tolerances were met.
+    pub converged: bool,
+    /// At a converged point: whether the second-order sufficient condition holds (the exact
+    /// Hessian's QP is strictly convex on the constraint's null space: a strict local minimum).
+    pub local_min: bool,
+}
+
+/// Newton–SQP from `start` (see the module docs).
+pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Error> {
+    let h = grid.h();
+    let mut pt = start;
+    let mut delta_last = 0.0f64;
+    let mut iterations = 0;
+    let theta0 = grid.defect(&pt.states).lp_norm(1);
+    let mut filter = Filter::new(theta0);
+    let log = std::env::var_os("PURCELL_SQP_LOG").is_some();
+    loop {
+        let c = grid.defect(&pt.states);
+        let lz = grid.linearise(&pt.states, &pt.u, &pt.nu)?;
+        let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
+        if done || iterations >= settings.max_iterations {
+            let local_min =
+                done && Factor::new(&lz.lin, &lz.grad, h, 0.0).is_some_and(|f| f.convex());
+            return Ok(finish(grid, pt, lz, iterations, done, local_min));
+        }
+        iterations += 1;
+        // Inertia correction: the smallest δ (0, then from a third of the last one, ×10) that
+        // makes the QP convex on the constraint's null space.
+        let mut delta = 0.0;
+        let factor = loop {
+            if let Some(f) = Factor::new(&lz.lin, &lz.grad, h, delta)
+                && f.convex()
+            {
+                break Some(f);
+            }
+            delta = if delta == 0.0 {
+                (delta_last / 3.0).max(1e-6 * h)
+            } else {
+                delta * 10.0
+            };
+            if delta > 1e10 * h {
+                break None;
+            }
+        };
+        let Some(factor) = factor else {
+            return Ok(finish(grid, pt, lz, iterations, false, false));
+        };
+        delta_last = delta;
+        // With the Lagrangian's gradient as the linear term the QP's multiplier is the change
+        // of `ν` (the constant `−νᵀGδu = νᵀc` drops out), and near a solution every term of the
+        // step is small: no cancellation of O(1) terms in the closed loop.
+        let Some((du, dnu)) = factor.solve(&lz.lin, &(-c), true) else {
+            return Ok(finish(grid, pt, lz, iterations, false, false));
+        };
+        let nu_qp = pt.nu + dnu;
+        if log {
+            let mut ds = Vector5::zeros();
+            for (l, d) in lz.lin.iter().zip(&du) {
+                ds = l.a * ds + l.b * d;
+            }
+            eprintln!(
+                "   linear residual {:.2e} (|c| {:.2e})",
+                (ds + c).amax(),
+                c.amax()
+            );
+        }
+        // The next Hessian's multiplier: the QP's when the step is Newton's (δ = 0: then the
+        // iteration is Newton's method on the KKT system), otherwise the least-squares
+        // estimate (a regularised QP's multiplier grows with δ and is meaningless).
+        let nu_next = if delta == 0.0 {
+            nu_qp
+        } else {
+            lz.nu_ls.unwrap_or(pt.nu)
+        };
+        let theta = c.lp_norm(1);
+        let phi = grid.cost(&pt.u);
+        let slope = h * pt.u.iter().zip(&du).map(|(a, b)| a.dot(b)).sum::<f64>();
+        let trial = |t: f64, extra: Option<&[Vector2<f64>]>| -> Option<(Point, f64, f64)> {
+            let u: Vec<Vector2<f64>> = match extra {
+                None => pt.u.iter().zip(&du).map(|(a, b)| a + b * t).collect(),
+                Some(e) => {
+                    pt.u.iter()
+                        .zip(&du)
+                        .zip(e)
+                        .map(|((a, b), e)| a + b + e)
+                        .collect()
+                }
+            };
+            let p = Point::new(grid, u, nu_next).ok()?;
+            let th = grid.defect(&p.states).lp_norm(1);
+            let ph = grid.cost(&p.u);
+            Some((p, th, ph))
+        };
+        let mut accepted = None;
+        let mut t = 1.0;
+        while t > 1e-12 {
+            if let Some((p, th, ph)) = trial(t, None) {
+                if let Some(kind) = filter.acceptable(theta, phi, slope, t, th, ph) {
+                    accepted = Some((p, kind));
+                    break;
+                }
+                // Second-order correction of a rejected full step that did not lower θ.
+                if t == 1.0
+                    && th >= theta
+                    && let Some((corr, _)) =
+                        factor.solve(&lz.lin, &(-grid.defect(&p.states)), false)
+                    && let Some((q, thq, phq)) = trial(1.0, Some(&corr))
+                    && let Some(kind) = filter.acceptable(theta, phi, slope, 1.0, thq, phq)
+                {
+                    accepted = Some((q, kind));
+                    break;
+                }
+            }
+            t *= 0.5;
+        }
+        if log {
+            eprintln!(
+                "sqp {iterations}: J {phi:.6} |c| {:.2e} kkt {:.2e} δ {delta:.1e} inertia {}+{} |ν_qp| {:.2e} t {t:.1e} |du| {:.2e}",
+                c.amax(),
+                lz.kkt,
+                factor.negative_h,
+                factor.negative_m,
+                nu_qp.amax(),
+                du.iter().map(|v| v.amax()).fold(0.0, f64::max)
+            );
+        }
+        let Some((p, kind)) = accepted else {
+            return Ok(finish(grid, pt, lz, iterations, false, false));
+        };
+        if kind == StepKind::Constraint {
+            filter.add(theta, phi);
+        }
+        pt = p;
+    }
+}
+
+/// Whether a step was accepted for lowering the cost (Armijo) or for its progress on the
+/// constraint/filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StepKind {
+    Cost,
+    Constraint,
+}
+
+/// The filter of Wächter & Biegler (IPOPT's line search), for equality constraints: a trial
+/// point is acceptable if no earlier pair `(θ_j, φ_j)` (constraint violation `θ = |c|₁`, cost
+/// `φ = J`) dominates it, and if it either lowers the cost enough (when the step is a descent
+/// direction for the cost and the iterate nearly feasible) or lowers `θ` or `φ` enough against
+/// the current point. No penalty parameter: the line search does not depend on the size of
+/// the multipliers.
+struct Filter {
+    entries: Vec<(f64, f64)>,
+    theta_max: f64,
+    theta_min: f64,
+}
+
+impl Filter {
+    const GAMMA_THETA: f64 = 1e-5;
+    const GAMMA_PHI: f64 = 1e-5;
+    const ETA: f64 = 1e-4;
+    const S_THETA: f64 = 1.1;
+    const S_PHI: f64 = 2.3;
+
+    fn new(theta0: f64) -> Self {
+        Filter {
+            entries: Vec::new(),
+            theta_max: 1e4 * theta0.max(1.0),
+            theta_min: 1e-4 * theta0.max(1.0),
+        }
+    }
+
+    fn acceptable(
+        &self,
+        theta: f64,
+        phi: f64,
+        slope: f64,
+        t: f64,
+        th: f64,
+        ph: f64,
+    ) -> Option<StepKind> {
+        if !(th.is_finite() && ph.is_finite()) || th > self.theta_max {
+            return None;
+        }
+        if self.entries.iter().any(|&(tj, pj)| th >= tj && ph >= pj) {
+            return None;
+        }
+        let switching = slope < 0.0 && t * (-slope).powf(Self::S_PHI) > theta.powf(Self::S_THETA);
+        if switching && theta <= self.theta_min {
+            (ph <= phi + Self::ETA * t * slope).then_some(StepKind::Cost)
+        } else {
+            (th <= (1.0 - Self::GAMMA_THETA) * theta || ph <= phi - Self::GAMMA_PHI * theta)
+                .then_some(StepKind::Constraint)
+        }
+    }
+
+    fn add(&mut self, theta: f64, phi: f64) {
+        let entry = (
+            (1.0 - Self::GAMMA_THETA) * theta,
+            phi - Self::GAMMA_PHI * theta,
+        );
+        self.entries
+            .retain(|&(tj, pj)| !(tj >= entry.0 && pj >= entry.1));
+        self.entries.push(entry);
+    }
+}
+
+fn finish(
+    grid: &Grid,
+    point: Point,
+    lz: Linearisation,
+    iterations: usize,
+    converged: bool,
+    local_min: bool,
+) -> Run {
+    let defect = grid.defect(&point.states).amax();
+    Run {
+        point,
+        lambda: lz.lambda,
+        defect,
+        kkt: lz.kkt,
+        iterations,
+        converged,
+        local_min,
+    }
+}
+
+/// The controls of `u` (a grid of `u.len()` steps over the same horizon) on a grid of
+/// `steps` steps: the same piecewise-linear shape path `α(t)`, sampled.
+pub fn prolong(u: &[Vector2<f64>], steps: usize) -> Vec<Vector2<f64>> {
+    let n = u.len();
+    // α(t) relative to ᾱ at the coarse nodes, in units where the horizon is n.
+    let mut nodes = Vec::with_capacity(n + 1);
+    let mut a = Vector2::zeros();
+    nodes.push(a);
+    for v in u {
+        a += v;
+        nodes.push(a);
+    }
+    let at = |j: usize| -> Vector2<f64> {
+        let x = j as f64 * n as f64 / steps as f64;
+        let i = (x.floor() as usize).min(n.saturating_sub(1));
+        let frac = x - i as f64;
+        nodes[i] + u[i] * frac
+    };
+    // u_f = Δα/h_f with α in units of h_c: multiply by h_c/h_f = steps/n.
+    let scale = steps as f64 / n as f64;
+    let mut out = Vec::with_capacity(steps);
+    let mut prev = at(0);
+    for j in 1..=steps {
+        let next = if j == steps { nodes[n] } else { at(j) };
+        out.push((next - prev) * scale);
+        prev = next;
+    }
+    out
+}

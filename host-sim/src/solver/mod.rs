@@ -1,0 +1,350 @@
+//! The solver: the cheapest admissible extremal of the discrete problem (MODEL.md §4).
+//!
+//! Pipeline of [`solve`]:
+//! 1. [`starts`]: closed shape loops through `ᾱ`, sized from the problem's geometry;
+//! 2. [`search`]: each start through the direct method ([`direct`]: Newton–SQP with the exact
+//!    Hessian and a Riccati step, [`riccati`], on the stage model [`stage`]) on a coarse grid
+//!    whose rule mimics the fine one; distinct local minima, cheapest first;
+//! 3. [`refine`]: the cheapest candidates carried to the problem's own grid through finer
+//!    grids, Newton converging in a few steps at each; second-order check by the inertia of
+//!    the last factorisation;
+//! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
+//! 5. [`certificate`]: independent checks (the core's law reproduces the controls, the
+//!    controls reach the target through the core's kinematics, KKT by reverse mode).
+//!
+//! [`continuation`] solves from a stored extremal (`--from`) and over a grid of targets
+//! (`sweep`).
+
+pub mod certificate;
+pub mod continuation;
+pub mod costate;
+pub mod direct;
+pub mod riccati;
+pub mod search;
+pub mod stage;
+pub mod starts;
+pub mod symmetry;
+
+use crate::problem::Problem;
+use direct::{Grid, Point, Run, Settings};
+use nalgebra::{Vector2, Vector3, Vector5};
+use purcell_core::State;
+use stage::Rule;
+
+/// Solver settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// Most start loops of the global search (it stops earlier once its cheapest admissible
+    /// extremal has been reached from several starts).
+    pub starts: usize,
+    /// Orders the start loops.
+    pub seed: u64,
+    /// Steps of the coarse grid of the global search.
+    pub coarse_steps: usize,
+    /// Most candidates carried to the fine grid.
+    pub refine: usize,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            starts: 256,
+            seed: 0,
+            coarse_steps: 64,
+            refine: 6,
+        }
+    }
+}
+
+/// A trajectory on the grid: `k = 0..N` states, `k < N` controls, costates `ξ^{k−1}`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Trajectory {
+    /// `(α_k, g_k)`, `k = 0..=N`.
+    pub states: Vec<State<f64>>,
+    /// `u_k`, `k < N`.
+    pub controls: Vec<Vector2<f64>>,
+    /// `ξ^{k−1}`, `k = 0..=N` (the first is `ξ^{−1}`).
+    pub xis: Vec<Vector2<f64>>,
+}
+
+/// One extremal of the fine problem, with its certificates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Extremal {
+    /// `J = Σ h/2 |u_k|²`.
+    pub cost: f64,
+    /// Spatial momentum `μ`.
+    pub mu: Vector3<f64>,
+    /// `ξ^{−1}`.
+    pub xi0: Vector2<f64>,
+    /// Largest `|α_i|` along the path.
+    pub max_abs_alpha: f64,
+    /// Whether `max_abs_alpha < α_max`.
+    pub admissible: bool,
+    /// Terminal defect of the direct method's trajectory (largest component, m / rad).
+    pub residual: f64,
+    /// The same after re-integrating the controls through the core's kinematics
+    /// ([`certificate::terminal_residual`]); `None` if the path is not admissible.
+    pub terminal_residual: Option<f64>,
+    /// Independent KKT residual ([`certificate::kkt_residual`], rad/s); `None` if the path is
+    /// not admissible (the core refuses shapes past the overlap limit).
+    pub kkt_residual: Option<f64>,
+    /// The direct method's own stationarity residual (rad/s).
+    pub stationarity: f64,
+    /// Relative deviation of the core's law from the controls ([`certificate::law_residual`]);
+    /// `None` if the path is not admissible.
+    pub law_residual: Option<f64>,
+    /// Second-order sufficient condition: a strict local minimum.
+    pub local_min: bool,
+    /// Newton iterations on the fine grid.
+    pub iterations: usize,
+    /// Index of the start loop that first reached it in the global search (0: zero loop).
+    pub start: usize,
+    /// How many starts of the global search reached it.
+    pub hits: usize,
+    /// For a problem that a symmetry of the swimmer maps to itself ([`symmetry`]): the
+    /// index in [`Solution::extremals`] of this extremal's image (same cost, another loop),
+    /// when found too.
+    pub twin_of: Option<usize>,
+    /// The trajectory with its costates.
+    pub trajectory: Trajectory,
+}
+
+/// Outcome of a solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Index into `extremals` of the returned one (the cheapest admissible).
+    pub best: usize,
+    /// Every distinct extremal carried to the fine grid, cheapest first.
+    pub extremals: Vec<Extremal>,
+    /// Start loops run by the global search.
+    pub starts: usize,
+    /// Distinct local minima of the coarse problem.
+    pub coarse_minima: usize,
+}
+
+/// Why no extremal was returned.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// No start converged.
+    #[error("no start reached the target: best residual {best_residual:.3e}")]
+    Unreachable {
+        /// Smallest terminal defect reached by any start.
+        best_residual: f64,
+    },
+    /// Extremals were found but none is admissible.
+    #[error(
+        "{found} extremal(s) found, none admissible (smallest max |alpha_i| = {best_alpha:.4} rad >= alpha-max)"
+    )]
+    NoneAdmissible {
+        /// How many.
+        found: usize,
+        /// Smallest of their largest `|α_i|`.
+        best_alpha: f64,
+    },
+}
+
+/// Convergence thresholds on the fine grid, relative to the problem's scale: the terminal
+/// defect to 1e-11 of the displacement asked for (at most 1e-12, at least 1e-15), stationarity
+/// to 1e-10 of the largest control (at least 1e-13 rad/s).
+pub fn fine_settings(problem: &Problem, controls: &[Vector2<f64>]) -> Settings {
+    let t = problem.target;
+    let scale = (t.x * t.x + t.y * t.y).sqrt().max(t.z.abs());
+    let umax = controls.iter().map(|u| u.amax()).fold(0.0, f64::max);
+    Settings {
+        max_iterations: 30,
+        tol_defect: (1e-11 * scale).clamp(1e-15, 1e-12),
+        tol_kkt: (1e-10 * umax).max(1e-13),
+    }
+}
+
+/// Carries controls `u` (on any grid over the same horizon) with multiplier `nu` to the
+/// problem's grid through grids at most 16 times finer each ([`Rule::matching`] on the
+/// intermediate ones), Newton converging at each. `Err` holds the terminal defect where it
+/// stopped.
+pub fn refine(
+    problem: &Problem,
+    u: &[Vector2<f64>],
+    nu: &Vector5<f64>,
+) -> Result<(Grid, Run), f64> {
+    let n_fine = problem.steps as usize;
+    let h_fine = problem.h;
+    let mut u = u.to_vec();
+    let mut nu = *nu;
+    loop {
+        let n = u.len();
+        let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
+        let last = next == n_fine;
+        let h = problem.horizon() / next as f64;
+        let rule = if last {
+            Rule::LEFT_POINT
+        } else {
+            Rule::matching(h, h_fine)
+        };
+        let inf = |_| f64::INFINITY;
+        let grid = Grid::new(problem, next, rule).map_err(inf)?;
+        let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
+        let settings = if last {
+            fine_settings(problem, &start.u)
+        } else {
+            Settings {
+                max_iterations: 30,
+                tol_defect: 1e-10,
+                tol_kkt: 1e-8,
+            }
+        };
+        let run = direct::newton(&grid, start, &settings).map_err(inf)?;
+        if !run.converged {
+            return Err(run.defect);
+        }
+        if last {
+            return Ok((grid, run));
+        }
+        u = run.point.u;
+        nu = run.point.nu;
+    }
+}
+
+/// The extremal of a converged fine run, with its certificates.
+pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
+    let p = &run.point;
+    let trajectory = costate::trajectory(&p.states, &p.u, &run.lambda);
+    let n = p.u.len();
+    let mu = costate::momentum(&run.lambda[n], &p.states[n]);
+    let max_abs_alpha = p
+        .states
+        .iter()
+        .map(|s| s[0].abs().max(s[1].abs()))
+        .fold(0.0, f64::max);
+    let physical = max_abs_alpha < core::f64::consts::PI;
+    let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
+    let cost = grid.cost(&p.u);
+    Extremal {
+        cost,
+        mu,
+        xi0: trajectory.xis.first().copied().unwrap_or_default(),
+        max_abs_alpha,
+        admissible: max_abs_alpha < problem.alpha_max,
+        residual: run.defect,
+        terminal_residual: check(certificate::terminal_residual(problem, &p.u)),
+        kkt_residual: check(certificate::kkt_residual(problem, &trajectory, &mu)),
+        stationarity: run.kkt,
+        law_residual: check(certificate::law_residual(problem, &trajectory, &mu)),
+        // J ≥ 0, so J = 0 is the global minimum (there the terminal constraint is degenerate
+        // and the second-order test does not apply).
+        local_min: run.local_min || cost == 0.0,
+        iterations: run.iterations,
+        start: 0,
+        hits: 0,
+        twin_of: None,
+        trajectory,
+    }
+}
+
+/// The coarse grid of the global search: `options.coarse_steps` steps (at most the problem's)
+/// with the rule that mimics the problem's discretisation.
+pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
+    let n = options.coarse_steps.min(problem.steps as usize).max(1);
+    let rule = if n == problem.steps as usize {
+        Rule::LEFT_POINT
+    } else {
+        Rule::matching(problem.horizon() / n as f64, problem.h)
+    };
+    Grid::new(problem, n, rule).ok()
+}
+
+/// Solves from many starts (see the module docs); `progress` is called once per start.
+pub fn solve(
+    problem: &Problem,
+    options: &SolveOptions,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Solution, SolveError> {
+    let unreachable = |best_residual| SolveError::Unreachable { best_residual };
+    let grid = coarse_grid(problem, options).ok_or(unreachable(f64::INFINITY))?;
+    let alpha_max = problem.alpha_max;
+    let found = search::search(
+        &grid,
+        options.starts,
+        options.seed,
+        &|a| a < alpha_max,
+        progress,
+    );
+    // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
+    // the coarse grid's error in `|α|`) until the cheapest admissible fine extremal is settled
+    // (every remaining candidate costs more, with a margin for the coarse grid's error in
+    // `J`), then the inadmissible ones cheaper than it, for the report.
+    let mut extremals: Vec<Extremal> = Vec::new();
+    let mut best_residual = found.best_residual;
+    let near = |a: f64| a < alpha_max + 0.05;
+    let (maybe, beyond): (Vec<_>, Vec<_>) =
+        found.candidates.iter().partition(|c| near(c.max_abs_alpha));
+    let mut refined = 0;
+    for (pass, list) in [maybe, beyond].into_iter().enumerate() {
+        for c in list {
+            let settled = extremals
+                .iter()
+                .filter(|x| x.admissible)
+                .map(|x| x.cost)
+                .fold(f64::INFINITY, f64::min);
+            let margin = if pass == 0 { 1.0 + 1e-2 } else { 1.0 };
+            if refined >= options.refine || c.cost > settled * margin {
+                break;
+            }
+            refined += 1;
+            let (fine, run) = match refine(problem, &c.u, &c.nu) {
+                Ok(r) => r,
+                Err(defect) => {
+                    best_residual = best_residual.min(defect);
+                    continue;
+                }
+            };
+            let mut x = extremal(problem, &fine, &run);
+            x.start = c.start;
+            x.hits = c.hits;
+            if !extremals.iter().any(|o| {
+                search::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
+            }) {
+                extremals.push(x);
+            }
+        }
+    }
+    if extremals.is_empty() {
+        return Err(unreachable(best_residual));
+    }
+    extremals.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    mark_twins(problem, &mut extremals);
+    let Some(best) = extremals.iter().position(|x| x.admissible) else {
+        return Err(SolveError::NoneAdmissible {
+            found: extremals.len(),
+            best_alpha: extremals
+                .iter()
+                .map(|x| x.max_abs_alpha)
+                .fold(f64::INFINITY, f64::min),
+        });
+    };
+    Ok(Solution {
+        best,
+        extremals,
+        starts: found.starts,
+        coarse_minima: found.candidates.len(),
+    })
+}
+
+/// Marks each extremal whose image under a symmetry of the problem is also in the list.
+fn mark_twins(problem: &Problem, extremals: &mut [Extremal]) {
+    for sym in symmetry::of_problem(problem) {
+        for i in 0..extremals.len() {
+            if extremals[i].twin_of.is_some() {
+                continue;
+            }
+            let image: Vec<Vector2<f64>> = extremals[i]
+                .trajectory
+                .controls
+                .iter()
+                .map(|u| sym.shape(u))
+                .collect();
+            extremals[i].twin_of = (0..extremals.len()).find(|&j| {
+                j != i && search::same_path(&extremals[j].trajectory.controls, &image, problem.h)
+            });
+        }
+    }
+}

@@ -1,0 +1,269 @@
+//! The Newton step of the direct method: a linear-quadratic problem along the trajectory with
+//! a fixed terminal state, solved by a Riccati recursion in `O(N)` (as acados/HPIPM do for
+//! their stage-structured QPs).
+//!
+//! ```text
+//! minimise  Σ_k ½ (δs_k, δu_k)ᵀ Q_k (δs_k, δu_k) + r_kᵀ δu_k
+//! subject to δs_{k+1} = A_k δs_k + B_k δu_k,   δs_0 = 0,   δs_N = e
+//! ```
+//!
+//! `Q_k` is the Hessian of the Lagrangian at stage `k` (from [`super::stage`]) plus
+//! `(h + δ)·I` on the controls (the cost, and a regularisation `δ ≥ 0`). For a terminal
+//! multiplier `ν` the problem without the terminal constraint but with the extra cost `νᵀδs_N`
+//! has the value function `½δsᵀP_kδs + p_kᵀδs`, `p_k = p⁰_k + Π_k ν`, computed backwards from
+//! `P_N = 0, p⁰_N = 0, Π_N = I`:
+//!
+//! ```text
+//! Q̂_uu = Q_uu + BᵀPB,  Q̂_us = Q_us + BᵀPA,  Q̂_ss = Q_ss + AᵀPA
+//! K = −Q̂_uu⁻¹Q̂_us,  d⁰ = −Q̂_uu⁻¹(r + Bᵀp⁰),  D = −Q̂_uu⁻¹BᵀΠ
+//! P ← Q̂_ss + Q̂_usᵀK,  p⁰ ← (A + BK)ᵀp⁰ + Kᵀr,  Π ← (A + BK)ᵀΠ
+//! ```
+//!
+//! The end of the optimal trajectory is `δs_N = σ + Mν`; `ν = M⁻¹(e − σ)` meets the terminal
+//! constraint and is the QP's multiplier of it. `σ` and `M` are the gradient and Hessian in
+//! `ν` of the optimal value (its constant term `v_k = v_{k+1} − ½q̂ᵀQ̂_uu⁻¹q̂`, `q̂ = r + Bᵀp`),
+//! so they are sums over the backward pass, `σ = Σ_k D_kᵀq̂⁰_k`, `M = −Σ_k D_kᵀQ̂_uu D_k`, with
+//! no forward propagation through the closed loop `A + BK` (which is unstable where `H` is
+//! indefinite).
+//!
+//! **Inertia.** The backward recursion is a block `LDLᵀ` factorisation of the reduced Hessian
+//! `H` (controls only, states eliminated), so `H` has as many negative eigenvalues as the
+//! pivots `Q̂_uu` together; and `M = −G H⁻¹ Gᵀ` with `G = ∂δs_N/∂δu`. The QP is convex on the
+//! constraint's null space (the second-order sufficient condition when `Q` is the exact
+//! Hessian and the step is zero) exactly when the KKT matrix has `m = 5` negative eigenvalues,
+//! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
+
+use super::stage::Linearised;
+use nalgebra::{Matrix2, Matrix2x5, Matrix5, SymmetricEigen, Vector2, Vector5};
+
+/// The factorisation of one LQ problem (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Factor {
+    k: Vec<Matrix2x5<f64>>,
+    d0: Vec<Vector2<f64>>,
+    d: Vec<Matrix2x5<f64>>,
+    /// `σ` and `M` of `δs_N = σ + Mν`.
+    sigma: Vector5<f64>,
+    m: Matrix5<f64>,
+    /// Negative eigenvalues of the reduced Hessian `H`.
+    pub negative_h: usize,
+    /// Negative eigenvalues of `M`.
+    pub negative_m: usize,
+}
+
+impl Factor {
+    /// Whether the QP is strictly convex on the terminal constraint's null space.
+    pub fn convex(&self) -> bool {
+        self.negative_h + self.negative_m == 5
+    }
+
+    /// Factorises the LQ problem with stages `lin`, control step `h`, regularisation `delta`
+    /// and linear terms `r` (`h·u_k` for the Newton step). `None` if a pivot or `M` is
+    /// singular.
+    pub fn new(lin: &[Linearised], r: &[Vector2<f64>], h: f64, delta: f64) -> Option<Self> {
+        let n = lin.len();
+        let mut k = vec![Matrix2x5::zeros(); n];
+        let mut d0 = vec![Vector2::zeros(); n];
+        let mut d = vec![Matrix2x5::zeros(); n];
+        let mut p = Matrix5::<f64>::zeros();
+        let mut p0 = Vector5::<f64>::zeros();
+        let mut pi = Matrix5::<f64>::identity();
+        let mut sigma = Vector5::<f64>::zeros();
+        let mut m = Matrix5::<f64>::zeros();
+        let mut negative_h = 0;
+        for i in (0..n).rev() {
+            let l = &lin[i];
+            let (a, b) = (&l.a, &l.b);
+            let pb = p * b;
+            let quu = l.huu + Matrix2::identity() * (h + delta) + b.transpose() * pb;
+            let quu = (quu + quu.transpose()) * 0.5;
+            let qus = l.hsu.transpose() + pb.transpose() * a;
+            let qss = l.hss + a.transpose() * p * a;
+            let det = quu.m11 * quu.m22 - quu.m12 * quu.m21;
+            let scale = quu.m11.abs().max(quu.m22.abs()).max(quu.m12.abs());
+            if det.abs() <= 1e-14 * scale * scale || !det.is_finite() {
+                return None;
+            }
+            negative_h += if det < 0.0 {
+                1
+            } else if quu.m11 < 0.0 {
+                2
+            } else {
+                0
+            };
+            let inv = Matrix2::new(quu.m22, -quu.m12, -quu.m21, quu.m11) / det;
+            let ki = -(inv * qus);
+            let q0 = r[i] + b.transpose() * p0;
+            let d0i = -(inv * q0);
+            let di = -(inv * (b.transpose() * pi));
+            sigma += di.transpose() * q0;
+            m -= di.transpose() * quu * di;
+            let closed = a + b * ki;
+            p = qss + qus.transpose() * ki;
+            p = (p + p.transpose()) * 0.5;
+            p0 = closed.transpose() * p0 + ki.transpose() * r[i];
+            pi = closed.transpose() * pi;
+            k[i] = ki;
+            d0[i] = d0i;
+            d[i] = di;
+        }
+        if !m.iter().chain(sigma.iter()).all(|v| v.is_finite()) {
+            return None;
+        }
+        let sym = (m + m.transpose()) * 0.5;
+        let eig = SymmetricEigen::new(sym).eigenvalues;
+        let largest = eig.amax();
+        if eig.iter().any(|e| e.abs() <= 1e-13 * largest) {
+            return None;
+        }
+        let negative_m = eig.iter().filter(|e| **e < 0.0).count();
+        Some(Factor {
+            k,
+            d0,
+            d,
+            sigma,
+            m,
+            negative_h,
+            negative_m,
+        })
+    }
+
+    /// The step `δu` that reaches `δs_N = e`, and the terminal multiplier `ν`. With
+    /// `linear = false` the linear terms are left out (a correction step: the least change,
+    /// in the metric of `Q`, that moves the end by `e`).
+    ///
+    /// The controls come from the closed loop `δu = Kδs + d⁰ + Dν`, which is unstable where
+    /// the reduced Hessian is indefinite: its rounding can leave the open-loop end `δs_N` of
+    /// the computed `δu` off `e` by ~1e-10 relative on long horizons. So `ν` is refined with
+    /// the open-loop end (`ν ← ν + M⁻¹(e − δs_N)`, at most three passes).
+    pub fn solve(
+        &self,
+        lin: &[Linearised],
+        e: &Vector5<f64>,
+        linear: bool,
+    ) -> Option<(Vec<Vector2<f64>>, Vector5<f64>)> {
+        let lu = self.m.lu();
+        let rhs = if linear { e - self.sigma } else { *e };
+        let mut nu = lu.solve(&rhs)?;
+        let mut du = Vec::with_capacity(lin.len());
+        for pass in 0..4 {
+            du.clear();
+            let (mut closed, mut open) = (Vector5::zeros(), Vector5::zeros());
+            for (i, l) in lin.iter().enumerate() {
+                let mut u = self.k[i] * closed + self.d[i] * nu;
+                if linear {
+                    u += self.d0[i];
+                }
+                closed = l.a * closed + l.b * u;
+                open = l.a * open + l.b * u;
+                du.push(u);
+            }
+            let miss = e - open;
+            if pass == 3 || miss.amax() <= 1e-15 * e.amax().max(f64::MIN_POSITIVE) {
+                break;
+            }
+            nu += lu.solve(&miss)?;
+        }
+        Some((du, nu))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{DMatrix, DVector, Matrix5x2};
+
+    /// A random LQ problem solved by the Riccati factorisation and by a dense KKT system.
+    #[test]
+    fn riccati_step_solves_the_dense_kkt_system() {
+        let n = 6;
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let h = 0.3;
+        let lin: Vec<Linearised> = (0..n)
+            .map(|_| {
+                let a = Matrix5::from_fn(|i, j| if i == j { 1.0 } else { 0.0 } + 0.3 * rnd());
+                let b = Matrix5x2::from_fn(|_, _| rnd());
+                let q = Matrix5::from_fn(|_, _| 0.2 * rnd());
+                let hsu = Matrix5x2::from_fn(|_, _| 0.1 * rnd());
+                let huu = Matrix2::from_fn(|_, _| 0.1 * rnd());
+                Linearised {
+                    a,
+                    b,
+                    hss: q + q.transpose(),
+                    hsu,
+                    huu: huu + huu.transpose(),
+                }
+            })
+            .collect();
+        let r: Vec<Vector2<f64>> = (0..n).map(|_| Vector2::new(rnd(), rnd())).collect();
+        let e = Vector5::from_fn(|_, _| rnd());
+        let f = Factor::new(&lin, &r, h, 0.0).unwrap();
+        let (du, nu) = f.solve(&lin, &e, true).unwrap();
+        // Dense: variables δu (2n); δs_k = Σ_j S_kj δu_j; H = Σ stage quadratic forms.
+        let nv = 2 * n;
+        let mut s = vec![DMatrix::<f64>::zeros(5, nv)]; // δs_k as a function of δu
+        for k in 0..n {
+            let mut next =
+                DMatrix::<f64>::from_fn(5, nv, |i, j| (lin[k].a.row(i) * s[k].column(j))[0]);
+            for i in 0..5 {
+                for j in 0..2 {
+                    next[(i, 2 * k + j)] += lin[k].b[(i, j)];
+                }
+            }
+            s.push(next);
+        }
+        let mut hm = DMatrix::<f64>::zeros(nv, nv);
+        let mut g = DVector::<f64>::zeros(nv);
+        for k in 0..n {
+            let mut z = DMatrix::<f64>::zeros(7, nv);
+            z.view_mut((0, 0), (5, nv)).copy_from(&s[k]);
+            z[(5, 2 * k)] = 1.0;
+            z[(6, 2 * k + 1)] = 1.0;
+            let mut q = DMatrix::<f64>::zeros(7, 7);
+            q.view_mut((0, 0), (5, 5)).copy_from(&lin[k].hss);
+            q.view_mut((0, 5), (5, 2)).copy_from(&lin[k].hsu);
+            q.view_mut((5, 0), (2, 5))
+                .copy_from(&lin[k].hsu.transpose());
+            q.view_mut((5, 5), (2, 2))
+                .copy_from(&(lin[k].huu + Matrix2::identity() * h));
+            hm += z.transpose() * q * &z;
+            g[2 * k] += r[k].x;
+            g[2 * k + 1] += r[k].y;
+        }
+        let gm = &s[n];
+        let mut kkt = DMatrix::<f64>::zeros(nv + 5, nv + 5);
+        kkt.view_mut((0, 0), (nv, nv)).copy_from(&hm);
+        kkt.view_mut((0, nv), (nv, 5)).copy_from(&gm.transpose());
+        kkt.view_mut((nv, 0), (5, nv)).copy_from(gm);
+        let mut rhs = DVector::<f64>::zeros(nv + 5);
+        rhs.rows_mut(0, nv).copy_from(&(-g));
+        for i in 0..5 {
+            rhs[nv + i] = e[i];
+        }
+        let sol = kkt.clone().lu().solve(&rhs).unwrap();
+        for k in 0..n {
+            assert!((du[k].x - sol[2 * k]).abs() < 1e-9);
+            assert!((du[k].y - sol[2 * k + 1]).abs() < 1e-9);
+        }
+        for i in 0..5 {
+            assert!((nu[i] - sol[nv + i]).abs() < 1e-9, "nu {i}");
+        }
+        // Inertia: the KKT matrix has neg(H) + neg(M) negative eigenvalues.
+        let eig = kkt.symmetric_eigen().eigenvalues;
+        let neg = eig.iter().filter(|v| **v < 0.0).count();
+        assert_eq!(neg, f.negative_h + f.negative_m);
+        let neg_h = hm
+            .symmetric_eigen()
+            .eigenvalues
+            .iter()
+            .filter(|v| **v < 0.0)
+            .count();
+        assert_eq!(neg_h, f.negative_h);
+    }
+}

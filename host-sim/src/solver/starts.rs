@@ -1,0 +1,222 @@
+//! Start loops for the global search: closed shape loops through `ᾱ`, sized to the target.
+//!
+//! A start is a loop `α(τ) = ᾱ + E(φ₀ + 2πnτ) − E(φ₀)`, `τ = t/T`, with
+//!
+//! ```text
+//! ellipse:       E(φ) = R(ψ)·s·(cos φ, ρ sin φ)
+//! figure-eight:  E(φ) = R(ψ)·s·(sin φ, ρ/2·sin 2φ)       (φ₀ = 0)
+//! ```
+//!
+//! turning number `n ∈ {1, 2, 3}`, orientation `ψ`, phase `φ₀` (where on the loop `ᾱ` sits),
+//! aspect `ρ` (its sign is the direction of travel) and size `s`. Sizes come from the problem's
+//! geometry: the net displacement of a small loop is about the curvature of the connection
+//! times the enclosed area, so the loop that moves the body as far as the target asks is found
+//! by a few rollouts of a circle of growing size ([`reference_size`]); the family uses half,
+//! once and twice that size. The list is ordered so that any prefix is diverse: the
+//! axis-aligned ellipses a direct transcription is usually started from come first, then the
+//! rest in an order mixed by a hash of the seed.
+
+use super::direct::Grid;
+use nalgebra::Vector2;
+
+/// The shape of a start loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// An ellipse.
+    Ellipse,
+    /// A figure-eight (1:2 Lissajous curve).
+    Eight,
+}
+
+/// One start loop (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StartLoop {
+    /// Ellipse or figure-eight.
+    pub shape: Shape,
+    /// Size `s`, radians.
+    pub size: f64,
+    /// Aspect `ρ` (negative: the other direction of travel).
+    pub aspect: f64,
+    /// Orientation `ψ`, radians.
+    pub psi: f64,
+    /// Phase `φ₀`, radians.
+    pub phase: f64,
+    /// Turning number `n`.
+    pub turns: u32,
+}
+
+impl StartLoop {
+    /// `α(τ) − ᾱ` at `τ = t/T ∈ [0, 1]`.
+    pub fn offset(&self, tau: f64) -> Vector2<f64> {
+        let e = |phi: f64| {
+            let (p, q) = match self.shape {
+                Shape::Ellipse => (phi.cos(), self.aspect * phi.sin()),
+                Shape::Eight => (phi.sin(), 0.5 * self.aspect * (2.0 * phi).sin()),
+            };
+            let (s, c) = self.psi.sin_cos();
+            Vector2::new(c * p - s * q, s * p + c * q) * self.size
+        };
+        let phi = self.phase + 2.0 * core::f64::consts::PI * f64::from(self.turns) * tau;
+        e(phi) - e(self.phase)
+    }
+
+    /// The controls that run the loop on `grid` (the shape path, differenced).
+    pub fn controls(&self, grid: &Grid) -> Vec<Vector2<f64>> {
+        let n = grid.steps;
+        let h = grid.h();
+        let mut prev = Vector2::zeros();
+        (1..=n)
+            .map(|k| {
+                let next = if k == n {
+                    Vector2::zeros()
+                } else {
+                    self.offset(k as f64 / n as f64)
+                };
+                let u = (next - prev) / h;
+                prev = next;
+                u
+            })
+            .collect()
+    }
+}
+
+/// The circle size whose net displacement best matches the target's size (see the module
+/// docs), between 0.01 and 1.6 rad. Distances weigh a turn of the body by the middle link's
+/// length.
+pub fn reference_size(grid: &Grid) -> f64 {
+    let scale = grid.model.kin.swimmer().lengths()[0];
+    let size_of = |s: &nalgebra::Vector5<f64>, t: &nalgebra::Vector5<f64>| {
+        ((s[2] - t[2]).powi(2) + (s[3] - t[3]).powi(2) + (scale * (s[4] - t[4])).powi(2)).sqrt()
+    };
+    let want = size_of(&grid.target, &grid.start);
+    let mut best = (f64::INFINITY, 0.5);
+    let mut s = 0.01;
+    while s <= 1.6 {
+        let circle = StartLoop {
+            shape: Shape::Ellipse,
+            size: s,
+            aspect: 1.0,
+            psi: 0.0,
+            phase: 0.0,
+            turns: 1,
+        };
+        if let Ok(states) = grid.rollout(&circle.controls(grid))
+            && let Some(end) = states.last()
+        {
+            let got = size_of(end, &grid.start);
+            let miss = (got.max(1e-300) / want.max(1e-300)).ln().abs();
+            if miss < best.0 {
+                best = (miss, s);
+            }
+        }
+        s *= 1.25;
+    }
+    best.1
+}
+
+/// The first `count` start loops of the family for a problem whose [`reference_size`] is
+/// `size`, ordered by `seed` (see the module docs).
+pub fn family(size: f64, seed: u64, count: usize) -> Vec<StartLoop> {
+    let pi = core::f64::consts::PI;
+    let mut first = Vec::new();
+    let mut rest = Vec::new();
+    for turns in [1u32, 2, 3] {
+        for scale in [1.0, 0.5, 2.0] {
+            for aspect in [1.0, -1.0, 0.6, -0.6] {
+                for psi in [0.0, 0.25 * pi, 0.5 * pi, 0.75 * pi] {
+                    for phase in [0.0, 0.5 * pi, pi, 1.5 * pi] {
+                        let e = StartLoop {
+                            shape: Shape::Ellipse,
+                            size: (size * scale).clamp(0.01, 1.6),
+                            aspect,
+                            psi,
+                            phase,
+                            turns,
+                        };
+                        if psi == 0.0 && aspect.abs() == 1.0 && scale == 1.0 {
+                            first.push(e);
+                        } else {
+                            rest.push(e);
+                        }
+                    }
+                }
+                if aspect.abs() == 1.0 {
+                    for psi in [0.0, 0.25 * pi, 0.5 * pi, 0.75 * pi] {
+                        rest.push(StartLoop {
+                            shape: Shape::Eight,
+                            size: (size * scale).clamp(0.01, 1.6),
+                            aspect,
+                            psi,
+                            phase: 0.0,
+                            turns,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    // A deterministic mix (splitmix64 of the seed and the index) of everything but the
+    // axis-aligned ellipses.
+    let mix = |i: u64| {
+        let mut z = seed
+            .wrapping_add(i.wrapping_mul(0x9E37_79B9_7F4A_7C15))
+            .wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut keyed: Vec<(u64, StartLoop)> = rest
+        .into_iter()
+        .enumerate()
+        .map(|(i, s)| (mix(i as u64), s))
+        .collect();
+    keyed.sort_by_key(|(k, _)| *k);
+    first
+        .into_iter()
+        .chain(keyed.into_iter().map(|(_, s)| s))
+        .take(count)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Problem;
+    use crate::solver::stage::Rule;
+
+    #[test]
+    fn every_start_is_a_closed_loop_through_alpha0() {
+        let p = Problem::paper();
+        let grid = Grid::new(&p, 64, Rule::LEFT_POINT).unwrap();
+        for s in family(0.5, 3, 500) {
+            let u = s.controls(&grid);
+            assert_eq!(u.len(), 64);
+            let closure: Vector2<f64> = u.iter().sum::<Vector2<f64>>() * grid.h();
+            assert!(closure.amax() < 1e-12, "{s:?}");
+            assert!(s.offset(0.0).amax() == 0.0);
+        }
+    }
+
+    #[test]
+    fn the_family_is_deterministic_in_the_seed_and_diverse_early() {
+        assert_eq!(family(0.5, 1, 40), family(0.5, 1, 40));
+        assert_ne!(family(0.5, 1, 40), family(0.5, 2, 40));
+        let f = family(0.5, 0, 64);
+        assert!(f.iter().any(|s| s.turns == 3) && f.iter().any(|s| s.shape == Shape::Eight));
+        assert!(f.iter().any(|s| s.aspect < 0.0) && f.iter().any(|s| s.aspect > 0.0));
+    }
+
+    #[test]
+    fn reference_size_grows_with_the_target() {
+        let size = |x: f64| {
+            let spec = crate::problem::Spec {
+                target: [x, 0.0, 0.0],
+                ..Default::default()
+            };
+            let p = Problem::new(&spec).unwrap();
+            reference_size(&Grid::new(&p, 64, Rule::LEFT_POINT).unwrap())
+        };
+        let (a, b) = (size(0.001), size(0.1));
+        assert!(a < b && a < 0.2, "{a} {b}");
+    }
+}
