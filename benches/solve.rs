@@ -21,7 +21,14 @@ fn bench(c: &mut Criterion) {
     )
     .unwrap();
     let admissible = |a: f64| a < p.alpha_max;
-    let found = search::search(&coarse, options.starts, options.seed, &admissible, &|| {});
+    let found = search::search(
+        &coarse,
+        options.min_starts,
+        options.starts,
+        options.seed,
+        &admissible,
+        &|| {},
+    );
     let best = found
         .candidates
         .iter()
@@ -37,7 +44,16 @@ fn bench(c: &mut Criterion) {
         b.iter(|| refine(&p, black_box(&best.u), &best.nu).unwrap())
     });
     g.bench_function("coarse_search", |b| {
-        b.iter(|| search::search(&coarse, options.starts, options.seed, &admissible, &|| {}))
+        b.iter(|| {
+            search::search(
+                &coarse,
+                options.min_starts,
+                options.starts,
+                options.seed,
+                &admissible,
+                &|| {},
+            )
+        })
     });
     g.finish();
 }

@@ -100,13 +100,13 @@ pub struct SolveArgs {
 #[derive(Debug, Args)]
 pub struct SweepArgs {
     /// Target x in metres: a value, or FROM:TO:COUNT for COUNT evenly spaced values.
-    #[arg(long, default_value = "-0.3:0.3:13", allow_negative_numbers = true)]
+    #[arg(long, default_value = "-0.3:0.3:13", allow_hyphen_values = true)]
     pub x: String,
     /// Target y in metres: a value or FROM:TO:COUNT.
-    #[arg(long, default_value = "-0.3:0.3:13", allow_negative_numbers = true)]
+    #[arg(long, default_value = "-0.3:0.3:13", allow_hyphen_values = true)]
     pub y: String,
     /// Target theta in radians: a value or FROM:TO:COUNT.
-    #[arg(long, default_value = "0", allow_negative_numbers = true)]
+    #[arg(long, default_value = "0", allow_hyphen_values = true)]
     pub theta: String,
     /// Horizon T in seconds; must be a whole number of steps.
     #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]

@@ -295,6 +295,7 @@ pub fn sweep(
                 let p = &problems[i];
                 let s = search::search(
                     g,
+                    options.min_starts,
                     options.starts,
                     options.seed,
                     &|a| a < p.alpha_max,

@@ -35,8 +35,10 @@ use stage::Rule;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveOptions {
     /// Most start loops of the global search (it stops earlier once its cheapest admissible
-    /// extremal has been reached from several starts).
+    /// extremal has been reached from several starts and `min_starts` have run).
     pub starts: usize,
+    /// Fewest start loops of the global search (unless `starts` is smaller).
+    pub min_starts: usize,
     /// Orders the start loops.
     pub seed: u64,
     /// Steps of the coarse grid of the global search.
@@ -49,6 +51,7 @@ impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
             starts: 256,
+            min_starts: 128,
             seed: 0,
             coarse_steps: 64,
             refine: 6,
@@ -263,6 +266,7 @@ pub fn solve(
     let alpha_max = problem.alpha_max;
     let found = search::search(
         &grid,
+        options.min_starts,
         options.starts,
         options.seed,
         &|a| a < alpha_max,

@@ -34,12 +34,44 @@
 //! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
 
 use super::stage::Linearised;
-use nalgebra::{Matrix2, Matrix2x5, Matrix5, SymmetricEigen, Vector2, Vector5};
+use nalgebra::{
+    Matrix2, Matrix2x3, Matrix2x5, Matrix3, Matrix3x2, Matrix3x5, Matrix5, SymmetricEigen, Vector2,
+    Vector3, Vector5,
+};
+
+/// The coordinates `(α1, α2, θ)` of a state `(α1, α2, x, y, θ)`: the ones the dynamics and
+/// the stage Hessians depend on.
+const A_IDX: [usize; 3] = [0, 1, 4];
+/// The position `(x, y)`, which only accumulates.
+const P_IDX: [usize; 2] = [2, 3];
+
+/// One stage split by [`A_IDX`] and [`P_IDX`]: `δa' = Āδa + B̄δu`, `δp' = δp + Cδa + Dδu`.
+struct Split {
+    a: Matrix3<f64>,
+    b: Matrix3x2<f64>,
+    c: Matrix2x3<f64>,
+    d: Matrix2<f64>,
+    qaa: Matrix3<f64>,
+    qau: Matrix3x2<f64>,
+}
+
+impl Split {
+    fn new(l: &Linearised) -> Self {
+        Split {
+            a: Matrix3::from_fn(|i, j| l.a[(A_IDX[i], A_IDX[j])]),
+            b: Matrix3x2::from_fn(|i, j| l.b[(A_IDX[i], j)]),
+            c: Matrix2x3::from_fn(|i, j| l.a[(P_IDX[i], A_IDX[j])]),
+            d: Matrix2::from_fn(|i, j| l.b[(P_IDX[i], j)]),
+            qaa: Matrix3::from_fn(|i, j| l.hss[(A_IDX[i], A_IDX[j])]),
+            qau: Matrix3x2::from_fn(|i, j| l.hsu[(A_IDX[i], j)]),
+        }
+    }
+}
 
 /// The factorisation of one LQ problem (see the module docs).
 #[derive(Clone, Debug)]
 pub struct Factor {
-    k: Vec<Matrix2x5<f64>>,
+    k: Vec<Matrix2x3<f64>>,
     d0: Vec<Vector2<f64>>,
     d: Vec<Matrix2x5<f64>>,
     /// `σ` and `M` of `δs_N = σ + Mν`.
@@ -58,27 +90,37 @@ impl Factor {
     }
 
     /// Factorises the LQ problem with stages `lin`, control step `h`, regularisation `delta`
-    /// and linear terms `r` (`h·u_k` for the Newton step). `None` if a pivot or `M` is
-    /// singular.
+    /// and linear terms `r` (the Lagrangian's gradient for the Newton step). `None` if a pivot
+    /// or `M` is singular.
+    ///
+    /// The position `p = (x, y)` enters the swimmer's dynamics only additively (`∂f/∂p` is
+    /// the identity on `p` and zero elsewhere, and no Hessian involves `p`), so the value
+    /// function does not depend on `δp`: the recursion runs on `a = (α1, α2, θ)` alone, and
+    /// `ν_pᵀδp_N = Σ_k ν_pᵀ(C_kδa_k + D_kδu_k)` becomes stage terms linear in `ν`.
     pub fn new(lin: &[Linearised], r: &[Vector2<f64>], h: f64, delta: f64) -> Option<Self> {
         let n = lin.len();
-        let mut k = vec![Matrix2x5::zeros(); n];
+        let mut k = vec![Matrix2x3::zeros(); n];
         let mut d0 = vec![Vector2::zeros(); n];
         let mut d = vec![Matrix2x5::zeros(); n];
-        let mut p = Matrix5::<f64>::zeros();
-        let mut p0 = Vector5::<f64>::zeros();
-        let mut pi = Matrix5::<f64>::identity();
+        let mut p = Matrix3::<f64>::zeros();
+        let mut p0 = Vector3::<f64>::zeros();
+        // p_N = ν_a: Π_N selects (ν_α1, ν_α2, ν_θ).
+        let mut pi = Matrix3x5::<f64>::zeros();
+        for (row, &col) in A_IDX.iter().enumerate() {
+            pi[(row, col)] = 1.0;
+        }
         let mut sigma = Vector5::<f64>::zeros();
         let mut m = Matrix5::<f64>::zeros();
         let mut negative_h = 0;
         for i in (0..n).rev() {
-            let l = &lin[i];
-            let (a, b) = (&l.a, &l.b);
+            let st = Split::new(&lin[i]);
+            let (a, b) = (&st.a, &st.b);
+            let pa = p * a;
             let pb = p * b;
-            let quu = l.huu + Matrix2::identity() * (h + delta) + b.transpose() * pb;
+            let quu = lin[i].huu + Matrix2::identity() * (h + delta) + b.transpose() * pb;
             let quu = (quu + quu.transpose()) * 0.5;
-            let qus = l.hsu.transpose() + pb.transpose() * a;
-            let qss = l.hss + a.transpose() * p * a;
+            let qua = st.qau.transpose() + pb.transpose() * a;
+            let qaa = st.qaa + a.transpose() * pa;
             let det = quu.m11 * quu.m22 - quu.m12 * quu.m21;
             let scale = quu.m11.abs().max(quu.m22.abs()).max(quu.m12.abs());
             if det.abs() <= 1e-14 * scale * scale || !det.is_finite() {
@@ -92,17 +134,24 @@ impl Factor {
                 0
             };
             let inv = Matrix2::new(quu.m22, -quu.m12, -quu.m21, quu.m11) / det;
-            let ki = -(inv * qus);
+            // The ν-dependence of the stage's linear terms: q_u ∋ D_kᵀν_p, q_a ∋ C_kᵀν_p.
+            let mut gamma = Matrix3x5::<f64>::zeros();
+            let mut delta_u = Matrix2x5::<f64>::zeros();
+            for (col, &pc) in P_IDX.iter().enumerate() {
+                gamma.set_column(pc, &st.c.row(col).transpose());
+                delta_u.set_column(pc, &st.d.row(col).transpose());
+            }
+            let ki = -(inv * qua);
             let q0 = r[i] + b.transpose() * p0;
+            let qnu = delta_u + b.transpose() * pi;
             let d0i = -(inv * q0);
-            let di = -(inv * (b.transpose() * pi));
+            let di = -(inv * qnu);
             sigma += di.transpose() * q0;
             m -= di.transpose() * quu * di;
-            let closed = a + b * ki;
-            p = qss + qus.transpose() * ki;
+            p = qaa + qua.transpose() * ki;
             p = (p + p.transpose()) * 0.5;
-            p0 = closed.transpose() * p0 + ki.transpose() * r[i];
-            pi = closed.transpose() * pi;
+            p0 = a.transpose() * p0 + qua.transpose() * d0i;
+            pi = gamma + a.transpose() * pi + qua.transpose() * di;
             k[i] = ki;
             d0[i] = d0i;
             d[i] = di;
@@ -135,7 +184,7 @@ impl Factor {
     /// The controls come from the closed loop `δu = Kδs + d⁰ + Dν`, which is unstable where
     /// the reduced Hessian is indefinite: its rounding can leave the open-loop end `δs_N` of
     /// the computed `δu` off `e` by ~1e-10 relative on long horizons. So `ν` is refined with
-    /// the open-loop end (`ν ← ν + M⁻¹(e − δs_N)`, at most three passes).
+    /// the open-loop end (`ν ← ν + M⁻¹(e − δs_N)`, at most three passes, while it helps).
     pub fn solve(
         &self,
         lin: &[Linearised],
@@ -146,22 +195,25 @@ impl Factor {
         let rhs = if linear { e - self.sigma } else { *e };
         let mut nu = lu.solve(&rhs)?;
         let mut du = Vec::with_capacity(lin.len());
+        let mut last_miss = f64::INFINITY;
         for pass in 0..4 {
             du.clear();
-            let (mut closed, mut open) = (Vector5::zeros(), Vector5::zeros());
+            let mut open = Vector5::zeros();
             for (i, l) in lin.iter().enumerate() {
-                let mut u = self.k[i] * closed + self.d[i] * nu;
+                let da = Vector3::new(open[0], open[1], open[4]);
+                let mut u = self.k[i] * da + self.d[i] * nu;
                 if linear {
                     u += self.d0[i];
                 }
-                closed = l.a * closed + l.b * u;
                 open = l.a * open + l.b * u;
                 du.push(u);
             }
             let miss = e - open;
-            if pass == 3 || miss.amax() <= 1e-15 * e.amax().max(f64::MIN_POSITIVE) {
+            let size = miss.amax();
+            if pass == 3 || size <= 1e-13 * e.amax() || size >= 0.5 * last_miss {
                 break;
             }
+            last_miss = size;
             nu += lu.solve(&miss)?;
         }
         Some((du, nu))
@@ -185,12 +237,19 @@ mod tests {
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
         let h = 0.3;
+        // Stages shaped like the swimmer's: the position (rows/columns 2, 3) only accumulates
+        // and enters no Hessian.
+        let on_a = |i: usize| i != 2 && i != 3;
         let lin: Vec<Linearised> = (0..n)
             .map(|_| {
-                let a = Matrix5::from_fn(|i, j| if i == j { 1.0 } else { 0.0 } + 0.3 * rnd());
+                let a = Matrix5::from_fn(|i, j| match (on_a(i), on_a(j)) {
+                    _ if i == j => 1.0,
+                    (_, false) => 0.0,
+                    _ => 0.5 * rnd(),
+                });
                 let b = Matrix5x2::from_fn(|_, _| rnd());
-                let q = Matrix5::from_fn(|_, _| 0.2 * rnd());
-                let hsu = Matrix5x2::from_fn(|_, _| 0.1 * rnd());
+                let q = Matrix5::from_fn(|i, j| if on_a(i) && on_a(j) { 0.2 * rnd() } else { 0.0 });
+                let hsu = Matrix5x2::from_fn(|i, _| if on_a(i) { 0.1 * rnd() } else { 0.0 });
                 let huu = Matrix2::from_fn(|_, _| 0.1 * rnd());
                 Linearised {
                     a,

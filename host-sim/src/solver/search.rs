@@ -5,7 +5,8 @@
 //! costs match the fine problem's to about 1e-3 and cost a hundredth of a fine solve. Starts run
 //! in batches (in parallel); converged points are grouped into distinct extremals (same shape
 //! path to 1e-6 rad); the search stops when the cheapest admissible extremal has been reached
-//! from [`CONFIRMATIONS`] starts (its basin is not a lucky hit), when three batches found
+//! from [`CONFIRMATIONS`] starts (its basin is not a lucky hit) and at least a given number of
+//! starts have run, when three batches found
 //! nothing, or when the starts are used up. A converged point whose motion the coarse grid
 //! does not resolve ([`Grid::resolves`]) is dropped.
 
@@ -52,11 +53,12 @@ pub struct Search {
     pub unresolved: usize,
 }
 
-/// Runs up to `max_starts` start loops (and the zero loop) on `grid`; `admissible` decides
-/// from the largest `|α_i|` whether an extremal counts for the stopping rule; `progress` is
-/// called once per finished start.
+/// Runs at least `min_starts` (at most `max_starts`) start loops and the zero loop on `grid`;
+/// `admissible` decides from the largest `|α_i|` whether an extremal counts for the stopping
+/// rule; `progress` is called once per finished start.
 pub fn search(
     grid: &Grid,
+    min_starts: usize,
     max_starts: usize,
     seed: u64,
     admissible: &(dyn Fn(f64) -> bool + Sync),
@@ -140,7 +142,7 @@ pub fn search(
         // Nothing at all after three batches: the target is out of reach (or needs more
         // starts than the default; `--starts` bounds the search, not this rule).
         let hopeless = out.candidates.is_empty() && out.starts >= 3 * BATCH;
-        if confirmed || trivial || hopeless {
+        if (confirmed && out.starts > min_starts) || trivial || hopeless {
             break;
         }
     }

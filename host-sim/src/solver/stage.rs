@@ -129,34 +129,35 @@ pub fn wrap<T: Real>(x: T) -> T {
 /// closed forms above.
 pub fn sinc_jets(w: f64) -> ([f64; 3], [f64; 3]) {
     if w.abs() < 0.5 {
+        // a = Σ αₙ ω²ⁿ, αₙ = (−1)ⁿ/(2n+1)!;  b = Σ βₙ ω²ⁿ⁺¹, βₙ = (−1)ⁿ/(2n+2)!; n < 10.
+        const FACT: [f64; 22] = {
+            let mut f = [1.0; 22];
+            let mut i = 1;
+            while i < 22 {
+                f[i] = f[i - 1] * i as f64;
+                i += 1;
+            }
+            f
+        };
         let z = w * w;
         let (mut a, mut a1, mut a2) = (0.0, 0.0, 0.0);
         let (mut b, mut b1, mut b2) = (0.0, 0.0, 0.0);
-        // a = Σ αₙ ω²ⁿ, αₙ = (−1)ⁿ/(2n+1)!;  b = Σ βₙ ω²ⁿ⁺¹, βₙ = (−1)ⁿ/(2n+2)!.
-        // Horner in z from the highest term down.
-        const TERMS: i32 = 10;
-        let fact = |m: i32| (1..=m).fold(1.0, |p, i| p * f64::from(i));
-        for n in (0..TERMS).rev() {
+        // Horner in z from the highest term down; a₁ = Σ αₙ 2n z^{n−1} (= a′/ω),
+        // a₂ = Σ αₙ 2n(2n−1) z^{n−1} (= a″), b = Σ βₙ zⁿ (= b/ω), b₁ = Σ βₙ(2n+1) zⁿ (= b′),
+        // b₂ = Σ βₙ(2n+1)2n z^{n−1} (= b″/ω).
+        for n in (0..10).rev() {
             let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
-            let an = sign / fact(2 * n + 1);
-            let bn = sign / fact(2 * n + 2);
-            let nn = f64::from(n);
+            let (an, bn) = (sign / FACT[2 * n + 1], sign / FACT[2 * n + 2]);
+            let m = 2.0 * n as f64;
             a = a * z + an;
-            // a′ = Σ αₙ 2n ω²ⁿ⁻¹ = ω Σ αₙ₊₁ 2(n+1) ω²ⁿ: accumulate Σ αₙ 2n z^{n−1}.
-            if n >= 1 {
-                a1 = a1 * z + an * 2.0 * nn;
-            }
-            if n >= 1 {
-                a2 = a2 * z + an * 2.0 * nn * (2.0 * nn - 1.0);
-            }
             b = b * z + bn;
-            b1 = b1 * z + bn * (2.0 * nn + 1.0);
+            b1 = b1 * z + bn * (m + 1.0);
             if n >= 1 {
-                b2 = b2 * z + bn * (2.0 * nn + 1.0) * 2.0 * nn;
+                a1 = a1 * z + an * m;
+                a2 = a2 * z + an * m * (m - 1.0);
+                b2 = b2 * z + bn * (m + 1.0) * m;
             }
         }
-        // a₂ accumulated Σ αₙ 2n(2n−1) z^{n−1} = a″; a₁ accumulated Σ αₙ 2n z^{n−1} = a′/ω;
-        // b = Σ βₙ zⁿ times ω; b₁ = b′; b₂ = Σ βₙ(2n+1)2n z^{n−1} = b″/ω.
         return ([a, a1 * w, a2], [b * w, b1, b2 * w]);
     }
     let (s, c) = w.sin_cos();

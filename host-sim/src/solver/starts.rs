@@ -7,6 +7,11 @@
 //! figure-eight:  E(φ) = R(ψ)·s·(sin φ, ρ/2·sin 2φ)       (φ₀ = 0)
 //! ```
 //!
+//! and lollipops: a straight stalk of length `d` from `ᾱ` in the direction `ψ`, `n` turns
+//! around a circle of radius `s` beyond its end (direction of travel the sign of `ρ`), and
+//! back along the stalk, at constant speed. Cheap gaits for far targets often circle a region
+//! of the shape plane away from `ᾱ` several times; an ellipse through `ᾱ` cannot reach it.
+//!
 //! turning number `n ∈ {1, 2, 3}`, orientation `ψ`, phase `φ₀` (where on the loop `ᾱ` sits),
 //! aspect `ρ` (its sign is the direction of travel) and size `s`. Sizes come from the problem's
 //! geometry: the net displacement of a small loop is about the curvature of the connection
@@ -20,12 +25,17 @@ use super::direct::Grid;
 use nalgebra::Vector2;
 
 /// The shape of a start loop.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
     /// An ellipse.
     Ellipse,
     /// A figure-eight (1:2 Lissajous curve).
     Eight,
+    /// A stalk out of `ᾱ`, turns around a circle, and back.
+    Lollipop {
+        /// Length `d` of the stalk, radians.
+        reach: f64,
+    },
 }
 
 /// One start loop (see the module docs).
@@ -48,15 +58,32 @@ pub struct StartLoop {
 impl StartLoop {
     /// `α(τ) − ᾱ` at `τ = t/T ∈ [0, 1]`.
     pub fn offset(&self, tau: f64) -> Vector2<f64> {
+        let (s, c) = self.psi.sin_cos();
+        let rot = |p: f64, q: f64| Vector2::new(c * p - s * q, s * p + c * q);
+        let two_pi_n = 2.0 * core::f64::consts::PI * f64::from(self.turns);
         let e = |phi: f64| {
             let (p, q) = match self.shape {
-                Shape::Ellipse => (phi.cos(), self.aspect * phi.sin()),
+                Shape::Ellipse | Shape::Lollipop { .. } => (phi.cos(), self.aspect * phi.sin()),
                 Shape::Eight => (phi.sin(), 0.5 * self.aspect * (2.0 * phi).sin()),
             };
-            let (s, c) = self.psi.sin_cos();
-            Vector2::new(c * p - s * q, s * p + c * q) * self.size
+            rot(p, q) * self.size
         };
-        let phi = self.phase + 2.0 * core::f64::consts::PI * f64::from(self.turns) * tau;
+        if let Shape::Lollipop { reach } = self.shape {
+            // Stalk along ψ to the circle's nearest point, then around it (centre one radius
+            // further), then back; the times are in proportion to the lengths.
+            let ring = two_pi_n * self.size;
+            let f = reach / (2.0 * reach + ring);
+            let stalk = |x: f64| rot(reach * x, 0.0);
+            return if tau <= f {
+                stalk(tau / f)
+            } else if tau >= 1.0 - f {
+                stalk((1.0 - tau) / f)
+            } else {
+                let phi = core::f64::consts::PI + two_pi_n * (tau - f) / (1.0 - 2.0 * f);
+                stalk(1.0) + rot(self.size, 0.0) + e(phi)
+            };
+        }
+        let phi = self.phase + two_pi_n * tau;
         e(phi) - e(self.phase)
     }
 
@@ -150,6 +177,20 @@ pub fn family(size: f64, seed: u64, count: usize) -> Vec<StartLoop> {
                             phase: 0.0,
                             turns,
                         });
+                    }
+                    for k in 0..8 {
+                        for reach in [0.5, 1.0] {
+                            rest.push(StartLoop {
+                                shape: Shape::Lollipop {
+                                    reach: reach * (size * scale).clamp(0.01, 1.6),
+                                },
+                                size: (0.7 * size * scale).clamp(0.01, 1.2),
+                                aspect,
+                                psi: 0.25 * pi * f64::from(k),
+                                phase: 0.0,
+                                turns,
+                            });
+                        }
                     }
                 }
             }
