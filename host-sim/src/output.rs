@@ -60,7 +60,7 @@ pub fn costate_file(
             let k = sample.k + 1;
             if k % every == 0 && k < problem.steps {
                 let (s, xi) = (replay.state(), replay.xi());
-                checkpoints.push(CheckpointEntry {
+                checkpoints.push(CheckpointRecord {
                     k,
                     alpha: [s.alpha.x, s.alpha.y],
                     g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
@@ -69,23 +69,23 @@ pub fn costate_file(
             }
         }
     }
-    CostateFile {
-        format: FORMAT.into(),
-        version: VERSION,
-        model: Model {
-            links: problem.swimmer.lengths(),
-            drag: problem.swimmer.drag(),
-            ratio: problem.swimmer.ratio(),
+    CostateFile::new(
+        GaitParams {
+            model: Model {
+                links: problem.swimmer.lengths(),
+                drag: problem.swimmer.drag(),
+                ratio: problem.swimmer.ratio(),
+            },
+            h: problem.h,
+            steps: problem.steps,
+            alpha0: [problem.alpha0.x, problem.alpha0.y],
+            target: [problem.target.x, problem.target.y, problem.target.z],
+            mu: [x.z[0], x.z[1], x.z[2]],
+            xi0: [x.z[3], x.z[4]],
+            checkpoint_every: every,
         },
-        h: problem.h,
-        steps: problem.steps,
-        alpha0: [problem.alpha0.x, problem.alpha0.y],
-        target: [problem.target.x, problem.target.y, problem.target.z],
-        mu: [x.z[0], x.z[1], x.z[2]],
-        xi0: [x.z[3], x.z[4]],
-        checkpoint_every: every,
         checkpoints,
-    }
+    )
 }
 
 /// Writes `files` (name, contents) as the directory `dir`, atomically.

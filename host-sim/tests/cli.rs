@@ -126,7 +126,7 @@ fn costate_files_are_read_strictly() {
         (
             "step.json",
             &GOOD.replace("\"h\":0.01", "\"h\":-0.01")[..],
-            "step h must be positive",
+            "step h must be finite and positive",
         ),
     ];
     for (name, text, needle) in cases {
