@@ -331,3 +331,76 @@ proptest! {
         let _ = Gait::from_bytes(&bytes);
     }
 }
+
+/// `data/tiny.gait` (written by `purcell-sim export` from host-sim's
+/// `tests/data/tiny.costate.json`: a 200-step gait to `ḡ = (0.002, 0.001, 0)`, one
+/// checkpoint) is read as these numbers and written back byte for byte, and its header and
+/// directory are where docs/GAIT.md says: changing the layout fails here.
+#[test]
+fn the_committed_tiny_gait_locks_the_layout() {
+    let bytes: &[u8] = include_bytes!("data/tiny.gait");
+    let params = GaitParams {
+        model: Model {
+            links: [1.0; 3],
+            drag: 1.0,
+            ratio: 2.0,
+        },
+        h: 0.01,
+        steps: 200,
+        alpha0: [0.0, 0.0],
+        target: [0.002, 0.001, 0.0],
+        mu: [-102.05775417345498, 590.1701561480827, -31.45148654572925],
+        xi0: [91.01363029151028, -106.55065114553868],
+        checkpoint_every: 100,
+    };
+    let records = [CheckpointRecord {
+        k: 100,
+        alpha: [0.5131721442172408, 0.5285235288079323],
+        g: [
+            0.00012596474965824472,
+            0.0030525430938685453,
+            0.9629447974078218,
+            -0.2696985671916131,
+        ],
+        xi: [95.78484716378999, -112.98913208337281],
+    }];
+    let gait = Gait::from_bytes(bytes).unwrap();
+    assert_eq!(gait.params(), &params);
+    assert_eq!(gait.checkpoints().collect::<Vec<_>>(), records);
+    assert_eq!(encode(&params, &records), bytes);
+
+    let u16_at = |at: usize| u16::from_le_bytes([bytes[at], bytes[at + 1]]);
+    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert_eq!(&bytes[..8], b"PURCGAIT");
+    assert_eq!((u16_at(8), u16_at(10), u32_at(12)), (1, 3, 312));
+    // Directory: tag, offset, count, record size.
+    let entry = |i: usize| {
+        let at = 16 + 16 * i;
+        (
+            &bytes[at..at + 4],
+            u32_at(at + 4),
+            u32_at(at + 8),
+            u32_at(at + 12),
+        )
+    };
+    assert_eq!(entry(0), (&b"PARM"[..], 64, 1, 136));
+    assert_eq!(entry(1), (&b"CK64"[..], 200, 1, 72));
+    assert_eq!(entry(2), (&b"CK32"[..], 272, 1, 36));
+    // PARM: steps, checkpoint_every, then L0 L1 L2 k r h ᾱ ḡ μ ξ⁻¹ as f64.
+    assert_eq!((u32_at(64), u32_at(68)), (200, 100));
+    let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    assert_eq!(f64_at(64 + 8 + 5 * 8), 0.01);
+    assert_eq!(f64_at(64 + 8 + 11 * 8), params.mu[0]);
+    // CK64: k, zero pad, α1 α2 x y cos sin ξ1 ξ2; CK32: k, the same values as f32.
+    assert_eq!(
+        (u32_at(200), u32_at(204), f64_at(208)),
+        (100, 0, records[0].alpha[0])
+    );
+    let f32_at = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert_eq!(
+        (u32_at(272), f32_at(276)),
+        (100, records[0].alpha[0] as f32)
+    );
+    assert_eq!(u32_at(308), gait::crc32(&bytes[..308]));
+    assert_eq!(gait.crc(), 0x99d4_4f03);
+}
