@@ -463,6 +463,19 @@ pub fn encode(
 impl<'a> Gait<'a> {
     /// Reads and validates a gait file in place (the checkpoint tables stay in `bytes`).
     ///
+    /// ```
+    /// use purcell_core::{Gait, Replay};
+    ///
+    /// // In firmware: `static GAIT: &[u8] = include_bytes!("gait.bin");`
+    /// static GAIT: &[u8] = include_bytes!("../examples/paper.gait");
+    /// let gait = Gait::from_bytes(GAIT)?;
+    /// assert_eq!((gait.params().steps, gait.checkpoint_count()), (10_000, 99));
+    /// let flight = gait.replay::<f32>()?.fly(Replay::step)?;
+    /// let error = gait.params().terminal_error(&flight.end);
+    /// assert!(error.alpha < 1e-6 && error.g < 1e-6);
+    /// # Ok::<(), purcell_core::Error>(())
+    /// ```
+    ///
     /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
     /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
     /// [`Error::GaitLayout`] (sections), then the values as [`check`] does
