@@ -30,6 +30,22 @@ tool() { cargo run -q -p purcell-mcu -- "$@"; }
 sim() { cargo run -q --profile test -p host-sim -- "$@"; }
 m4f_run() { cargo run -q -p purcell-mcu --target thumbv7em-none-eabihf --release; }
 
+# $1 name, $2 the line the log must contain; then the command that must fail with exit 1.
+fails_with() {
+  local name=$1 line=$2 status
+  shift 2
+  set +e
+  PURCELL_QEMU_TIMEOUT=60 "$@" >"$out/$name.log" 2>&1
+  status=$?
+  set -e
+  if [[ $status -ne 1 ]] || ! grep -q "$line" "$out/$name.log"; then
+    echo "check.sh: $name: expected exit 1 and a line matching '$line', got status $status:" >&2
+    cat "$out/$name.log" >&2
+    exit 1
+  fi
+  grep "$line" "$out/$name.log"
+}
+
 # $1 name, $2 ELF, $3 max mean insn/step; then the cargo command that runs the firmware.
 fly() {
   local name=$1 elf=$2 max=$3
@@ -64,16 +80,7 @@ cp "$gaits/solved.gait" "$gaits/corrupt.gait"
 at=300
 byte=$(od -An -tu1 -j$at -N1 "$gaits/corrupt.gait" | tr -d ' ')
 printf "\\$(printf '%03o' $((byte ^ 1)))" | dd of="$gaits/corrupt.gait" bs=1 seek=$at conv=notrunc status=none
-set +e
-PURCELL_GAIT=$gaits/corrupt.gait PURCELL_QEMU_TIMEOUT=60 m4f_run >"$out/corrupt.log" 2>&1
-status=$?
-set -e
-if [[ $status -ne 1 ]] || ! grep -q 'gait refused: gait file checksum' "$out/corrupt.log"; then
-  echo "check.sh: expected exit 1 with 'gait refused: gait file checksum', got status $status:" >&2
-  cat "$out/corrupt.log" >&2
-  exit 1
-fi
-grep 'gait refused' "$out/corrupt.log"
+PURCELL_GAIT=$gaits/corrupt.gait fails_with corrupt '^gait refused: gait file checksum' m4f_run
 
 m4f=$target_dir/thumbv7em-none-eabihf/release/purcell-mcu
 m7=$target_dir/thumbv7em-none-eabihf/mcu-m7/purcell-mcu
@@ -81,14 +88,5 @@ fly m4f "$m4f" "${PURCELL_MCU_MAX_INSN:-1000}" m4f_run
 fly m7 "$m7" "${PURCELL_M7_MAX_INSN:-3000}" cargo -q mcu-m7
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
-set +e
-PURCELL_QEMU_MACHINE=mps2-an386 PURCELL_QEMU_TIMEOUT=60 benches/mcu/qemu-run.sh "$m7" >"$out/fault.log" 2>&1
-status=$?
-set -e
-if [[ $status -ne 1 ]] || ! grep -q '^HardFault at pc=' "$out/fault.log"; then
-  echo "check.sh: expected exit 1 with a HardFault line, got status $status:" >&2
-  cat "$out/fault.log" >&2
-  exit 1
-fi
-grep '^HardFault' "$out/fault.log"
+PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' benches/mcu/qemu-run.sh "$m7"
 echo "mcu: 5 passed, 0 failed"

@@ -38,27 +38,19 @@ pub fn replay_gait<T: Stored>(
     } else {
         gait.replay_without_checkpoints::<T>()
     };
-    let flight = replay.and_then(|r| r.fly(Replay::step));
-    let mut out = ReplayReport {
-        precision,
-        checkpoints,
-        digest: None,
-        final_state_bits: None,
-        alpha_error: None,
-        g_error: None,
-        failure: None,
-    };
-    match flight {
+    match replay.and_then(|r| r.fly(Replay::step)) {
         Ok(f) => {
             let error = gait.params().terminal_error(&f.end);
-            out.digest = Some(digest_hex(&f));
-            out.final_state_bits = Some(f.final_bits().iter().map(|b| format!("{b:#x}")).collect());
-            out.alpha_error = Some(error.alpha);
-            out.g_error = Some(error.g);
+            ReplayReport {
+                digest: Some(digest_hex(&f)),
+                final_state_bits: Some(f.final_bits().iter().map(|b| format!("{b:#x}")).collect()),
+                alpha_error: Some(error.alpha),
+                g_error: Some(error.g),
+                ..failed(precision, checkpoints, None)
+            }
         }
-        Err(e) => out.failure = Some(e.to_string()),
+        Err(e) => failed(precision, checkpoints, Some(e)),
     }
-    out
 }
 
 /// `0x` and the 16 hex digits of a flight's digest.
@@ -75,13 +67,18 @@ pub fn replay<T: Stored>(
     match file.to_gait() {
         Ok(bytes) => match Gait::from_bytes(&bytes) {
             Ok(gait) => replay_gait::<T>(&gait, precision, checkpoints),
-            Err(e) => failed(precision, checkpoints, e),
+            Err(e) => failed(precision, checkpoints, Some(e)),
         },
-        Err(e) => failed(precision, checkpoints, e),
+        Err(e) => failed(precision, checkpoints, Some(e)),
     }
 }
 
-fn failed(precision: &'static str, checkpoints: bool, e: purcell_core::Error) -> ReplayReport {
+/// A report with no results, and the error that stopped the replay if there is one.
+fn failed(
+    precision: &'static str,
+    checkpoints: bool,
+    e: Option<purcell_core::Error>,
+) -> ReplayReport {
     ReplayReport {
         precision,
         checkpoints,
@@ -89,7 +86,7 @@ fn failed(precision: &'static str, checkpoints: bool, e: purcell_core::Error) ->
         final_state_bits: None,
         alpha_error: None,
         g_error: None,
-        failure: Some(e.to_string()),
+        failure: e.map(|e| e.to_string()),
     }
 }
 
