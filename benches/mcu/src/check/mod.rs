@@ -1,5 +1,5 @@
 //! The host side of the harness, by job: [`log`] reads a firmware log (QEMU's or a board's)
-//! and checks it against [`reference`], the host's replay of the same gait through the same
+//! and checks it against [`reference`](mod@reference), the host's replay of the same gait through the same
 //! core code; [`disasm`] scans the firmware's disassembly.
 
 pub mod disasm;
