@@ -13,6 +13,7 @@ pub const H: f64 = 0.01;
 /// Horizon of the paper's problem.
 pub const STEPS: u32 = 10_000;
 
+#[path = "../core/tests/common/fixtures.rs"]
 mod fixtures;
 pub use fixtures::{costate_mu6, costate_mu13};
 

@@ -13,8 +13,20 @@ step "docs"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 step "tests (host)"
 cargo test --workspace
+step "example: the committed paper's gait replayed on the host"
+cargo run -q -p purcell-core --example replay_gait
 step "core for the MCU (thumbv7em-none-eabihf)"
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release --features defmt
-step "firmware in QEMU: M4F f32 and M7 f64, bit-identical to the host, instruction budget"
+msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' core/Cargo.toml).0
+step "core with its minimum Rust version $msrv (host and thumbv7em; .ci/run installs it)"
+CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --features serde
+CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --target thumbv7em-none-eabihf --features defmt
+step "purcell-core packages for crates.io without a warning"
+package=$(cargo package -p purcell-core --allow-dirty 2>&1) || { echo "$package"; exit 1; }
+if grep -q '^warning' <<<"$package"; then echo "$package"; exit 1; fi
+step "board example (STM32F4-Discovery): format, lints, firmware build"
+(cd benches/mcu/board-stm32f4-discovery && cargo fmt --check &&
+  cargo clippy -q --release --locked -- -D warnings && cargo build -q --release --locked)
+step "firmware in QEMU: exported gaits (solved, corrupted), M4F f32 and M7 f64, bit-identical to the host, budgets"
 bash benches/mcu/check.sh

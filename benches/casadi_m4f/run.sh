@@ -5,12 +5,14 @@
 # ratio to ours. Needs: pip install casadi; apt-get install gcc-arm-none-eabi
 # libnewlib-arm-none-eabi qemu-system-arm; and what benches/mcu/README.md lists.
 #   benches/casadi_m4f/run.sh        (PYTHON selects the interpreter that has casadi)
+# PURCELL_COSTATE: the costate file (default out/paper/costate.json, written by the README's
+# main job `purcell-sim solve --out out/paper`; the firmware flies the same gait, exported).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 target_dir=${CARGO_TARGET_DIR:-$PWD/target}
 out=$target_dir/casadi_m4f
 mkdir -p "$out"
-"${PYTHON:-python3}" benches/casadi_m4f/gen_step.py "${PURCELL_COSTATE:-benches/mcu/costate.json}" "$out"
+"${PYTHON:-python3}" benches/casadi_m4f/gen_step.py "${PURCELL_COSTATE:-out/paper/costate.json}" "$out"
 
 flags=(-O2 -mcpu=cortex-m4 -mfpu=fpv4-sp-d16 -mfloat-abi=hard -mthumb -fsingle-precision-constant
   -ffunction-sections -fdata-sections -I"$out")

@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
-# Flies the firmware in QEMU on both boards and checks it against the host (issue 4):
-#  - M4F (mps2-an386), f32: digest and final state bit-identical to the host f32 replay of
-#    the same costate, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 1000),
-#    stack of a step <= 2048 B, no soft-float helper reachable from the step;
-#  - M7 (mps2-an500), f64: bit-identical to the host f64 replay, mean <= PURCELL_M7_MAX_INSN
-#    (default 3000, a regression guard), no soft-float helper reachable from the step;
-#  - the M7 build run on the M4F board must exit 1 through the HardFault handler.
+# Flies the firmware in QEMU and checks it against the host:
+#  1. a gait solved for another target (purcell-sim solve → export → include_bytes! through
+#     PURCELL_GAIT) flies on the M4F bit-identical to `purcell-sim replay --gait … --precision
+#     f32` (same digest line) and passes `purcell-mcu check`;
+#  2. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
+#  3. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
+#     to the host f32 flight, mean and largest instructions per step <= PURCELL_MCU_MAX_INSN
+#     (default 1000), stack of a step <= 2048 B, no soft-float helper reachable from the step;
+#  4. M7 (mps2-an500), f64: bit-identical to the host f64 flight, mean <= PURCELL_M7_MAX_INSN
+#     (default 3000, a regression guard), no soft-float helper reachable from the step;
+#  5. the M7 build run on the M4F board must exit 1 through the HardFault handler.
 # Needs qemu-system-arm, defmt-print, arm-none-eabi-objdump/-size (binutils-arm-none-eabi)
-# and the thumbv7em-none-eabihf target. Logs and listings go to $TARGET/mcu-check/.
+# and the thumbv7em-none-eabihf target. Logs and listings go to $TARGET/mcu-check/. The M4F
+# release ELF left behind is the paper's gait (step 3).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -21,6 +26,25 @@ for tool in "${QEMU:-qemu-system-arm}" "${DEFMT_PRINT:-defmt-print}" "$objdump" 
 done
 
 tool() { cargo run -q -p purcell-mcu -- "$@"; }
+# purcell-sim in the test profile (optimised; `cargo test` has built it already).
+sim() { cargo run -q --profile test -p host-sim -- "$@"; }
+m4f_run() { cargo run -q -p purcell-mcu --target thumbv7em-none-eabihf --release; }
+
+# $1 name, $2 the line the log must contain; then the command that must fail with exit 1.
+fails_with() {
+  local name=$1 line=$2 status
+  shift 2
+  set +e
+  PURCELL_QEMU_TIMEOUT=60 "$@" >"$out/$name.log" 2>&1
+  status=$?
+  set -e
+  if [[ $status -ne 1 ]] || ! grep -q "$line" "$out/$name.log"; then
+    echo "check.sh: $name: expected exit 1 and a line matching '$line', got status $status:" >&2
+    cat "$out/$name.log" >&2
+    exit 1
+  fi
+  grep "$line" "$out/$name.log"
+}
 
 # $1 name, $2 ELF, $3 max mean insn/step; then the cargo command that runs the firmware.
 fly() {
@@ -34,21 +58,35 @@ fly() {
   echo "flash: $name $("$size" -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" {s[$1] = $2} END {printf ".text=%d .rodata=%d .vector_table=%d bytes", s[".text"], s[".rodata"], s[".vector_table"]}')"
 }
 
+echo "--- gait: solve a non-default target, export, fly it on the M4F, compare with the host"
+gaits=$out/gaits
+rm -rf "$gaits"
+mkdir -p "$gaits"
+sim solve --target 0.05,0.02,0 --horizon 20 --no-plots --out "$gaits/solved" >/dev/null
+sim export --costate "$gaits/solved/costate.json" --out "$gaits/solved.gait"
+sim replay --gait "$gaits/solved.gait" --precision f32 | tee "$gaits/host.txt"
+PURCELL_GAIT=$gaits/solved.gait m4f_run 2>"$out/gait.stderr" | tee "$out/gait.log"
+PURCELL_GAIT=$gaits/solved.gait tool check "$out/gait.log" --max-insn "${PURCELL_MCU_MAX_INSN:-1000}" --max-stack 2048
+host_digest=$(grep '^digest: ' "$gaits/host.txt")
+mcu_digest=$(grep '^digest: ' "$out/gait.log")
+if [[ $host_digest != "$mcu_digest" ]]; then
+  echo "check.sh: purcell-sim replay says '$host_digest', the M4F '$mcu_digest'" >&2
+  exit 1
+fi
+echo "gait: the M4F flight of the exported gait is bit-identical to purcell-sim replay ($mcu_digest)"
+
+echo "--- corrupted gait: one flipped byte in the checkpoint table must be refused (exit 1)"
+cp "$gaits/solved.gait" "$gaits/corrupt.gait"
+at=300
+byte=$(od -An -tu1 -j$at -N1 "$gaits/corrupt.gait" | tr -d ' ')
+printf "\\$(printf '%03o' $((byte ^ 1)))" | dd of="$gaits/corrupt.gait" bs=1 seek=$at conv=notrunc status=none
+PURCELL_GAIT=$gaits/corrupt.gait fails_with corrupt '^gait refused: gait file checksum' m4f_run
+
 m4f=$target_dir/thumbv7em-none-eabihf/release/purcell-mcu
 m7=$target_dir/thumbv7em-none-eabihf/mcu-m7/purcell-mcu
-fly m4f "$m4f" "${PURCELL_MCU_MAX_INSN:-1000}" \
-  cargo run -q -p purcell-mcu --target thumbv7em-none-eabihf --release
+fly m4f "$m4f" "${PURCELL_MCU_MAX_INSN:-1000}" m4f_run
 fly m7 "$m7" "${PURCELL_M7_MAX_INSN:-3000}" cargo -q mcu-m7
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
-set +e
-PURCELL_QEMU_MACHINE=mps2-an386 PURCELL_QEMU_TIMEOUT=60 benches/mcu/qemu-run.sh "$m7" >"$out/fault.log" 2>&1
-status=$?
-set -e
-if [[ $status -ne 1 ]] || ! grep -q '^HardFault at pc=' "$out/fault.log"; then
-  echo "check.sh: expected exit 1 with a HardFault line, got status $status:" >&2
-  cat "$out/fault.log" >&2
-  exit 1
-fi
-grep '^HardFault' "$out/fault.log"
-echo "mcu: 3 passed, 0 failed"
+PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' benches/mcu/qemu-run.sh "$m7"
+echo "mcu: 5 passed, 0 failed"

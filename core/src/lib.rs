@@ -14,6 +14,7 @@
 
 pub mod digest;
 pub mod error;
+pub mod gait;
 pub mod kinematics;
 pub mod law;
 pub mod real;
@@ -23,12 +24,17 @@ pub mod swimmer;
 
 pub use digest::TrajectoryDigest;
 pub use error::Error;
+pub use gait::Gait;
 pub use kinematics::{Kinematics, State};
 pub use law::LawStep;
 pub use real::Real;
-pub use replay::{Checkpoint, Checkpoints, Costate, Replay, Sample};
+pub use replay::{Checkpoint, Checkpoints, Costate, Flight, Replay, Sample, TerminalError};
 pub use se2::{Se2, Tangent};
 pub use swimmer::{Connection, Swimmer};
+
+/// The linear-algebra crate of every signature here (`Vector2`, `Vector3`, `Matrix3x2`, …), so
+/// that a user's `nalgebra` types are the core's without pinning the same version.
+pub use nalgebra;
 
 /// With the `defmt` feature, every public value type can be logged (checked at compile time).
 #[cfg(feature = "defmt")]
@@ -43,5 +49,7 @@ const _: () = {
     loggable::<Checkpoint<f32>>();
     loggable::<Sample<f32>>();
     loggable::<TrajectoryDigest>();
+    loggable::<Flight<f32>>();
+    loggable::<TerminalError>();
     loggable::<State<f64>>();
 };

@@ -57,6 +57,13 @@ pub trait Real:
     fn is_finite(self) -> bool;
     /// The IEEE 754 bit pattern of the value (widened to 64 bits), for bit-exact digests.
     fn to_bits(self) -> u64;
+    /// The value with this IEEE 754 bit pattern, the inverse of [`Real::to_bits`] (`f32` reads
+    /// the low 32 bits; for a compound type: the `f64` value with every other part zero).
+    /// How a [`crate::Gait`]'s stored tables are read, with integer loads only.
+    #[inline(always)]
+    fn from_bits(bits: u64) -> Self {
+        Self::from_f64(f64::from_bits(bits))
+    }
 
     /// Whether every value is finite (and for a compound type, every part of each).
     ///
@@ -121,6 +128,10 @@ impl Real for f64 {
         f64::to_bits(self)
     }
     #[inline(always)]
+    fn from_bits(bits: u64) -> Self {
+        f64::from_bits(bits)
+    }
+    #[inline(always)]
     fn all_finite<const N: usize>(xs: [Self; N]) -> bool {
         // x·0 is ±0 for finite x and NaN for NaN or ±∞; a sum of ±0 is ±0, which equals 0.
         xs.iter().fold(0.0, |acc, &x| acc + x * 0.0) == 0.0
@@ -164,6 +175,11 @@ impl Real for f32 {
     #[inline(always)]
     fn to_bits(self) -> u64 {
         u64::from(f32::to_bits(self))
+    }
+    #[inline(always)]
+    fn from_bits(bits: u64) -> Self {
+        // The low 32 bits, as `to_bits` widened them.
+        f32::from_bits(bits as u32)
     }
     #[inline(always)]
     fn all_finite<const N: usize>(xs: [Self; N]) -> bool {

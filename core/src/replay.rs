@@ -13,10 +13,15 @@
 //! the error only grows over one checkpoint interval. They must reset all of it: resetting
 //! `ξ` alone, against an `(α, g)` that has drifted, puts the recursion on a different
 //! extremal, and on the paper's problem that ends past the link-overlap limit (see the
-//! README's table). [`Checkpoints`] stores them in fixed capacity.
+//! README's table). [`Checkpoints`] stores them in fixed capacity; a [`crate::Gait`] keeps them
+//! in its file, and [`crate::Gait::replay`] reads each one in place when the replay reaches it.
+//!
+//! [`Replay::fly`] runs a replay to the end and digests it ([`Flight`]): what the host and a
+//! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
+use crate::gait::Table;
 use crate::kinematics::{Kinematics, State};
-use crate::{Error, Real};
+use crate::{Error, Real, Se2, TrajectoryDigest};
 use nalgebra::{Vector2, Vector3};
 
 /// The initial costate: constant spatial momentum `μ` and `ξ^{−1}`.
@@ -94,6 +99,38 @@ pub struct Sample<T> {
     pub xi: Vector2<T>,
 }
 
+/// Where a replay's checkpoints come from: a slice, or a gait file's table read in place.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum CheckpointTable<'a, T> {
+    /// Checkpoints in memory (e.g. a [`Checkpoints`] table).
+    Slice(&'a [Checkpoint<T>]),
+    /// A [`crate::Gait`]'s table stored in `T`.
+    Stored(Table<'a>),
+}
+
+impl<T: Real> CheckpointTable<'_, T> {
+    /// The step index of the next checkpoint.
+    #[inline]
+    fn next_k(&self) -> Option<u32> {
+        match self {
+            CheckpointTable::Slice(s) => s.first().map(|c| c.k),
+            CheckpointTable::Stored(t) => t.next_k(),
+        }
+    }
+
+    /// Removes the next checkpoint.
+    #[inline]
+    fn pop(&mut self) -> Option<Checkpoint<T>> {
+        match self {
+            CheckpointTable::Slice(s) => s.split_first().map(|(first, rest)| {
+                *s = rest;
+                *first
+            }),
+            CheckpointTable::Stored(t) => t.pop(),
+        }
+    }
+}
+
 /// Runs `N` steps of the control law from a start state and an initial costate.
 #[derive(Clone, Debug)]
 pub struct Replay<'a, T> {
@@ -107,7 +144,9 @@ pub struct Replay<'a, T> {
     xi: Vector2<T>,
     k: u32,
     steps: u32,
-    checkpoints: &'a [Checkpoint<T>],
+    /// The step index of the next checkpoint (`u32::MAX`, which `k` never reaches, if none).
+    next_checkpoint: u32,
+    checkpoints: CheckpointTable<'a, T>,
     failed: Option<Error>,
 }
 
@@ -124,13 +163,31 @@ impl<'a, T: Real> Replay<'a, T> {
         steps: u32,
         checkpoints: &'a [Checkpoint<T>],
     ) -> Result<Self, Error> {
+        Self::with_table(
+            kinematics,
+            start,
+            costate,
+            steps,
+            CheckpointTable::Slice(checkpoints),
+        )
+    }
+
+    /// [`Replay::new`] with checkpoints from a slice or a gait file's table.
+    pub(crate) fn with_table(
+        kinematics: Kinematics<T>,
+        start: State<T>,
+        costate: Costate<T>,
+        steps: u32,
+        checkpoints: CheckpointTable<'a, T>,
+    ) -> Result<Self, Error> {
         start.check()?;
         let (mu, xi) = (costate.mu, costate.xi);
         if !T::all_finite([mu.x, mu.y, mu.z, xi.x, xi.y]) {
             return Err(Error::NonFinite);
         }
         let mut last: Option<u32> = None;
-        for c in checkpoints {
+        let mut table = checkpoints;
+        while let Some(c) = table.pop() {
             if c.k >= steps || last.is_some_and(|l| l >= c.k) {
                 return Err(Error::CheckpointOrder);
             }
@@ -150,6 +207,7 @@ impl<'a, T: Real> Replay<'a, T> {
             xi: costate.xi,
             k: 0,
             steps,
+            next_checkpoint: checkpoints.next_k().unwrap_or(u32::MAX),
             checkpoints,
             failed: None,
         })
@@ -167,12 +225,8 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k >= self.steps {
             return Ok(None);
         }
-        if let Some((first, rest)) = self.checkpoints.split_first()
-            && first.k == self.k
-        {
-            self.state = first.state;
-            self.xi = first.xi;
-            self.checkpoints = rest;
+        if self.k == self.next_checkpoint {
+            self.restore();
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
@@ -201,6 +255,16 @@ impl<'a, T: Real> Replay<'a, T> {
         }
     }
 
+    /// Resets `(α_k, g_k, ξ^{k−1})` to the checkpoint at this step (validated by `new`).
+    #[inline(never)]
+    fn restore(&mut self) {
+        if let Some(c) = self.checkpoints.pop() {
+            self.state = c.state;
+            self.xi = c.xi;
+        }
+        self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
+    }
+
     /// The current state: `(α_k, g_k)` before step `k`, `(α_N, g_N)` at the end.
     pub fn state(&self) -> &State<T> {
         &self.state
@@ -220,6 +284,81 @@ impl<'a, T: Real> Replay<'a, T> {
     pub fn finish(mut self) -> Result<State<T>, Error> {
         while self.step()?.is_some() {}
         Ok(self.state)
+    }
+
+    /// Runs the remaining steps through `step` (which must advance the replay by one step in
+    /// place, as [`Replay::step`] does: pass it, or a wrapper that times it) and digests every
+    /// sample it lends, then the final state ([`TrajectoryDigest::push_sample`],
+    /// [`TrajectoryDigest::push_state`]). Two runs that compute the same numbers have the same
+    /// [`Flight`]: this is what the host and a microcontroller compare.
+    ///
+    /// Errors: the first error of a step.
+    pub fn fly<F>(mut self, mut step: F) -> Result<Flight<T>, Error>
+    where
+        F: for<'r> FnMut(&'r mut Self) -> Result<Option<&'r Sample<T>>, Error>,
+    {
+        let mut digest = TrajectoryDigest::new();
+        while let Some(sample) = step(&mut self)? {
+            digest.push_sample(sample);
+        }
+        digest.push_state(&self.state);
+        Ok(Flight {
+            digest,
+            end: self.state,
+            steps: self.k,
+        })
+    }
+}
+
+/// A finished replay: the digest of its trajectory and where it ended ([`Replay::fly`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Flight<T> {
+    /// Every sample `(u_k, α_k, g_k)`, then `(α_N, g_N)`.
+    pub digest: TrajectoryDigest,
+    /// `(α_N, g_N)`.
+    pub end: State<T>,
+    /// Steps run.
+    pub steps: u32,
+}
+
+impl<T: Real> Flight<T> {
+    /// The bit patterns of `(α1, α2, x, y, cos θ, sin θ)` of the final state (widened to 64
+    /// bits for `f32`, as in the digest).
+    pub fn final_bits(&self) -> [u64; 6] {
+        let (a, g) = (&self.end.alpha, &self.end.g);
+        [a.x, a.y, g.x(), g.y(), g.cos(), g.sin()].map(T::to_bits)
+    }
+}
+
+/// How far a replay ends from `(ᾱ, ḡ)`: the largest absolute component of `α_N − ᾱ` (rad) and
+/// of `log(ḡ⁻¹ g_N)` (`(x, y, θ)`: m, m, rad), computed in `f64` from the final state widened
+/// to `f64`.
+///
+/// The one terminal error of this workspace (`purcell-sim replay`, the firmware checker and the
+/// documentation quote it). The largest component rather than a Euclidean norm: the
+/// components have different units, and the solver's residuals are largest components too.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TerminalError {
+    /// `max |α_N,i − ᾱ_i|`, radians.
+    pub alpha: f64,
+    /// `max |log(ḡ⁻¹ g_N)_j|`, metres or radians.
+    pub g: f64,
+}
+
+impl TerminalError {
+    /// The error of `end` against `alpha_bar` and `target`.
+    pub fn new<T: Real>(end: &State<T>, alpha_bar: &Vector2<f64>, target: &Se2<f64>) -> Self {
+        let (a, g) = (&end.alpha, &end.g);
+        let theta = g.sin().to_f64().atan2(g.cos().to_f64());
+        let g = Se2::new(g.x().to_f64(), g.y().to_f64(), theta);
+        let largest = |xs: &[f64]| xs.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        let log = target.between(&g).log();
+        TerminalError {
+            alpha: largest(&[a.x.to_f64() - alpha_bar.x, a.y.to_f64() - alpha_bar.y]),
+            g: largest(&[log.x, log.y, log.z]),
+        }
     }
 }
 

@@ -286,7 +286,14 @@ fn every_error_has_a_distinct_message() {
         Error::Singular,
         Error::CheckpointOrder,
         Error::CapacityExceeded,
+        Error::NotRotation,
+        Error::GaitMagic,
+        Error::GaitVersion(7),
+        Error::GaitLength,
+        Error::GaitChecksum,
+        Error::GaitLayout,
     ];
+    assert!(Error::GaitVersion(7).to_string().contains("version 7"));
     let msgs: Vec<String> = all.iter().map(|e| e.to_string()).collect();
     for (i, m) in msgs.iter().enumerate() {
         assert!(!m.is_empty());

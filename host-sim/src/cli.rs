@@ -6,6 +6,7 @@ use crate::solver::continuation::{self, Lattice};
 use crate::solver::{Extremal, SolveOptions, solve};
 use crate::{output, plots, replay};
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use purcell_core::Gait;
 use serde_json::json;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -27,9 +28,12 @@ pub enum Command {
     /// Solve the discrete optimal-control problem and write DIR/{trajectory.csv,
     /// costate.json, report.json, *.svg}.
     Solve(SolveArgs),
-    /// Replay a costate file through the core (f64 and f32, with and without checkpoints)
-    /// and report the terminal error against the target and alpha0.
+    /// Replay a gait (binary, or a costate file) through the core as firmware does (f64 and
+    /// f32, with and without checkpoints): print each trajectory's digest, final state bits and
+    /// terminal error against the target and alpha0.
     Replay(ReplayArgs),
+    /// Write the binary gait file of a costate file, for `include_bytes!` in firmware.
+    Export(ExportArgs),
     /// Print the local connection A(alpha) and its derivatives as JSON (rows x, y, theta;
     /// columns alpha1, alpha2).
     Connection(ConnectionArgs),
@@ -148,10 +152,14 @@ pub enum Precision {
 
 /// `replay` flags.
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["costate", "gait"])))]
 pub struct ReplayArgs {
     /// The costate file written by `solve` (DIR/costate.json).
     #[arg(long)]
-    pub costate: PathBuf,
+    pub costate: Option<PathBuf>,
+    /// A binary gait file written by `export`.
+    #[arg(long)]
+    pub gait: Option<PathBuf>,
     /// Replay only in this precision (default: the standard set f64, f32 with and without
     /// checkpoints).
     #[arg(long, value_enum)]
@@ -162,6 +170,17 @@ pub struct ReplayArgs {
     /// Also write the JSON report to this file (atomically).
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// `export` flags.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The costate file written by `solve` (DIR/costate.json).
+    #[arg(long)]
+    pub costate: PathBuf,
+    /// The binary gait file to write (atomically).
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// `connection` flags.
@@ -214,6 +233,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
     match cli.command {
         Command::Solve(a) => run_solve(a),
         Command::Replay(a) => run_replay(a),
+        Command::Export(a) => run_export(a),
         Command::Connection(a) => run_connection(a),
         Command::Sweep(a) => run_sweep(a),
     }
@@ -268,6 +288,11 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     let seconds = t0.elapsed().as_secs_f64();
     let best = &solution.extremals[solution.best];
     let file = output::costate_file(&problem, best, a.checkpoint_every);
+    let gait_bytes = file
+        .to_gait()
+        .map_err(|e| fail(1, format!("the solution's gait: {e}")))?;
+    let gait =
+        Gait::from_bytes(&gait_bytes).map_err(|e| fail(1, format!("the solution's gait: {e}")))?;
     let extremals: Vec<_> = solution.extremals.iter().map(extremal_json).collect();
     let report = json!({
         "cost": best.cost,
@@ -289,7 +314,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         "extremals": extremals,
         // Terminal errors of the stored costate replayed through the core, as the firmware
         // flies it (f32 with checkpoints) beside f64.
-        "replays": replay::standard_replays(&file),
+        "replays": replay::standard_replays(&gait),
     });
     let report_text = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
     let mut files = vec![
@@ -314,10 +339,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
 
 /// The stored extremal of `path` as a start for `problem`: same swimmer required.
 fn warm_start(path: &std::path::Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?;
-    let file =
-        CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    let file = read_costate(path)?;
     let stored = file
         .problem()
         .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
@@ -463,28 +485,61 @@ fn extremal_json(x: &Extremal) -> serde_json::Value {
     })
 }
 
+/// Reads a costate file (exit 2 if unreadable or invalid).
+fn read_costate(path: &std::path::Path) -> Result<CostateFile, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?;
+    CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
+}
+
 fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
-    let text = std::fs::read_to_string(&a.costate)
-        .map_err(|e| fail(2, format!("reading {}: {e}", a.costate.display())))?;
-    let file =
-        CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", a.costate.display())))?;
-    file.problem()
-        .map_err(|e| fail(2, format!("{}: {e}", a.costate.display())))?;
-    let results = match a.precision {
-        None => replay::standard_replays(&file),
-        Some(Precision::F64) => vec![replay::replay::<f64>(&file, "f64", !a.no_checkpoints)],
-        Some(Precision::F32) => vec![replay::replay::<f32>(&file, "f32", !a.no_checkpoints)],
+    let (path, bytes) = match (&a.costate, &a.gait) {
+        (Some(path), _) => (
+            path,
+            read_costate(path)?
+                .to_gait()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?,
+        ),
+        (None, Some(path)) => (
+            path,
+            std::fs::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?,
+        ),
+        (None, None) => return Err(fail(2, "replay needs --costate or --gait")),
     };
-    let out = serde_json::to_string_pretty(
-        &json!({ "target": file.target, "alpha0": file.alpha0, "replays": results }),
-    )
-    .map_err(|e| fail(1, e))?
-        + "\n";
+    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    let checkpoints = !a.no_checkpoints;
+    let results = match a.precision {
+        None => replay::standard_replays(&gait),
+        Some(Precision::F64) => vec![replay::replay_gait::<f64>(&gait, "f64", checkpoints)],
+        Some(Precision::F32) => vec![replay::replay_gait::<f32>(&gait, "f32", checkpoints)],
+    };
     if let Some(path) = &a.out {
-        output::write_file_atomically(path, out.as_bytes())
+        let p = gait.params();
+        let report = json!({ "crc": format!("{:#010x}", gait.crc()), "target": p.target,
+                             "alpha0": p.alpha0, "replays": results });
+        let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
+        output::write_file_atomically(path, json.as_bytes())
             .map_err(|e| fail(1, format!("writing {}: {e}", path.display())))?;
     }
-    Ok(out)
+    Ok(replay::text(&gait, &results))
+}
+
+fn run_export(a: ExportArgs) -> Result<String, Failure> {
+    let file = read_costate(&a.costate)?;
+    let bytes = file
+        .to_gait()
+        .map_err(|e| fail(2, format!("{}: {e}", a.costate.display())))?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(1, e))?;
+    output::write_file_atomically(&a.out, &bytes)
+        .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
+    Ok(format!(
+        "gait: wrote {} ({} bytes, crc={:#010x}, steps={}, checkpoints={})\n",
+        a.out.display(),
+        bytes.len(),
+        gait.crc(),
+        gait.params().steps,
+        gait.checkpoint_count()
+    ))
 }
 
 fn run_connection(a: ConnectionArgs) -> Result<String, Failure> {

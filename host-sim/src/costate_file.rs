@@ -1,4 +1,4 @@
-//! The versioned costate file (`costate.json`) shared with the firmware.
+//! The versioned costate file (`costate.json`): a gait as JSON, for people and scripts.
 //!
 //! ```text
 //! { "format": "purcell-costate", "version": 2,
@@ -9,19 +9,24 @@
 //!   "checkpoints": [{"k": 100, "alpha": [a1, a2], "g": [x, y, cos, sin], "xi": [x1, x2]}, ...] }
 //! ```
 //!
+//! Between the tag (`format`, `version`) and `checkpoints` the fields are the core's gait
+//! schema, [`GaitParams`], and each checkpoint a [`CheckpointRecord`]: the binary gait file
+//! (`purcell-sim export`, read by `purcell_core::Gait::from_bytes`) holds the same numbers, and
+//! both go through the same validation, `purcell_core::gait::check`.
+//!
 //! Checkpoint `k` holds `(α_k, g_k, ξ^{k−1})` of a plain `f64` replay from `(μ, ξ^{−1})`; a
 //! replay restarts from it at step `k` (see `purcell_core::replay`: resetting `ξ` alone does
 //! not keep an `f32` replay on the solution). `g` is stored as `(x, y, cos θ, sin θ)`, the
 //! core's own representation, so it comes back bit for bit. Version 1 (checkpoints of `ξ`
 //! alone) is refused.
 //!
-//! ```text
-//! ```
-//!
 //! Numbers are written in shortest round-trip form, so reading gives the same bits back.
 //! Reading is strict: unknown fields, missing fields, wrong lengths, a different `format`
-//! or `version`, non-finite values and out-of-order checkpoints are typed errors.
+//! or `version`, and whatever `purcell_core::gait::check` refuses (non-finite values, shapes
+//! at the overlap limit, rotations off unit length, out-of-order checkpoints) are typed
+//! errors.
 
+pub use purcell_core::gait::{CheckpointRecord, GaitParams, Model};
 use serde::{Deserialize, Serialize};
 
 /// The `format` tag.
@@ -29,33 +34,7 @@ pub const FORMAT: &str = "purcell-costate";
 /// The only version this build reads and writes.
 pub const VERSION: u64 = 2;
 
-/// Model parameters.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Model {
-    /// `(L0, L1, L2)`, metres.
-    pub links: [f64; 3],
-    /// Drag coefficient `k`.
-    pub drag: f64,
-    /// Drag ratio `r`.
-    pub ratio: f64,
-}
-
-/// One checkpoint `(k, α_k, g_k, ξ^{k−1})`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CheckpointEntry {
-    /// Step index.
-    pub k: u32,
-    /// `α_k`, radians.
-    pub alpha: [f64; 2],
-    /// `g_k` as `(x, y, cos θ, sin θ)`.
-    pub g: [f64; 4],
-    /// `ξ^{k−1}`.
-    pub xi: [f64; 2],
-}
-
-/// The whole file.
+/// The whole file: a tagged gait. Dereferences to its [`GaitParams`] (`file.mu`, `file.h`, …).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CostateFile {
@@ -63,24 +42,18 @@ pub struct CostateFile {
     pub format: String,
     /// Always [`VERSION`].
     pub version: u64,
-    /// Model parameters.
-    pub model: Model,
-    /// Step `h`, seconds.
-    pub h: f64,
-    /// Steps `N`.
-    pub steps: u32,
-    /// `ᾱ`, radians.
-    pub alpha0: [f64; 2],
-    /// `ḡ = (x, y, θ)`.
-    pub target: [f64; 3],
-    /// `μ`.
-    pub mu: [f64; 3],
-    /// `ξ^{−1}`.
-    pub xi0: [f64; 2],
-    /// Checkpoint spacing in steps.
-    pub checkpoint_every: u32,
+    /// Model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`, checkpoint spacing.
+    #[serde(flatten)]
+    pub gait: GaitParams,
     /// Checkpoints, strictly increasing in `k`, each `k < steps`.
-    pub checkpoints: Vec<CheckpointEntry>,
+    pub checkpoints: Vec<CheckpointRecord>,
+}
+
+impl core::ops::Deref for CostateFile {
+    type Target = GaitParams;
+    fn deref(&self) -> &GaitParams {
+        &self.gait
+    }
 }
 
 /// Why a costate file was refused.
@@ -95,9 +68,12 @@ pub enum CostateFileError {
     /// `version` is not [`VERSION`].
     #[error("unsupported costate file version {0} (this build reads version 2)")]
     WrongVersion(u64),
-    /// A value is out of range.
+    /// `version` is not a non-negative integer.
+    #[error("invalid costate file: version must be a non-negative integer")]
+    BadVersion,
+    /// A value the core refuses (`purcell_core::gait::check`).
     #[error("invalid costate file: {0}")]
-    Invalid(String),
+    Invalid(#[source] purcell_core::Error),
 }
 
 #[derive(Deserialize)]
@@ -119,51 +95,32 @@ impl CostateFile {
         match header.version.as_ref().and_then(|v| v.as_u64()) {
             Some(VERSION) => {}
             Some(v) => return Err(CostateFileError::WrongVersion(v)),
-            None => {
-                return Err(CostateFileError::Invalid(
-                    "version must be a non-negative integer".into(),
-                ));
-            }
+            None => return Err(CostateFileError::BadVersion),
         }
         let file: CostateFile = serde_json::from_str(text).map_err(CostateFileError::Malformed)?;
-        file.validate()?;
+        purcell_core::gait::check(&file.gait, file.checkpoints.iter().copied())
+            .map_err(CostateFileError::Invalid)?;
         Ok(file)
     }
 
-    fn validate(&self) -> Result<(), CostateFileError> {
-        let bad = |m: &str| Err(CostateFileError::Invalid(m.into()));
-        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        if !finite(&self.model.links)
-            || !finite(&[self.model.drag, self.model.ratio, self.h])
-            || !finite(&self.alpha0)
-            || !finite(&self.target)
-            || !finite(&self.mu)
-            || !finite(&self.xi0)
-        {
-            return bad("non-finite number");
+    /// The file of `gait` and `checkpoints` (not validated: [`CostateFile::to_gait`] and
+    /// [`CostateFile::parse`] do that).
+    pub fn new(gait: GaitParams, checkpoints: Vec<CheckpointRecord>) -> Self {
+        CostateFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            gait,
+            checkpoints,
         }
-        if self.steps == 0 {
-            return bad("steps must be positive");
-        }
-        let mut last: Option<u32> = None;
-        for c in &self.checkpoints {
-            if !(finite(&c.xi) && finite(&c.alpha) && finite(&c.g)) {
-                return bad("non-finite checkpoint");
-            }
-            let shape = nalgebra::Vector2::new(c.alpha[0], c.alpha[1]);
-            if purcell_core::swimmer::check_shape(&shape).is_err() {
-                return bad("checkpoint shape at or past the link-overlap limit |alpha_i| >= pi");
-            }
-            let norm = c.g[2] * c.g[2] + c.g[3] * c.g[3];
-            if (norm - 1.0).abs() > 1e-9 {
-                return bad("checkpoint rotation (cos, sin) is not of unit length");
-            }
-            if c.k >= self.steps || last.is_some_and(|l| l >= c.k) {
-                return bad("checkpoints must be strictly increasing and below steps");
-            }
-            last = Some(c.k);
-        }
-        Ok(())
+    }
+
+    /// The binary gait file of the same numbers (`purcell_core::gait::encode`).
+    ///
+    /// Errors: what `purcell_core::gait::check` refuses.
+    pub fn to_gait(&self) -> Result<Vec<u8>, purcell_core::Error> {
+        let mut bytes = vec![0; purcell_core::gait::encoded_len(self.checkpoints.len())];
+        purcell_core::gait::encode(&self.gait, &self.checkpoints, &mut bytes)?;
+        Ok(bytes)
     }
 
     /// Serialises (pretty JSON, shortest round-trip numbers).

@@ -52,7 +52,7 @@ pub fn costate_file(
             .step_by(every as usize)
             .filter_map(|k| {
                 let (s, xi) = (t.states.get(k as usize)?, t.xis.get(k as usize)?);
-                Some(CheckpointEntry {
+                Some(CheckpointRecord {
                     k,
                     alpha: [s.alpha.x, s.alpha.y],
                     g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
@@ -61,23 +61,23 @@ pub fn costate_file(
             })
             .collect()
     };
-    CostateFile {
-        format: FORMAT.into(),
-        version: VERSION,
-        model: Model {
-            links: problem.swimmer.lengths(),
-            drag: problem.swimmer.drag(),
-            ratio: problem.swimmer.ratio(),
+    CostateFile::new(
+        GaitParams {
+            model: Model {
+                links: problem.swimmer.lengths(),
+                drag: problem.swimmer.drag(),
+                ratio: problem.swimmer.ratio(),
+            },
+            h: problem.h,
+            steps: problem.steps,
+            alpha0: [problem.alpha0.x, problem.alpha0.y],
+            target: [problem.target.x, problem.target.y, problem.target.z],
+            mu: [x.mu.x, x.mu.y, x.mu.z],
+            xi0: [x.xi0.x, x.xi0.y],
+            checkpoint_every: every,
         },
-        h: problem.h,
-        steps: problem.steps,
-        alpha0: [problem.alpha0.x, problem.alpha0.y],
-        target: [problem.target.x, problem.target.y, problem.target.z],
-        mu: [x.mu.x, x.mu.y, x.mu.z],
-        xi0: [x.xi0.x, x.xi0.y],
-        checkpoint_every: every,
         checkpoints,
-    }
+    )
 }
 
 /// `sweep.csv`: `x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status`

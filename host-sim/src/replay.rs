@@ -1,127 +1,152 @@
-//! Replaying a stored costate through the core, in `f64` and `f32`, and measuring how far
-//! the end lands from `(ᾱ, ḡ)`.
+//! Replaying a gait through the core exactly as a firmware does (`purcell_core::Gait`, its
+//! stored checkpoint table, `Replay::fly`), in `f64` and `f32`: the trajectory digest, the
+//! final state's bits and the terminal error (`purcell_core::TerminalError`).
 
 use crate::costate_file::CostateFile;
 use crate::solver::Trajectory;
-use nalgebra::{Vector2, Vector3};
-use purcell_core::{Checkpoint, Costate, Kinematics, Real, Replay, State};
+use purcell_core::gait::Stored;
+use purcell_core::{Flight, Gait, Replay};
 use serde::Serialize;
+use std::fmt::Write as _;
 
-/// Terminal error of one replay.
+/// One replay of a gait.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ReplayError {
+pub struct ReplayReport {
     /// `"f64"` or `"f32"`.
     pub precision: &'static str,
-    /// Whether the costate checkpoints were applied.
+    /// Whether the gait's checkpoints were applied.
     pub checkpoints: bool,
-    /// `max |α_N − ᾱ|`, radians (`null` if the replay failed).
+    /// `purcell_core::TrajectoryDigest` as `0x` and 16 hex digits (`null` if the replay failed).
+    pub digest: Option<String>,
+    /// Bits of `(α1, α2, x, y, cos θ, sin θ)` at the end, as `0x…` (widened for `f32`).
+    pub final_state_bits: Option<Vec<String>>,
+    /// `max |α_N − ᾱ|`, radians (see `purcell_core::TerminalError`).
     pub alpha_error: Option<f64>,
-    /// `max |log(ḡ⁻¹ g_N)|` components (metres / radians).
+    /// `max |log(ḡ⁻¹ g_N)|` over its components (metres / radians).
     pub g_error: Option<f64>,
-    /// `|p_N − p̄|`, metres.
-    pub position_error: Option<f64>,
     /// Why the replay stopped early, if it did.
     pub failure: Option<String>,
 }
 
-/// Replays `file` in scalar `T`, with or without its checkpoints.
-pub fn replay<T: Real>(
-    file: &CostateFile,
+/// Replays `gait` in `T` (`precision` names it), with or without its checkpoints.
+pub fn replay_gait<T: Stored>(
+    gait: &Gait<'_>,
     precision: &'static str,
     checkpoints: bool,
-) -> ReplayError {
-    let mut out = ReplayError {
-        precision,
-        checkpoints,
-        alpha_error: None,
-        g_error: None,
-        position_error: None,
-        failure: None,
-    };
-    let run = || -> Result<State<T>, String> {
-        let (kin, start, cs, cps) = parts::<T>(file, checkpoints)?;
-        Replay::new(kin, start, cs, file.steps, &cps)
-            .and_then(|r| r.finish())
-            .map_err(|e| e.to_string())
-    };
-    match run() {
-        Ok(end) => {
-            let a = Vector2::new(
-                end.alpha.x.to_f64() - file.alpha0[0],
-                end.alpha.y.to_f64() - file.alpha0[1],
-            );
-            let g = purcell_core::Se2::new(
-                end.g.x().to_f64(),
-                end.g.y().to_f64(),
-                end.g.theta().to_f64(),
-            );
-            let [x, y, th] = file.target;
-            let e = purcell_core::Se2::new(x, y, th).between(&g).log();
-            out.alpha_error = Some(a.amax());
-            out.g_error = Some(e.amax());
-            out.position_error = Some(((g.x() - x).powi(2) + (g.y() - y).powi(2)).sqrt());
-        }
-        Err(e) => out.failure = Some(e),
-    }
-    out
-}
-
-/// What a replay of `file` in scalar `T` starts from: the kinematics, the start state, the
-/// initial costate and (if `checkpoints`) the file's checkpoints.
-type Parts<T> = (Kinematics<T>, State<T>, Costate<T>, Vec<Checkpoint<T>>);
-
-fn parts<T: Real>(file: &CostateFile, checkpoints: bool) -> Result<Parts<T>, String> {
-    let problem = file.problem().map_err(|e| e.to_string())?;
-    let kin = problem.kinematics::<T>().map_err(|e| e.to_string())?;
-    let c = T::from_f64;
-    let cs = Costate {
-        mu: Vector3::new(c(file.mu[0]), c(file.mu[1]), c(file.mu[2])),
-        xi: Vector2::new(c(file.xi0[0]), c(file.xi0[1])),
-    };
-    let cps: Vec<Checkpoint<T>> = if checkpoints {
-        file.checkpoints
-            .iter()
-            .map(|e| {
-                let [x, y, cos, sin] = e.g.map(c);
-                Checkpoint {
-                    k: e.k,
-                    state: State {
-                        alpha: Vector2::new(c(e.alpha[0]), c(e.alpha[1])),
-                        g: purcell_core::Se2::from_rotation(x, y, cos, sin),
-                    },
-                    xi: Vector2::new(c(e.xi[0]), c(e.xi[1])),
-                }
-            })
-            .collect()
+) -> ReplayReport {
+    let replay = if checkpoints {
+        gait.replay::<T>()
     } else {
-        Vec::new()
+        gait.replay_without_checkpoints::<T>()
     };
-    let start = State::at_origin(Vector2::new(c(file.alpha0[0]), c(file.alpha0[1])));
-    Ok((kin, start, cs, cps))
+    match replay.and_then(|r| r.fly(Replay::step)) {
+        Ok(f) => {
+            let error = gait.params().terminal_error(&f.end);
+            ReplayReport {
+                digest: Some(digest_hex(&f)),
+                final_state_bits: Some(f.final_bits().iter().map(|b| format!("{b:#x}")).collect()),
+                alpha_error: Some(error.alpha),
+                g_error: Some(error.g),
+                ..failed(precision, checkpoints, None)
+            }
+        }
+        Err(e) => failed(precision, checkpoints, Some(e)),
+    }
 }
 
 /// The whole trajectory of an `f64` replay of `file` with its checkpoints: states, controls
-/// and the costates `ξ^{k−1}` (with `ξ^{N−1}` last).
-pub fn trajectory(file: &CostateFile) -> Result<Trajectory, String> {
-    let (kin, start, cs, cps) = parts::<f64>(file, true)?;
-    let mut replay = Replay::new(kin, start, cs, file.steps, &cps).map_err(|e| e.to_string())?;
-    let mut t = Trajectory::default();
-    while let Some(sample) = replay.step().map_err(|e| e.to_string())? {
+/// and the costates `ξ^{k−1}` (`k = 0..=N`), e.g. to start the solver from a stored extremal.
+pub fn trajectory(file: &CostateFile) -> Result<Trajectory, purcell_core::Error> {
+    let bytes = file.to_gait()?;
+    let gait = Gait::from_bytes(&bytes)?;
+    let mut replay = gait.replay::<f64>()?;
+    let mut t = Trajectory {
+        xis: vec![gait.params().costate::<f64>().xi],
+        ..Trajectory::default()
+    };
+    while let Some(sample) = replay.step()? {
         t.states.push(sample.state);
         t.controls.push(sample.u);
         t.xis.push(*replay.xi());
     }
     t.states.push(*replay.state());
-    t.xis.insert(0, cs.xi);
     Ok(t)
 }
 
-/// The three replays the `replay` command reports: f64 with checkpoints, f32 with, f32 without.
-pub fn standard_replays(file: &CostateFile) -> Vec<ReplayError> {
+/// `0x` and the 16 hex digits of a flight's digest.
+pub fn digest_hex<T>(flight: &Flight<T>) -> String {
+    format!("{:#018x}", flight.digest.value())
+}
+
+/// Replays a costate file as its binary gait (what `export` writes and firmware flies).
+pub fn replay<T: Stored>(
+    file: &CostateFile,
+    precision: &'static str,
+    checkpoints: bool,
+) -> ReplayReport {
+    match file.to_gait() {
+        Ok(bytes) => match Gait::from_bytes(&bytes) {
+            Ok(gait) => replay_gait::<T>(&gait, precision, checkpoints),
+            Err(e) => failed(precision, checkpoints, Some(e)),
+        },
+        Err(e) => failed(precision, checkpoints, Some(e)),
+    }
+}
+
+/// A report with no results, and the error that stopped the replay if there is one.
+fn failed(
+    precision: &'static str,
+    checkpoints: bool,
+    e: Option<purcell_core::Error>,
+) -> ReplayReport {
+    ReplayReport {
+        precision,
+        checkpoints,
+        digest: None,
+        final_state_bits: None,
+        alpha_error: None,
+        g_error: None,
+        failure: e.map(|e| e.to_string()),
+    }
+}
+
+/// The four replays the `replay` command reports: f64 and f32, each with and without
+/// checkpoints.
+pub fn standard_replays(gait: &Gait<'_>) -> Vec<ReplayReport> {
     vec![
-        replay::<f64>(file, "f64", true),
-        replay::<f64>(file, "f64", false),
-        replay::<f32>(file, "f32", true),
-        replay::<f32>(file, "f32", false),
+        replay_gait::<f64>(gait, "f64", true),
+        replay_gait::<f64>(gait, "f64", false),
+        replay_gait::<f32>(gait, "f32", true),
+        replay_gait::<f32>(gait, "f32", false),
     ]
+}
+
+/// The `replay` command's text: a line on the gait, then per replay its `digest: 0x…` and
+/// `final_state_bits:` lines (as the firmware prints them) and its terminal error.
+pub fn text(gait: &Gait<'_>, reports: &[ReplayReport]) -> String {
+    let p = gait.params();
+    let mut s = format!(
+        "gait: crc={:#010x} steps={} h={} checkpoints={} alpha0={:?} target={:?}\n",
+        gait.crc(),
+        p.steps,
+        p.h,
+        gait.checkpoint_count(),
+        p.alpha0,
+        p.target
+    );
+    for r in reports {
+        let with = if r.checkpoints { "with" } else { "without" };
+        let _ = writeln!(s, "replay: {} {with} checkpoints", r.precision);
+        if let (Some(d), Some(bits), Some(a), Some(g)) =
+            (&r.digest, &r.final_state_bits, r.alpha_error, r.g_error)
+        {
+            let _ = writeln!(s, "digest: {d}");
+            let _ = writeln!(s, "final_state_bits: {}", bits.join(" "));
+            let _ = writeln!(s, "terminal_error: alpha={a:.2e} g={g:.2e}");
+        }
+        if let Some(f) = &r.failure {
+            let _ = writeln!(s, "failed: {f}");
+        }
+    }
+    s
 }

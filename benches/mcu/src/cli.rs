@@ -1,7 +1,11 @@
-//! The host build of `purcell-mcu`: reference replay, firmware-log check, disassembly check.
+//! The host build of `purcell-mcu`: the host's reference flight, the check of a firmware log
+//! (QEMU's or a board's) against it, and the disassembly scan.
 
-use purcell_mcu::costate;
-use purcell_mcu::host::{Budget, CallGraph, CodeReport, FirmwareLog, Reference, check, line};
+use purcell_core::Gait;
+use purcell_mcu::check::disasm::{CallGraph, CodeReport};
+use purcell_mcu::check::log::{Budget, FirmwareLog, Unit, check, line};
+use purcell_mcu::check::reference::Reference;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "\
@@ -9,44 +13,43 @@ purcell-mcu (host build): the firmware itself only builds for thumbv7em-none-eab
 run it with `cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release`.
 
 usage:
-  purcell-mcu reference [f32|f64]
-      replay the costate file on the host; print digest, final state and terminal error
-  purcell-mcu check LOG [--max-insn M] [--max-stack B]
-      compare a decoded firmware log with the host replay of the same precision; fail on a
-      digest or final-state mismatch, a mean or a largest step above M instructions
-      (default 1000) or a step stack above B bytes (default 2048)
+  purcell-mcu reference [--gait FILE] [f32|f64]
+      fly the gait on the host; print digest, final state and terminal error
+  purcell-mcu check LOG [--gait FILE] [--max-insn M] [--max-cycles C] [--max-stack B]
+      compare a decoded firmware log (QEMU's, or a board's with cycles_per_step) with the
+      host's flight of the same gait in the same precision; fail on another gait, a digest
+      or final-state mismatch, a mean or a largest step above M instructions (default 1000)
+      or C cycles (default: no limit), or a step stack above B bytes (default 2048)
   purcell-mcu disasm LISTING [--root SYMBOL]
       from `arm-none-eabi-objdump -d` output: code reachable from SYMBOL (default
       purcell_mcu_step), its size; fail if a soft-float helper or an indirect branch is
-      reachable";
+      reachable
+
+FILE: the gait the firmware embedded (default: $PURCELL_GAIT, else the committed paper's
+gait core/examples/paper.gait).";
 
 fn print_reference(r: &Reference) {
     println!(
-        "{} scalar={} steps={}",
+        "{} board=host scalar={} steps={} gait={:#010x}",
         line::HEADER,
         r.scalar,
-        r.outcome.steps
+        r.steps,
+        r.gait_crc
     );
-    println!("{} {:#x}", line::DIGEST, r.digest);
+    println!("{} {:#018x}", line::DIGEST, r.digest);
     let bits: Vec<String> = r.final_bits.iter().map(|b| format!("{b:#x}")).collect();
     println!("{} {}", line::FINAL, bits.join(" "));
-    let s = &r.outcome.last;
+    let [a1, a2, x, y, theta] = r.end;
+    println!("final_state: alpha=[{a1}, {a2}] g=[{x}, {y}, {theta}]");
+    let e = &r.error;
     println!(
-        "final_state: alpha=[{}, {}] g=[{}, {}, {}]",
-        s.alpha.x,
-        s.alpha.y,
-        s.g.x(),
-        s.g.y(),
-        s.g.theta()
-    );
-    println!(
-        "terminal_error: {} with checkpoints |alpha_N - alpha_bar|={:.3e} |log(g_bar^-1 g_N)|={:.3e}",
-        r.scalar, r.error.alpha, r.error.position
+        "terminal_error: {} with checkpoints alpha={:.2e} g={:.2e}",
+        r.scalar, e.alpha, e.g
     );
     match &r.error_without_checkpoints {
         Ok(e) => println!(
-            "terminal_error: {} without checkpoints |alpha_N - alpha_bar|={:.3e} |log(g_bar^-1 g_N)|={:.3e}",
-            r.scalar, e.alpha, e.position
+            "terminal_error: {} without checkpoints alpha={:.2e} g={:.2e}",
+            r.scalar, e.alpha, e.g
         ),
         Err(e) => println!(
             "terminal_error: {} without checkpoints: the replay failed: {e}",
@@ -55,6 +58,7 @@ fn print_reference(r: &Reference) {
     }
 }
 
+/// The value of `--name VALUE`, or `default`.
 fn flag<T: std::str::FromStr>(args: &[String], name: &str, default: T) -> Result<T, String> {
     match args.iter().position(|a| a == name) {
         None => Ok(default),
@@ -65,48 +69,75 @@ fn flag<T: std::str::FromStr>(args: &[String], name: &str, default: T) -> Result
     }
 }
 
-fn run(args: &[String]) -> Result<(), String> {
-    let cmd = args.first().map(String::as_str);
-    if costate::PROVISIONAL {
-        eprintln!("note: the costate file is provisional (not the paper's solution)");
+/// The arguments that are neither flags nor flag values.
+fn positionals(args: &[String]) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        if a.starts_with("--") {
+            it.next();
+        } else {
+            out.push(a.as_str());
+        }
     }
-    match cmd {
+    out
+}
+
+/// The gait file's bytes: `--gait`, else `$PURCELL_GAIT`, else the paper's.
+fn gait_bytes(args: &[String]) -> Result<(PathBuf, Vec<u8>), String> {
+    let default = std::env::var_os("PURCELL_GAIT").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../core/examples/paper.gait"),
+        PathBuf::from,
+    );
+    let path = flag(args, "--gait", default)?;
+    let bytes = std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    Ok((path, bytes))
+}
+
+fn read(path: &str) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))
+}
+
+fn run(args: &[String]) -> Result<(), String> {
+    let pos = positionals(args);
+    match pos.first().copied() {
         Some("reference") => {
-            let r = Reference::for_scalar(args.get(1).map_or("f32", String::as_str))
-                .map_err(|e| e.to_string())?;
-            print_reference(&r);
+            let (path, bytes) = gait_bytes(args)?;
+            let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+            let scalar = pos.get(1).copied().unwrap_or("f32");
+            print_reference(&Reference::for_scalar(&gait, scalar).map_err(|e| e.to_string())?);
             Ok(())
         }
         Some("check") => {
-            let path = args.get(1).ok_or("check needs a log file")?;
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+            let text = read(pos.get(1).ok_or("check needs a log file")?)?;
             let budget = Budget {
-                insn_mean: flag(args, "--max-insn", 1000.0)?,
+                insn: flag(args, "--max-insn", 1000.0)?,
+                cycles: flag(args, "--max-cycles", f64::NAN).map(|c| (!c.is_nan()).then_some(c))?,
                 stack_bytes: flag(args, "--max-stack", 2048)?,
             };
             let log = FirmwareLog::parse(&text).map_err(|e| e.to_string())?;
-            let r = Reference::for_scalar(&log.scalar).map_err(|e| e.to_string())?;
+            let (path, bytes) = gait_bytes(args)?;
+            let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+            let r = Reference::for_scalar(&gait, &log.scalar).map_err(|e| e.to_string())?;
             print_reference(&r);
             check(&log, &r, &budget).map_err(|e| e.to_string())?;
+            let (unit, limit) = match log.unit {
+                Unit::Instructions => ("insn_per_step", Some(budget.insn)),
+                Unit::Cycles => ("cycles_per_step", budget.cycles),
+            };
+            let limit = limit.map_or("none".to_string(), |l| l.to_string());
+            let stack = log.stack_bytes.map_or("not measured".to_string(), |s| {
+                format!("{s} B (budget {} B)", budget.stack_bytes)
+            });
             println!(
-                "check: ok board={} scalar={} digest={:#x} bit-identical to the host; \
-                 insn_per_step mean={} max={} (budget {}); stack_step={} B (budget {} B)",
-                log.board,
-                log.scalar,
-                log.digest,
-                log.insn_mean,
-                log.insn_max,
-                budget.insn_mean,
-                log.stack_bytes,
-                budget.stack_bytes
+                "check: ok board={} scalar={} gait={:#010x} digest={:#018x} bit-identical to the \
+                 host; {unit} mean={} max={} (budget {limit}); stack_step={stack}",
+                log.board, log.scalar, log.gait_crc, log.digest, log.mean, log.max
             );
             Ok(())
         }
         Some("disasm") => {
-            let path = args.get(1).ok_or("disasm needs an objdump listing")?;
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+            let text = read(pos.get(1).ok_or("disasm needs an objdump listing")?)?;
             let root: String = flag(args, "--root", "purcell_mcu_step".to_string())?;
             let report =
                 CodeReport::new(&CallGraph::parse(&text), &root).map_err(|e| e.to_string())?;

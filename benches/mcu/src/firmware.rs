@@ -1,22 +1,28 @@
-//! The firmware: replays the costate file through the core, counts instructions per step,
-//! measures the step's stack, digests the trajectory, and exits through semihosting.
+//! The QEMU firmware: flies the embedded gait with `purcell_fly` (the replay a board runs),
+//! counting the instructions of every step, then measures the step's stack, flies again untimed
+//! to check determinism, and exits through semihosting (status 0, or 1 on any failure: a gait
+//! the core refuses, a HardFault, a panic).
 //!
 //! Default build (Cortex-M4F, QEMU `mps2-an386`): `f32`. Feature `m7` (Cortex-M7 with a
 //! double-precision FPU, QEMU `mps2-an500`, built with `-C target-cpu=cortex-m7`): `f64`.
 //!
-//! Counting (default): QEMU runs with `-icount shift=6`, so one instruction is 64 ns of
-//! virtual time, and the SysTick, clocked at 25 MHz, advances exactly 8/5 ticks per
-//! instruction. The counter is read before and after each step; differences are taken modulo
-//! its 24-bit wrap, so no interrupt runs inside a measured step. A run of 1 000 `nop`s checks
-//! the conversion at start-up (the firmware fails if QEMU was started without `-icount`).
-//! Feature `dwt`: the DWT cycle counter instead (real hardware; QEMU's reads 0).
+//! Counting: QEMU runs with `-icount shift=6`, so one instruction is 64 ns of virtual time, and
+//! the SysTick, clocked at 25 MHz, advances exactly 8/5 ticks per instruction. The counter is
+//! read before and after each step; differences are taken modulo its 24-bit wrap, so no
+//! interrupt runs inside a measured step. A run of 1 000 `nop`s checks the conversion at
+//! start-up (the firmware fails if QEMU was started without `-icount`). QEMU has no cycle
+//! counter (its DWT reads 0): real hardware counts cycles, see `board-stm32f4-discovery/`.
 
 use core::hint::black_box;
 use core::sync::atomic::{AtomicBool, Ordering, compiler_fence};
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use defmt_semihosting as _;
-use purcell_core::{Error, Real, Replay, Sample};
-use purcell_mcu::{CHECKPOINT_CAPACITY, Problem, Scalar, Stats, costate, replay_digest};
+use purcell_core::{Error, Gait, Replay, Sample};
+use purcell_fly::Counter;
+use purcell_mcu::icount;
+
+/// The gait flown: `$PURCELL_GAIT`, or the committed paper's gait (see `build.rs`).
+static GAIT: &[u8] = include_bytes!(env!("PURCELL_GAIT_FILE"));
 
 /// The scalar type flown on this board.
 #[cfg(not(feature = "m7"))]
@@ -47,16 +53,15 @@ const PAINT: u32 = 0xA5C3_5A3C;
 /// Why the firmware fails (it then exits with status 1).
 #[derive(Clone, Copy, Debug, defmt::Format)]
 enum Failure {
-    /// The core refused the problem or a step.
+    /// The core refused the gait or a step.
     Core(Error),
     /// The core peripherals were already taken.
     Peripherals,
     /// 1 000 extra `nop`s did not count as 1 000 instructions.
-    #[cfg(not(feature = "dwt"))]
     Counting { nops: u64 },
     /// The stack of a step reached the bottom of the painted window.
     StackWindow,
-    /// Two replays of the same problem differed.
+    /// Two flights of the same gait differed.
     NotDeterministic,
 }
 
@@ -66,102 +71,46 @@ impl From<Error> for Failure {
     }
 }
 
-/// The counter behind the per-step figures.
-mod counter {
-    use core::sync::atomic::{Ordering, compiler_fence};
-    use cortex_m::Peripherals;
+/// Instructions, counted by the SysTick under `-icount shift=6`.
+struct Systick;
 
-    /// Unit of the figures.
-    #[cfg(not(feature = "dwt"))]
-    pub const LINE: &str = "insn_per_step";
-    /// Unit of the figures.
-    #[cfg(feature = "dwt")]
-    pub const LINE: &str = "cycles_per_step";
+impl Counter for Systick {
+    const LINE: &'static str = "insn_per_step";
+    /// Instructions per tick: 5/8.
+    const SCALE: (u64, u64) = (icount::TICKS_PER_INSN_DEN, icount::TICKS_PER_INSN_NUM);
 
-    /// Starts the counter.
-    #[cfg(not(feature = "dwt"))]
-    pub fn start(cp: &mut Peripherals) {
-        use cortex_m::peripheral::syst::SystClkSource;
-        cp.SYST.set_clock_source(SystClkSource::Core);
-        cp.SYST.set_reload(0x00FF_FFFF);
-        cp.SYST.clear_current();
-        cp.SYST.disable_interrupt();
-        cp.SYST.enable_counter();
-    }
-
-    /// Starts the counter.
-    #[cfg(feature = "dwt")]
-    pub fn start(cp: &mut Peripherals) {
-        cp.DCB.enable_trace();
-        cp.DWT.enable_cycle_counter();
-    }
-
-    /// The raw counter.
     #[inline(always)]
-    pub fn now() -> u32 {
+    fn now() -> u32 {
         compiler_fence(Ordering::SeqCst);
-        #[cfg(not(feature = "dwt"))]
         let t = cortex_m::peripheral::SYST::get_current();
-        #[cfg(feature = "dwt")]
-        let t = cortex_m::peripheral::DWT::cycle_count();
         compiler_fence(Ordering::SeqCst);
         t
     }
 
-    /// Raw units elapsed from `start` to `end`.
     #[inline(always)]
-    pub fn elapsed(start: u32, end: u32) -> u32 {
-        #[cfg(not(feature = "dwt"))]
-        return purcell_mcu::systick_elapsed(start, end);
-        #[cfg(feature = "dwt")]
-        return end.wrapping_sub(start);
+    fn elapsed(start: u32, end: u32) -> u32 {
+        icount::systick_elapsed(start, end)
     }
-
-    /// `(num, den)`: reported units per raw unit (instructions per SysTick tick = 5/8).
-    #[cfg(not(feature = "dwt"))]
-    pub const SCALE: (u64, u64) = (
-        purcell_mcu::TICKS_PER_INSN_DEN,
-        purcell_mcu::TICKS_PER_INSN_NUM,
-    );
-    /// `(num, den)`: reported units per raw unit.
-    #[cfg(feature = "dwt")]
-    pub const SCALE: (u64, u64) = (1, 1);
 }
 
-/// Reported units in `raw` counter units, rounded to nearest.
-fn scaled(raw: u64) -> u64 {
-    let (num, den) = counter::SCALE;
-    (raw * num + den / 2) / den
-}
-
-/// Mean of `stats` (raw units) in reported units, as (integer part, tenths).
-fn scaled_mean(stats: &Stats) -> (u64, u64) {
-    let (num, den) = counter::SCALE;
-    let n = u64::from(stats.n.max(1));
-    let tenths = (stats.sum * 10 * num + n * den / 2) / (n * den);
-    (tenths / 10, tenths % 10)
-}
-
-/// Raw units of an empty measurement (subtracted from every measurement).
-fn overhead() -> u32 {
-    let mut least = u32::MAX;
-    for _ in 0..16 {
-        let t0 = counter::now();
-        let t1 = counter::now();
-        least = least.min(counter::elapsed(t0, t1));
-    }
-    least
+/// Starts the SysTick free-running over its 24 bits, without interrupts.
+fn start_systick(cp: &mut cortex_m::Peripherals) {
+    use cortex_m::peripheral::syst::SystClkSource;
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(0x00FF_FFFF);
+    cp.SYST.clear_current();
+    cp.SYST.disable_interrupt();
+    cp.SYST.enable_counter();
 }
 
 /// Measures `f` on `input` (both passed through `black_box` inside the measured span, so the
 /// compiler can neither hoist nor sink the work), net of `base`.
-#[cfg(not(feature = "dwt"))]
 #[inline(always)]
 fn measure<I, R>(base: u32, input: I, f: impl FnOnce(I) -> R) -> (u32, R) {
-    let t0 = counter::now();
+    let t0 = Systick::now();
     let r = black_box(f(black_box(input)));
-    let t1 = counter::now();
-    (counter::elapsed(t0, t1).saturating_sub(base), r)
+    let t1 = Systick::now();
+    (Systick::elapsed(t0, t1).saturating_sub(base), r)
 }
 
 /// One control step: the function whose instructions are counted and whose disassembly is
@@ -173,7 +122,6 @@ fn purcell_mcu_step<'r>(replay: &'r mut Replay<'_, S>) -> Result<Option<&'r Samp
 }
 
 /// `N` `nop`s (and the call's own two instructions), to check the counter's conversion.
-#[cfg(not(feature = "dwt"))]
 #[inline(never)]
 fn nops<const N: usize>() {
     // SAFETY: `nop` has no effect.
@@ -184,9 +132,8 @@ fn nops<const N: usize>() {
 
 /// Checks that each extra 1 000 `nop`s count as 1 000 ± 1 instructions (the call itself
 /// is the same in each measurement and cancels).
-#[cfg(not(feature = "dwt"))]
 fn self_test(base: u32) -> Result<(), Failure> {
-    let count = |f: fn()| scaled(u64::from(measure(base, (), |()| f()).0));
+    let count = |f: fn()| purcell_fly::scaled::<Systick>(u64::from(measure(base, (), |()| f()).0));
     let (n0, n1, n2) = (count(nops::<0>), count(nops::<1000>), count(nops::<2000>));
     defmt::println!(
         "insn_calibration: overhead_ticks={=u32} call+0nop={=u64} call+1000nop={=u64} call+2000nop={=u64}",
@@ -203,17 +150,11 @@ fn self_test(base: u32) -> Result<(), Failure> {
     Ok(())
 }
 
-#[cfg(feature = "dwt")]
-fn self_test(base: u32) -> Result<(), Failure> {
-    defmt::println!("cycle_calibration: overhead_cycles={=u32}", base);
-    Ok(())
-}
-
 /// Deepest stack use of one step over a whole replay, bytes: paints the stack below this
 /// function's frame, replays, and finds the lowest word the steps overwrote.
 #[inline(never)]
-fn step_stack_bytes(problem: &Problem<S>) -> Result<u32, Failure> {
-    let mut replay = problem.replay(true)?;
+fn step_stack_bytes(gait: &Gait<'_>) -> Result<u32, Failure> {
+    let mut replay = gait.replay::<S>()?;
     let sp = cortex_m::register::msp::read() as usize;
     let bottom = sp - STACK_WINDOW;
     for a in (bottom..sp).step_by(4) {
@@ -235,65 +176,19 @@ fn step_stack_bytes(problem: &Problem<S>) -> Result<u32, Failure> {
 
 fn run() -> Result<(), Failure> {
     let mut cp = cortex_m::Peripherals::take().ok_or(Failure::Peripherals)?;
-    counter::start(&mut cp);
-    let base = overhead();
+    start_systick(&mut cp);
+    let base = purcell_fly::overhead::<Systick>();
     self_test(base)?;
+    defmt::println!("board_tag: {=[u8]:a}", black_box(&PURCELL_BOARD)[..]);
 
-    let problem = Problem::<S>::load()?;
-    defmt::println!(
-        "purcell-mcu: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} provisional={=bool} tag={=[u8]:a}",
-        BOARD,
-        S::NAME,
-        problem.steps,
-        S::FIXED_POINT_PASSES,
-        CHECKPOINT_CAPACITY,
-        costate::PROVISIONAL,
-        black_box(&PURCELL_BOARD)[..]
-    );
-
-    let mut stats = Stats::default();
-    let outcome = replay_digest(problem.replay(true)?, |r| {
-        let t0 = counter::now();
-        let item = purcell_mcu_step(r);
-        let t1 = counter::now();
-        if let Ok(Some(_)) = item {
-            stats.add(counter::elapsed(t0, t1).saturating_sub(base));
-        }
-        item
-    })?;
-    let (mean, tenths) = scaled_mean(&stats);
-    defmt::println!(
-        "{=str}: mean={=u64}.{=u64} max={=u64}",
-        counter::LINE,
-        mean,
-        tenths,
-        scaled(u64::from(stats.max))
-    );
-    defmt::println!(
-        "replay_total: steps={=u32} units={=u64}",
-        stats.n,
-        scaled(stats.sum)
-    );
-
-    let stack = step_stack_bytes(&problem)?;
+    let gait = purcell_fly::load(GAIT)?;
+    let flight = purcell_fly::fly::<S, Systick, _>(BOARD, &gait, base, purcell_mcu_step)?;
+    let stack = step_stack_bytes(&gait)?;
     defmt::println!("stack_step: bytes={=u32}", stack);
-
-    // The measured replay must be the plain replay: run it again untimed.
-    let again = replay_digest(problem.replay(true)?, Replay::step)?;
-    if again != outcome {
+    // The measured flight must be the plain one: fly again untimed.
+    if gait.replay::<S>()?.fly(Replay::step)? != flight {
         return Err(Failure::NotDeterministic);
     }
-    defmt::println!("digest: {=u64:#x}", outcome.digest.value());
-    let b = outcome.final_bits();
-    defmt::println!(
-        "final_state_bits: {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x}",
-        b[0],
-        b[1],
-        b[2],
-        b[3],
-        b[4],
-        b[5]
-    );
     defmt::println!("result: ok");
     Ok(())
 }

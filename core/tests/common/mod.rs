@@ -77,7 +77,6 @@ pub fn kinematics<T: purcell_core::Real>() -> Kinematics<T> {
     Kinematics::new(Swimmer::purcell(), T::from_f64(0.01)).unwrap()
 }
 
-#[path = "../../../tests/fixtures.rs"]
 mod fixtures;
 #[allow(unused_imports)] // not every test binary uses it
 pub use fixtures::costate_mu13;

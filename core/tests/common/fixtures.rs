@@ -2,8 +2,9 @@
 //! MODEL.md §4 (`h = 0.01`, `N = 10 000`, `ᾱ = 0`, `ḡ = (0.1, 0.1, 0)`) found by
 //! `purcell-sim` (host-sim). They are inputs, not expected results.
 //!
-//! Included by `tests/lib.rs` and, through `#[path]`, by `core/tests/common` (a dev-dependency
-//! of the core on `purcell-tests` would be a cycle).
+//! A module of the core's test helpers (`core/tests/common`), so the published crate's tests
+//! are self-contained; the workspace tests (`purcell-tests`, not published) include this file
+//! by path (a dev-dependency of the core on `purcell-tests` would be a cycle).
 
 use nalgebra::{Vector2, Vector3};
 use purcell_core::Costate;

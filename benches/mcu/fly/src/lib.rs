@@ -1,0 +1,159 @@
+//! Flies a gait on a microcontroller: the replay every firmware of this repository runs, timed
+//! step by step, digested, and reported in the log lines that `purcell-mcu check` reads.
+//!
+//! The board example (`../board-stm32f4-discovery`, DWT cycles) and the QEMU harness (`..`,
+//! instructions under `-icount`) both call [`fly`], so what CI checks in QEMU is what a board
+//! runs. Copy this file into your firmware, or depend on it, with a [`Counter`] for your chip.
+//!
+//! The lines (defmt, printed with `defmt-print --log-format '{s}'`):
+//!
+//! ```text
+//! purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C> gait=<crc32>
+//! <cycles_per_step|insn_per_step>: mean=<M.m> max=<X>
+//! replay_total: steps=<N> units=<sum>
+//! digest: 0x<16 hex digits>
+//! final_state_bits: <0x…> ×6
+//! ```
+//!
+//! and the caller ends a successful run with `result: ok`.
+
+#![no_std]
+#![deny(missing_docs)]
+
+use purcell_core::gait::Stored;
+use purcell_core::{Error, Flight, Gait, Replay, Sample};
+
+/// A free-running counter that times each step.
+pub trait Counter {
+    /// The line that reports the figures: `"cycles_per_step"` or `"insn_per_step"`.
+    const LINE: &'static str;
+    /// Reported units per raw count, as `(numerator, denominator)`.
+    const SCALE: (u64, u64) = (1, 1);
+    /// The raw count now (read between compiler fences, so no work moves across it).
+    fn now() -> u32;
+    /// Raw counts from `start` to `end` (an up-counter that wraps at `2³²` by default).
+    fn elapsed(start: u32, end: u32) -> u32 {
+        end.wrapping_sub(start)
+    }
+}
+
+/// Running mean and maximum of per-step counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Number of samples.
+    pub n: u32,
+    /// Sum of the samples.
+    pub sum: u64,
+    /// Largest sample.
+    pub max: u32,
+}
+
+impl Stats {
+    /// Adds one sample.
+    pub fn add(&mut self, x: u32) {
+        self.n += 1;
+        self.sum += u64::from(x);
+        self.max = self.max.max(x);
+    }
+}
+
+/// `raw` counts in `C`'s reported units, rounded to nearest.
+pub fn scaled<C: Counter>(raw: u64) -> u64 {
+    let (num, den) = C::SCALE;
+    (raw * num + den / 2) / den
+}
+
+/// The mean of `stats` in `C`'s reported units, as (integer part, tenths), rounded to nearest.
+pub fn scaled_mean<C: Counter>(stats: &Stats) -> (u64, u64) {
+    let (num, den) = C::SCALE;
+    let n = u64::from(stats.n.max(1));
+    let tenths = (stats.sum * 10 * num + n * den / 2) / (n * den);
+    (tenths / 10, tenths % 10)
+}
+
+/// The smallest raw count of an empty measurement (two back-to-back reads): subtracted from
+/// every step's count.
+pub fn overhead<C: Counter>() -> u32 {
+    let mut least = u32::MAX;
+    for _ in 0..16 {
+        let t0 = C::now();
+        let t1 = C::now();
+        least = least.min(C::elapsed(t0, t1));
+    }
+    least
+}
+
+/// Reads the gait embedded with `include_bytes!`; a refused one is logged
+/// (`gait refused: <reason>`) and its error returned.
+pub fn load(bytes: &[u8]) -> Result<Gait<'_>, Error> {
+    Gait::from_bytes(bytes).inspect_err(|e| defmt::error!("gait refused: {}", e))
+}
+
+/// Flies `gait` in `S` with its checkpoints: prints the header, runs every step through `step`
+/// (normally [`Replay::step`], or a non-inlined wrapper of it to find in a disassembly) timed
+/// by `C` net of `overhead` raw counts, then prints the per-step figures, the total, the
+/// digest and the final state's bits.
+///
+/// Errors: the core's, for a gait it cannot replay in `S` or a failing step.
+pub fn fly<'a, S, C, F>(
+    board: &str,
+    gait: &Gait<'a>,
+    overhead: u32,
+    mut step: F,
+) -> Result<Flight<S>, Error>
+where
+    S: Stored,
+    C: Counter,
+    F: for<'r> FnMut(&'r mut Replay<'a, S>) -> Result<Option<&'r Sample<S>>, Error>,
+{
+    let replay = gait.replay::<S>()?;
+    let scalar = if core::mem::size_of::<S>() == 4 {
+        "f32"
+    } else {
+        "f64"
+    };
+    defmt::println!(
+        "purcell-mcu: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} gait={=u32:#010x}",
+        board,
+        scalar,
+        gait.params().steps,
+        S::FIXED_POINT_PASSES,
+        gait.checkpoint_count(),
+        gait.crc()
+    );
+    let mut stats = Stats::default();
+    let flight = replay.fly(|r| {
+        let t0 = C::now();
+        let item = step(r);
+        let t1 = C::now();
+        if let Ok(Some(_)) = item {
+            stats.add(C::elapsed(t0, t1).saturating_sub(overhead));
+        }
+        item
+    })?;
+    let (mean, tenths) = scaled_mean::<C>(&stats);
+    defmt::println!(
+        "{=str}: mean={=u64}.{=u64} max={=u64}",
+        C::LINE,
+        mean,
+        tenths,
+        scaled::<C>(u64::from(stats.max))
+    );
+    defmt::println!(
+        "replay_total: steps={=u32} units={=u64}",
+        stats.n,
+        scaled::<C>(stats.sum)
+    );
+    defmt::println!("digest: {=u64:#018x}", flight.digest.value());
+    let b = flight.final_bits();
+    defmt::println!(
+        "final_state_bits: {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x}",
+        b[0],
+        b[1],
+        b[2],
+        b[3],
+        b[4],
+        b[5]
+    );
+    Ok(flight)
+}

@@ -1,0 +1,390 @@
+//! A firmware log (decoded by `defmt-print --log-format '{s}'`: one result per line,
+//! `name: key=value …`, as `purcell_fly` prints them) and its check against the host's flight.
+//!
+//! The QEMU harness reports `insn_per_step` (instructions, exact under `-icount`) and the
+//! step's stack; a board reports `cycles_per_step` (its cycle counter) and no stack.
+
+use super::HostError;
+use super::reference::Reference;
+use std::format;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+/// The lines the firmware prints.
+pub mod line {
+    /// `purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C>
+    /// gait=<crc32>`.
+    pub const HEADER: &str = "purcell-mcu:";
+    /// `insn_per_step: mean=<M> max=<X>` (instructions per control step, QEMU).
+    pub const INSN: &str = "insn_per_step:";
+    /// `cycles_per_step: mean=<M> max=<X>` (cycles per control step, a board's counter).
+    pub const CYCLES: &str = "cycles_per_step:";
+    /// `stack_step: bytes=<B>` (deepest stack use below the caller of one step, QEMU).
+    pub const STACK: &str = "stack_step:";
+    /// `digest: <0x…>` ([`purcell_core::TrajectoryDigest`] of the whole flight).
+    pub const DIGEST: &str = "digest:";
+    /// `final_state_bits: <0x…> ×6` (`α1 α2 x y cos θ sin θ` as raw bits).
+    pub const FINAL: &str = "final_state_bits:";
+    /// `result: ok` (the last line of a successful run).
+    pub const RESULT: &str = "result: ok";
+}
+
+/// What the per-step figures count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unit {
+    /// Instructions (QEMU `-icount`).
+    Instructions,
+    /// Core clock cycles (a board's DWT counter).
+    Cycles,
+}
+
+/// What a firmware run reported.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FirmwareLog {
+    /// The board (or QEMU machine) the firmware says it ran on.
+    pub board: String,
+    /// `"f32"` or `"f64"`.
+    pub scalar: String,
+    /// Steps replayed.
+    pub steps: u32,
+    /// CRC-32 of the gait it flew.
+    pub gait_crc: u32,
+    /// What the per-step figures count.
+    pub unit: Unit,
+    /// Mean per step.
+    pub mean: f64,
+    /// Largest single step.
+    pub max: u32,
+    /// Deepest stack use of one step, bytes (measured by the QEMU harness only).
+    pub stack_bytes: Option<u32>,
+    /// Trajectory digest.
+    pub digest: u64,
+    /// Final state bits.
+    pub final_bits: [u64; 6],
+}
+
+fn find_line<'a>(text: &'a str, prefix: &str) -> Option<&'a str> {
+    text.lines()
+        .map(str::trim)
+        .find_map(|l| l.strip_prefix(prefix))
+        .map(str::trim)
+}
+
+fn need_line<'a>(text: &'a str, prefix: &str) -> Result<&'a str, HostError> {
+    find_line(text, prefix)
+        .ok_or_else(|| HostError::Log(format!("no line starting with `{prefix}`")))
+}
+
+fn key<'a>(rest: &'a str, name: &str) -> Result<&'a str, HostError> {
+    rest.split_whitespace()
+        .find_map(|kv| kv.strip_prefix(name).and_then(|v| v.strip_prefix('=')))
+        .ok_or_else(|| HostError::Log(format!("no `{name}=` in `{rest}`")))
+}
+
+fn parse_num<T: std::str::FromStr>(s: &str, what: &str) -> Result<T, HostError> {
+    s.parse()
+        .map_err(|_| HostError::Log(format!("`{what}`: cannot parse `{s}`")))
+}
+
+fn parse_hex(s: &str) -> Result<u64, HostError> {
+    let digits = s
+        .strip_prefix("0x")
+        .ok_or_else(|| HostError::Log(format!("`{s}` is not 0x-prefixed hex")))?;
+    u64::from_str_radix(digits, 16).map_err(|_| HostError::Log(format!("bad hex `{s}`")))
+}
+
+impl FirmwareLog {
+    /// Reads a decoded firmware log. Errors: [`HostError::Log`] for a missing line or field,
+    /// including a missing `result: ok` (the firmware did not finish), both or neither of the
+    /// per-step lines, or an instruction count without the stack line.
+    pub fn parse(text: &str) -> Result<Self, HostError> {
+        let header = need_line(text, line::HEADER)?;
+        let (unit, counts) = match (find_line(text, line::INSN), find_line(text, line::CYCLES)) {
+            (Some(c), None) => (Unit::Instructions, c),
+            (None, Some(c)) => (Unit::Cycles, c),
+            _ => {
+                return Err(HostError::Log(format!(
+                    "need exactly one of `{}` and `{}`",
+                    line::INSN,
+                    line::CYCLES
+                )));
+            }
+        };
+        let stack_bytes = match find_line(text, line::STACK) {
+            Some(s) => Some(parse_num(key(s, "bytes")?, "bytes")?),
+            None if unit == Unit::Instructions => {
+                return Err(HostError::Log(format!(
+                    "no line starting with `{}`",
+                    line::STACK
+                )));
+            }
+            None => None,
+        };
+        let bits: Vec<u64> = need_line(text, line::FINAL)?
+            .split_whitespace()
+            .map(parse_hex)
+            .collect::<Result<_, _>>()?;
+        let final_bits: [u64; 6] = bits
+            .try_into()
+            .map_err(|_| HostError::Log("final_state_bits needs 6 values".into()))?;
+        if !text.lines().any(|l| l.trim() == line::RESULT) {
+            return Err(HostError::Log(format!("no `{}` line", line::RESULT)));
+        }
+        let crc = parse_hex(key(header, "gait")?)?;
+        Ok(FirmwareLog {
+            board: key(header, "board")?.to_string(),
+            scalar: key(header, "scalar")?.to_string(),
+            steps: parse_num(key(header, "steps")?, "steps")?,
+            gait_crc: u32::try_from(crc).map_err(|_| HostError::Log("gait crc".into()))?,
+            unit,
+            mean: parse_num(key(counts, "mean")?, "mean")?,
+            max: parse_num(key(counts, "max")?, "max")?,
+            stack_bytes,
+            digest: parse_hex(need_line(text, line::DIGEST)?)?,
+            final_bits,
+        })
+    }
+}
+
+/// The limits a firmware run must meet.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Largest allowed instructions per step, on the mean and on the largest single step
+    /// (instruction logs).
+    pub insn: f64,
+    /// Largest allowed cycles per step, likewise (cycle logs; `None`: report only).
+    pub cycles: Option<f64>,
+    /// Largest allowed stack use of a step, bytes (when the log has it).
+    pub stack_bytes: u32,
+}
+
+/// Compares a firmware log with the host's flight of the same gait: same gait (CRC),
+/// precision, step count, digest and final bits, and the budget met. Errors:
+/// [`HostError::Mismatch`] naming the first failure.
+pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Result<(), HostError> {
+    let mismatch = |m: String| Err(HostError::Mismatch(m));
+    if log.gait_crc != reference.gait_crc {
+        return mismatch(format!(
+            "the firmware flew gait {:#010x}, the host replayed gait {:#010x} (pass the \
+             firmware's gait with --gait)",
+            log.gait_crc, reference.gait_crc
+        ));
+    }
+    if log.scalar != reference.scalar {
+        return mismatch(format!(
+            "firmware ran {}, reference is {}",
+            log.scalar, reference.scalar
+        ));
+    }
+    if log.steps != reference.steps {
+        return mismatch(format!(
+            "firmware ran {} steps, host {}",
+            log.steps, reference.steps
+        ));
+    }
+    if log.digest != reference.digest {
+        return mismatch(format!(
+            "digest: firmware {:#018x}, host {:#018x}",
+            log.digest, reference.digest
+        ));
+    }
+    if log.final_bits != reference.final_bits {
+        return mismatch(format!(
+            "final state bits: firmware {:x?}, host {:x?}",
+            log.final_bits, reference.final_bits
+        ));
+    }
+    let (limit, what) = match log.unit {
+        Unit::Instructions => (Some(budget.insn), "instructions"),
+        Unit::Cycles => (budget.cycles, "cycles"),
+    };
+    if let Some(limit) = limit {
+        if log.mean.is_nan() || log.mean > limit {
+            return mismatch(format!(
+                "mean {what} per step {} above the budget {limit}",
+                log.mean
+            ));
+        }
+        if f64::from(log.max) > limit {
+            return mismatch(format!(
+                "largest step {} {what}, above the budget {limit}",
+                log.max
+            ));
+        }
+    }
+    if let Some(stack) = log.stack_bytes
+        && stack > budget.stack_bytes
+    {
+        return mismatch(format!(
+            "stack of a step {stack} B above the budget {} B",
+            budget.stack_bytes
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use purcell_core::Gait;
+    use std::vec;
+
+    const QEMU_LOG: &str = "\
+insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004
+purcell-mcu: board=mps2-an386 scalar=f32 steps=10000 passes=2 checkpoints=99 gait=0x77b998a7
+insn_per_step: mean=812.5 max=845
+replay_total: steps=10000 units=8125000
+stack_step: bytes=312
+digest: 0x000000deadbeef01
+final_state_bits: 0x1 0x2 0x3 0x4 0x5 0x6
+result: ok
+";
+
+    #[test]
+    fn firmware_log_parses_and_needs_every_line() {
+        let log = FirmwareLog::parse(QEMU_LOG).unwrap();
+        assert_eq!(
+            (log.board.as_str(), log.scalar.as_str()),
+            ("mps2-an386", "f32")
+        );
+        assert_eq!((log.steps, log.gait_crc), (10000, 0x77b9_98a7));
+        assert_eq!(
+            (log.unit, log.mean, log.max),
+            (Unit::Instructions, 812.5, 845)
+        );
+        assert_eq!((log.stack_bytes, log.digest), (Some(312), 0xdead_beef01));
+        assert_eq!(log.final_bits, [1, 2, 3, 4, 5, 6]);
+        for drop in [1, 2, 4, 5, 6, 7] {
+            let text: Vec<&str> = QEMU_LOG
+                .lines()
+                .enumerate()
+                .filter(|&(i, _)| i != drop)
+                .map(|(_, l)| l)
+                .collect();
+            assert!(
+                matches!(FirmwareLog::parse(&text.join("\n")), Err(HostError::Log(_))),
+                "line {drop}"
+            );
+        }
+        assert!(FirmwareLog::parse(&QEMU_LOG.replace("0x6", "0x6 0x7")).is_err());
+        assert!(FirmwareLog::parse(&QEMU_LOG.replace("0x000000deadbeef01", "deadbeef01")).is_err());
+        assert!(FirmwareLog::parse(&QEMU_LOG.replace(" gait=0x77b998a7", "")).is_err());
+        let both = QEMU_LOG.replace("stack_step", "cycles_per_step: mean=1 max=1\nstack_step");
+        assert!(FirmwareLog::parse(&both).is_err());
+    }
+
+    /// A board's log: cycles instead of instructions, no stack line, RTT noise around it.
+    #[test]
+    fn a_board_log_with_cycles_parses() {
+        let board = QEMU_LOG
+            .replace("insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004\n", "")
+            .replace("board=mps2-an386", "board=stm32f4-discovery")
+            .replace("insn_per_step: mean=812.5 max=845", "cycles_per_step: mean=1134.2 max=1203")
+            .replace("stack_step: bytes=312\n", "");
+        let text = format!(
+            "      Erasing ✔ 100% [####################]\n{board}Firmware exited successfully\n"
+        );
+        let log = FirmwareLog::parse(&text).unwrap();
+        assert_eq!((log.unit, log.mean, log.max), (Unit::Cycles, 1134.2, 1203));
+        assert_eq!(
+            (log.board.as_str(), log.stack_bytes),
+            ("stm32f4-discovery", None)
+        );
+    }
+
+    #[test]
+    fn check_accepts_the_reference_and_refuses_any_difference() {
+        let gait =
+            Gait::from_bytes(include_bytes!("../../../../core/examples/paper.gait")).unwrap();
+        let reference = Reference::for_scalar(&gait, "f32").unwrap();
+        let budget = Budget {
+            insn: 1000.0,
+            cycles: Some(2000.0),
+            stack_bytes: 2048,
+        };
+        let log = FirmwareLog {
+            board: "mps2-an386".into(),
+            scalar: "f32".into(),
+            steps: reference.steps,
+            gait_crc: gait.crc(),
+            unit: Unit::Instructions,
+            mean: 900.0,
+            max: 950,
+            stack_bytes: Some(300),
+            digest: reference.digest,
+            final_bits: reference.final_bits,
+        };
+        check(&log, &reference, &budget).unwrap();
+        let cycles = FirmwareLog {
+            unit: Unit::Cycles,
+            mean: 1500.0,
+            max: 1999,
+            stack_bytes: None,
+            ..log.clone()
+        };
+        check(&cycles, &reference, &budget).unwrap();
+        let unbudgeted = Budget {
+            cycles: None,
+            ..budget
+        };
+        check(
+            &FirmwareLog {
+                max: 99_999,
+                ..cycles.clone()
+            },
+            &reference,
+            &unbudgeted,
+        )
+        .unwrap();
+        let mut bits = log.final_bits;
+        bits[5] ^= 1;
+        let bad = vec![
+            FirmwareLog {
+                digest: log.digest ^ 1,
+                ..log.clone()
+            },
+            FirmwareLog {
+                final_bits: bits,
+                ..log.clone()
+            },
+            FirmwareLog {
+                gait_crc: log.gait_crc ^ 1,
+                ..log.clone()
+            },
+            FirmwareLog {
+                mean: 1000.1,
+                ..log.clone()
+            },
+            FirmwareLog {
+                mean: f64::NAN,
+                ..log.clone()
+            },
+            FirmwareLog {
+                max: 1001,
+                ..log.clone()
+            },
+            FirmwareLog {
+                stack_bytes: Some(4096),
+                ..log.clone()
+            },
+            FirmwareLog {
+                scalar: "f64".into(),
+                ..log.clone()
+            },
+            FirmwareLog {
+                steps: 9999,
+                ..log.clone()
+            },
+            FirmwareLog {
+                max: 2001,
+                ..cycles.clone()
+            },
+        ];
+        for b in bad {
+            assert!(
+                matches!(check(&b, &reference, &budget), Err(HostError::Mismatch(_))),
+                "{b:?}"
+            );
+        }
+    }
+}

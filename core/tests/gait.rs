@@ -1,0 +1,406 @@
+//! The binary gait file: what `encode` writes `from_bytes` reads back; a replay from its stored
+//! tables is the replay from the same checkpoints in memory, bit for bit; every corruption is
+//! refused with its typed error, and no input panics.
+
+mod common;
+
+use common::*;
+use proptest::prelude::*;
+use purcell_core::gait::{self, CheckpointRecord, Gait, GaitParams, Model};
+use purcell_core::{Checkpoint, Error, Real, Replay, Sample, State};
+
+/// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
+/// 100 steps taken from its plain `f64` replay (as `purcell-sim solve` writes them).
+fn example() -> (GaitParams, Vec<CheckpointRecord>) {
+    let c = costate_mu13();
+    let params = GaitParams {
+        model: Model {
+            links: [1.0; 3],
+            drag: 1.0,
+            ratio: 2.0,
+        },
+        h: 0.01,
+        steps: 1000,
+        alpha0: [0.0, 0.0],
+        target: [0.1, 0.1, 0.0],
+        mu: [c.mu.x, c.mu.y, c.mu.z],
+        xi0: [c.xi.x, c.xi.y],
+        checkpoint_every: 100,
+    };
+    let records = states_along(c, 1000, 100)
+        .into_iter()
+        .skip(1)
+        .enumerate()
+        .map(|(i, (s, xi))| CheckpointRecord {
+            k: 100 * (i as u32 + 1),
+            alpha: [s.alpha.x, s.alpha.y],
+            g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
+            xi: [xi.x, xi.y],
+        })
+        .collect();
+    (params, records)
+}
+
+fn encode(params: &GaitParams, records: &[CheckpointRecord]) -> Vec<u8> {
+    let mut bytes = vec![0; gait::encoded_len(records.len())];
+    assert_eq!(gait::encode(params, records, &mut bytes), Ok(bytes.len()));
+    bytes
+}
+
+/// Recomputes the CRC after a deliberate edit, so the check after it is what refuses the file.
+fn reseal(bytes: &mut [u8]) {
+    let n = bytes.len() - 4;
+    let crc = gait::crc32(&bytes[..n]);
+    bytes[n..].copy_from_slice(&crc.to_le_bytes());
+}
+
+fn put_f64(bytes: &mut [u8], at: usize, x: f64) {
+    bytes[at..at + 8].copy_from_slice(&x.to_le_bytes());
+}
+
+/// Offsets in the file `encode` writes (docs/GAIT.md).
+const PARAMS: usize = 64;
+const CK64: usize = 200;
+fn ck32(n: usize) -> usize {
+    CK64 + 72 * n
+}
+
+#[test]
+fn encode_then_from_bytes_gives_the_same_gait() {
+    let (params, records) = example();
+    assert_eq!(records.len(), 9);
+    let bytes = encode(&params, &records);
+    let gait = Gait::from_bytes(&bytes).unwrap();
+    assert_eq!(gait.params(), &params);
+    assert_eq!(gait.checkpoint_count(), 9);
+    assert_eq!(gait.checkpoints().len(), 9);
+    assert_eq!(gait.checkpoints().collect::<Vec<_>>(), records);
+    assert_eq!(gait.crc(), gait::crc32(&bytes[..bytes.len() - 4]));
+    // Too small a buffer is refused, and nothing is checked twice: invalid input is refused
+    // before anything is written.
+    let mut short = vec![0; bytes.len() - 1];
+    assert_eq!(
+        gait::encode(&params, &records, &mut short),
+        Err(Error::CapacityExceeded)
+    );
+    let mut bad = records.clone();
+    bad[3].k = bad[2].k;
+    let mut out = vec![7; bytes.len()];
+    assert_eq!(
+        gait::encode(&params, &bad, &mut out),
+        Err(Error::CheckpointOrder)
+    );
+    assert!(out.iter().all(|&b| b == 7));
+}
+
+fn flight_from_memory<T: Real>(
+    params: &GaitParams,
+    records: &[CheckpointRecord],
+) -> (Vec<Sample<T>>, State<T>) {
+    let checkpoints: Vec<Checkpoint<T>> = records.iter().map(|r| r.to_checkpoint()).collect();
+    let mut replay = Replay::new(
+        params.kinematics().unwrap(),
+        params.start(),
+        params.costate(),
+        params.steps,
+        &checkpoints,
+    )
+    .unwrap();
+    let samples = replay.by_ref().collect::<Result<Vec<_>, _>>().unwrap();
+    (samples, *replay.state())
+}
+
+#[test]
+fn stored_tables_replay_like_the_same_checkpoints_in_memory() {
+    let (params, records) = example();
+    let bytes = encode(&params, &records);
+    let gait = Gait::from_bytes(&bytes).unwrap();
+
+    let mut stored = gait.replay::<f32>().unwrap();
+    let samples: Vec<Sample<f32>> = stored.by_ref().collect::<Result<_, _>>().unwrap();
+    assert_eq!(
+        (samples, *stored.state()),
+        flight_from_memory::<f32>(&params, &records)
+    );
+    let mut stored = gait.replay::<f64>().unwrap();
+    let samples: Vec<Sample<f64>> = stored.by_ref().collect::<Result<_, _>>().unwrap();
+    let in_memory = flight_from_memory::<f64>(&params, &records);
+    assert_eq!((samples, *stored.state()), in_memory);
+
+    // The f64 checkpoints are the plain f64 replay's own states: applying them changes no bit.
+    let with = gait.replay::<f64>().unwrap().fly(Replay::step).unwrap();
+    let without = gait
+        .replay_without_checkpoints::<f64>()
+        .unwrap()
+        .fly(Replay::step)
+        .unwrap();
+    assert_eq!(with, without);
+    assert_eq!(with.end, in_memory.1);
+    // In f32 they matter (they reset the drifting recursion).
+    let with32 = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
+    let without32 = gait
+        .replay_without_checkpoints::<f32>()
+        .unwrap()
+        .fly(Replay::step);
+    assert_ne!(Ok(with32), without32);
+    assert_eq!(with32.steps, 1000);
+}
+
+#[test]
+fn fly_digests_every_sample_then_the_end() {
+    let (params, records) = example();
+    let bytes = encode(&params, &records);
+    let gait = Gait::from_bytes(&bytes).unwrap();
+    let flight = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
+    let mut digest = purcell_core::TrajectoryDigest::new();
+    let mut replay = gait.replay::<f32>().unwrap();
+    while let Some(s) = replay.step().unwrap() {
+        digest.push_sample(s);
+    }
+    digest.push_state(replay.state());
+    assert_eq!(flight.digest, digest);
+    assert_eq!(flight.end, *replay.state());
+    let e = flight.end;
+    let bits = [e.alpha.x, e.alpha.y, e.g.x(), e.g.y(), e.g.cos(), e.g.sin()];
+    assert_eq!(flight.final_bits(), bits.map(|x| u64::from(x.to_bits())));
+    // A step that fails ends the flight with its error.
+    let mut n = 0;
+    let failed = gait.replay::<f32>().unwrap().fly(|r| {
+        n += 1;
+        if n == 3 {
+            Err(Error::Singular)
+        } else {
+            r.step()
+        }
+    });
+    assert_eq!(failed, Err(Error::Singular));
+}
+
+#[test]
+fn the_terminal_error_is_the_largest_component_in_f64() {
+    let (params, _) = example();
+    let end = State {
+        alpha: nalgebra::Vector2::new(3e-3f32, -4e-3),
+        g: purcell_core::Se2::new(0.1, 0.1 + 2e-3, 1e-3),
+    };
+    let e = params.terminal_error(&end);
+    assert!((e.alpha - 4e-3).abs() < 1e-9, "{e:?}");
+    // log(ḡ⁻¹ g) of a pure offset (0, 2e-3, 1e-3) from ḡ = (0.1, 0.1, 0): largest component
+    // is the y translation, 2e-3 to first order.
+    assert!((e.g - 2e-3).abs() < 1e-5, "{e:?}");
+    let exact = params.terminal_error(&State::at_origin(nalgebra::Vector2::<f64>::zeros()));
+    assert_eq!(exact.alpha, 0.0);
+    assert!((exact.g - 0.1).abs() < 0.01);
+}
+
+/// Each check of `from_bytes`, reached by one edit of a valid file.
+#[test]
+fn every_corruption_is_refused_with_its_reason() {
+    let (params, records) = example();
+    let good = encode(&params, &records);
+    let n = records.len();
+    let edit = |f: &dyn Fn(&mut Vec<u8>)| {
+        let mut b = good.clone();
+        f(&mut b);
+        Gait::from_bytes(&b).err()
+    };
+    let sealed = |f: &dyn Fn(&mut Vec<u8>)| {
+        edit(&|b: &mut Vec<u8>| {
+            f(b);
+            reseal(b)
+        })
+    };
+    assert_eq!(edit(&|b| b[0] = b'X'), Some(Error::GaitMagic));
+    assert_eq!(Gait::from_bytes(&[]).err(), Some(Error::GaitMagic));
+    assert_eq!(Gait::from_bytes(b"PURCGAIT").err(), Some(Error::GaitLength));
+    assert_eq!(edit(&|b| b[8] = 2), Some(Error::GaitVersion(2)));
+    assert_eq!(edit(&|b| b.truncate(b.len() - 1)), Some(Error::GaitLength));
+    assert_eq!(edit(&|b| b.push(0)), Some(Error::GaitLength));
+    assert_eq!(edit(&|b| b[ck32(n) + 5] ^= 0x10), Some(Error::GaitChecksum));
+    assert_eq!(edit(&|b| b[PARAMS + 9] ^= 1), Some(Error::GaitChecksum));
+    let last = good.len() - 1;
+    assert_eq!(edit(&|b| b[last] ^= 0x80), Some(Error::GaitChecksum));
+
+    // Sections: an unknown tag, a wrong record size, a duplicate, a count mismatch, an
+    // offset out of bounds or overlapping, a missing one, a non-zero pad, an f32 table that
+    // is not the f64 one rounded.
+    let layout = Some(Error::GaitLayout);
+    assert_eq!(sealed(&|b| b[32..36].copy_from_slice(b"ARCS")), layout);
+    assert_eq!(sealed(&|b| b[28] = 73), layout);
+    assert_eq!(sealed(&|b| b[48..52].copy_from_slice(b"CK64")), layout);
+    assert_eq!(sealed(&|b| b[56] = 8), layout);
+    assert_eq!(
+        sealed(&|b| b[36..40].copy_from_slice(&60u32.to_le_bytes())),
+        layout
+    );
+    assert_eq!(
+        sealed(&|b| b[52..56].copy_from_slice(&9999u32.to_le_bytes())),
+        layout
+    );
+    assert_eq!(sealed(&|b| b[10] = 2), layout);
+    assert_eq!(sealed(&|b| b[CK64 + 4] = 1), layout);
+    assert_eq!(sealed(&|b| b[ck32(n) + 4] ^= 1), layout);
+    assert_eq!(sealed(&|b| b[ck32(n)] ^= 1), layout);
+
+    // Values, checked as in `gait::check`.
+    assert_eq!(
+        sealed(&|b| put_f64(b, PARAMS + 40, f64::NAN)),
+        Some(Error::NonFinite)
+    );
+    assert_eq!(
+        sealed(&|b| put_f64(b, PARAMS + 8, 0.0)),
+        Some(Error::InvalidParameters)
+    );
+    assert_eq!(
+        sealed(&|b| put_f64(b, PARAMS + 48, -0.01)),
+        Some(Error::InvalidStep)
+    );
+    assert_eq!(
+        sealed(&|b| b[PARAMS..PARAMS + 4].fill(0)),
+        Some(Error::InvalidStep)
+    );
+    assert_eq!(
+        sealed(&|b| put_f64(b, PARAMS + 56, 3.2)),
+        Some(Error::ShapeLimit)
+    );
+    // Checkpoint 0 copied over checkpoint 1 in both tables (so they still agree): a repeated k.
+    assert_eq!(
+        sealed(&|b| {
+            b.copy_within(CK64..CK64 + 72, CK64 + 72);
+            let c = ck32(n);
+            b.copy_within(c..c + 36, c + 36);
+        }),
+        Some(Error::CheckpointOrder)
+    );
+    assert_eq!(
+        sealed(&|b| b[PARAMS..PARAMS + 4].copy_from_slice(&900u32.to_le_bytes())),
+        Some(Error::CheckpointOrder)
+    );
+    let mut rotated = records.clone();
+    rotated[0].g[2] *= 1.0 + 1e-8;
+    let mut out = vec![0; good.len()];
+    assert_eq!(
+        gait::encode(&params, &rotated, &mut out),
+        Err(Error::NotRotation)
+    );
+    let mut overlap = records.clone();
+    overlap[0].alpha[1] = -3.2;
+    assert_eq!(
+        gait::encode(&params, &overlap, &mut out),
+        Err(Error::ShapeLimit)
+    );
+}
+
+/// An angle below π in f64 that rounds to π in f32 is refused by the f32 replay only.
+#[test]
+fn checkpoints_are_checked_again_in_the_replay_scalar() {
+    let (params, mut records) = example();
+    records[0].alpha[0] = core::f64::consts::PI - 1e-9; // rounds up to π in f32
+    let bytes = encode(&params, &records);
+    let gait = Gait::from_bytes(&bytes).unwrap();
+    assert!(gait.replay::<f64>().is_ok());
+    assert_eq!(gait.replay::<f32>().err(), Some(Error::ShapeLimit));
+    assert!(gait.replay_without_checkpoints::<f32>().is_ok());
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Any change of one byte of a valid file is refused (CRC-32 catches every error burst of
+    /// up to 32 bits), and never panics.
+    #[test]
+    fn any_changed_byte_is_refused(at in 0usize..gait::encoded_len(9), flip in 1u8..=255) {
+        let (params, records) = example();
+        let mut bytes = encode(&params, &records);
+        bytes[at] ^= flip;
+        prop_assert!(Gait::from_bytes(&bytes).is_err());
+    }
+
+    /// Arbitrary bytes, and arbitrary bytes behind a valid header, never panic.
+    #[test]
+    fn garbage_never_panics(mut bytes in proptest::collection::vec(any::<u8>(), 0..400), len in any::<bool>()) {
+        if len && bytes.len() >= 16 {
+            bytes[..8].copy_from_slice(&gait::MAGIC);
+            bytes[8..10].copy_from_slice(&1u16.to_le_bytes());
+            let n = bytes.len() as u32;
+            bytes[12..16].copy_from_slice(&n.to_le_bytes());
+            if bytes.len() >= 20 {
+                reseal(&mut bytes);
+            }
+        }
+        let _ = Gait::from_bytes(&bytes);
+    }
+}
+
+/// `data/tiny.gait` (written by `purcell-sim export` from host-sim's
+/// `tests/data/tiny.costate.json`: a 200-step gait to `ḡ = (0.002, 0.001, 0)`, one
+/// checkpoint) is read as these numbers and written back byte for byte, and its header and
+/// directory are where docs/GAIT.md says: changing the layout fails here.
+#[test]
+fn the_committed_tiny_gait_locks_the_layout() {
+    let bytes: &[u8] = include_bytes!("data/tiny.gait");
+    let params = GaitParams {
+        model: Model {
+            links: [1.0; 3],
+            drag: 1.0,
+            ratio: 2.0,
+        },
+        h: 0.01,
+        steps: 200,
+        alpha0: [0.0, 0.0],
+        target: [0.002, 0.001, 0.0],
+        mu: [-102.05775417345498, 590.1701561480827, -31.45148654572925],
+        xi0: [91.01363029151028, -106.55065114553868],
+        checkpoint_every: 100,
+    };
+    let records = [CheckpointRecord {
+        k: 100,
+        alpha: [0.5131721442172408, 0.5285235288079323],
+        g: [
+            0.00012596474965824472,
+            0.0030525430938685453,
+            0.9629447974078218,
+            -0.2696985671916131,
+        ],
+        xi: [95.78484716378999, -112.98913208337281],
+    }];
+    let gait = Gait::from_bytes(bytes).unwrap();
+    assert_eq!(gait.params(), &params);
+    assert_eq!(gait.checkpoints().collect::<Vec<_>>(), records);
+    assert_eq!(encode(&params, &records), bytes);
+
+    let u16_at = |at: usize| u16::from_le_bytes([bytes[at], bytes[at + 1]]);
+    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert_eq!(&bytes[..8], b"PURCGAIT");
+    assert_eq!((u16_at(8), u16_at(10), u32_at(12)), (1, 3, 312));
+    // Directory: tag, offset, count, record size.
+    let entry = |i: usize| {
+        let at = 16 + 16 * i;
+        (
+            &bytes[at..at + 4],
+            u32_at(at + 4),
+            u32_at(at + 8),
+            u32_at(at + 12),
+        )
+    };
+    assert_eq!(entry(0), (&b"PARM"[..], 64, 1, 136));
+    assert_eq!(entry(1), (&b"CK64"[..], 200, 1, 72));
+    assert_eq!(entry(2), (&b"CK32"[..], 272, 1, 36));
+    // PARM: steps, checkpoint_every, then L0 L1 L2 k r h ᾱ ḡ μ ξ⁻¹ as f64.
+    assert_eq!((u32_at(64), u32_at(68)), (200, 100));
+    let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    assert_eq!(f64_at(64 + 8 + 5 * 8), 0.01);
+    assert_eq!(f64_at(64 + 8 + 11 * 8), params.mu[0]);
+    // CK64: k, zero pad, α1 α2 x y cos sin ξ1 ξ2; CK32: k, the same values as f32.
+    assert_eq!(
+        (u32_at(200), u32_at(204), f64_at(208)),
+        (100, 0, records[0].alpha[0])
+    );
+    let f32_at = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert_eq!(
+        (u32_at(272), f32_at(276)),
+        (100, records[0].alpha[0] as f32)
+    );
+    assert_eq!(u32_at(308), gait::crc32(&bytes[..308]));
+    assert_eq!(gait.crc(), 0x99d4_4f03);
+}
