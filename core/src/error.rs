@@ -21,6 +21,9 @@ pub enum Error {
     CheckpointOrder,
     /// A fixed-capacity buffer is full.
     CapacityExceeded,
+    /// A state's rotation `(cos θ, sin θ)` is not of unit length (see
+    /// [`crate::kinematics::UNIT_ROTATION_TOLERANCE`]).
+    NonUnitRotation,
 }
 
 impl core::fmt::Display for Error {
@@ -37,6 +40,7 @@ impl core::fmt::Display for Error {
                 "checkpoint steps must be strictly increasing and within the horizon"
             }
             Error::CapacityExceeded => "fixed-capacity buffer is full",
+            Error::NonUnitRotation => "rotation (cos theta, sin theta) is not of unit length",
         })
     }
 }
