@@ -20,7 +20,9 @@
 //!
 //! Numbers are written in shortest round-trip form, so reading gives the same bits back.
 //! Reading is strict: unknown fields, missing fields, wrong lengths, a different `format`
-//! or `version`, non-finite values and out-of-order checkpoints are typed errors.
+//! or `version`, non-finite values, and checkpoints anywhere else than at every multiple of
+//! `checkpoint_every` in `]0, steps[` are typed errors. A file replayed in `f32` must also
+//! fit `f32` ([`CostateFile::check_precision`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -79,7 +81,7 @@ pub struct CostateFile {
     pub xi0: [f64; 2],
     /// Checkpoint spacing in steps.
     pub checkpoint_every: u32,
-    /// Checkpoints, strictly increasing in `k`, each `k < steps`.
+    /// Checkpoints at `k = M, 2M, …` below `steps` (`M` = `checkpoint_every`), all of them.
     pub checkpoints: Vec<CheckpointEntry>,
 }
 
@@ -145,8 +147,26 @@ impl CostateFile {
         if self.steps == 0 {
             return bad("steps must be positive");
         }
-        let mut last: Option<u32> = None;
-        for c in &self.checkpoints {
+        // Checkpoints sit at k = M, 2M, … below N, every one of them (none if M = 0): a
+        // checkpoint at k = 0 would silently replace the start (α0, identity, ξ^{−1}).
+        let every = u64::from(self.checkpoint_every);
+        let expected = (u64::from(self.steps) - 1).checked_div(every).unwrap_or(0);
+        if self.checkpoints.len() as u64 != expected {
+            return Err(CostateFileError::Invalid(format!(
+                "checkpoint_every = {every} and steps = {} call for {expected} checkpoints \
+                 (k = M, 2M, ... below steps), the file has {}",
+                self.steps,
+                self.checkpoints.len()
+            )));
+        }
+        for (i, c) in (1u64..).zip(&self.checkpoints) {
+            if u64::from(c.k) != i * every {
+                return Err(CostateFileError::Invalid(format!(
+                    "checkpoint {i} is at k = {}, not at k = {i} * checkpoint_every = {}",
+                    c.k,
+                    i * every
+                )));
+            }
             if !(finite(&c.xi) && finite(&c.alpha) && finite(&c.g)) {
                 return bad("non-finite checkpoint");
             }
@@ -158,10 +178,26 @@ impl CostateFile {
             if (norm - 1.0).abs() > 1e-9 {
                 return bad("checkpoint rotation (cos, sin) is not of unit length");
             }
-            if c.k >= self.steps || last.is_some_and(|l| l >= c.k) {
-                return bad("checkpoints must be strictly increasing and below steps");
-            }
-            last = Some(c.k);
+        }
+        Ok(())
+    }
+
+    /// `Ok` if the file is also valid when replayed in scalar `T` (named `precision` in
+    /// messages): its problem ([`crate::problem::Problem::check_precision`]), and every
+    /// costate and checkpoint number finite there.
+    pub fn check_precision<T: purcell_core::Real>(
+        &self,
+        precision: &'static str,
+    ) -> Result<(), crate::problem::InputError> {
+        use crate::problem::check_fits;
+        self.problem()?.check_precision::<T>(precision)?;
+        check_fits::<T>("mu", &self.mu, false, precision)?;
+        check_fits::<T>("xi0", &self.xi0, false, precision)?;
+        for c in &self.checkpoints {
+            let at = |what| format!("{what} of the checkpoint at k = {}", c.k);
+            check_fits::<T>(&at("alpha"), &c.alpha, false, precision)?;
+            check_fits::<T>(&at("g"), &c.g, false, precision)?;
+            check_fits::<T>(&at("xi"), &c.xi, false, precision)?;
         }
         Ok(())
     }

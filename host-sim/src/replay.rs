@@ -21,6 +21,8 @@ pub struct ReplayError {
     pub position_error: Option<f64>,
     /// Why the replay stopped early, if it did.
     pub failure: Option<String>,
+    /// The step `k` it failed at (`null` if it did not start, or did not fail).
+    pub failed_at_step: Option<u32>,
 }
 
 /// Replays `file` in scalar `T`, with or without its checkpoints.
@@ -36,10 +38,13 @@ pub fn replay<T: Real>(
         g_error: None,
         position_error: None,
         failure: None,
+        failed_at_step: None,
     };
-    let run = || -> Result<State<T>, String> {
-        let problem = file.problem().map_err(|e| e.to_string())?;
-        let kin = problem.kinematics::<T>().map_err(|e| e.to_string())?;
+    // Err: the step it failed at (if it started) and why.
+    let run = || -> Result<State<T>, (Option<u32>, String)> {
+        let before = |e: &dyn std::fmt::Display| (None, e.to_string());
+        let problem = file.problem().map_err(|e| before(&e))?;
+        let kin = problem.kinematics::<T>().map_err(|e| before(&e))?;
         let c = T::from_f64;
         let cs = Costate {
             mu: Vector3::new(c(file.mu[0]), c(file.mu[1]), c(file.mu[2])),
@@ -64,9 +69,14 @@ pub fn replay<T: Real>(
             Vec::new()
         };
         let start = State::at_origin(Vector2::new(c(file.alpha0[0]), c(file.alpha0[1])));
-        Replay::new(kin, start, cs, file.steps, &cps)
-            .and_then(|r| r.finish())
-            .map_err(|e| e.to_string())
+        let mut replay = Replay::new(kin, start, cs, file.steps, &cps).map_err(|e| before(&e))?;
+        loop {
+            match replay.step() {
+                Ok(Some(_)) => {}
+                Ok(None) => return Ok(*replay.state()),
+                Err(e) => return Err((Some(replay.steps_done()), e.to_string())),
+            }
+        }
     };
     match run() {
         Ok(end) => {
@@ -85,7 +95,10 @@ pub fn replay<T: Real>(
             out.g_error = Some(e.amax());
             out.position_error = Some(((g.x() - x).powi(2) + (g.y() - y).powi(2)).sqrt());
         }
-        Err(e) => out.failure = Some(e),
+        Err((step, why)) => {
+            out.failed_at_step = step;
+            out.failure = Some(why);
+        }
     }
     out
 }
