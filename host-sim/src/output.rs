@@ -35,7 +35,8 @@ pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
 /// The checkpoints are `(α_k, g_k, ξ^{k−1})` of a plain `f64` replay from `(μ, ξ^{−1})`: an
 /// `f64` replay with them is bit-identical to one without, and an `f32` replay restarts from
 /// that `f64` run at each one. (Taking them from the stitched multiple-shooting trajectory
-/// instead would jump by its node defects.)
+/// instead would jump by its node defects.) If that replay fails before the end, the file
+/// has none (`checkpoint_every = 0`): a partial table would not be a valid file.
 pub fn costate_file(
     problem: &Problem,
     x: &Extremal,
@@ -65,7 +66,11 @@ pub fn costate_file(
                 });
             }
         }
+        if replay.steps_done() < problem.steps {
+            checkpoints.clear();
+        }
     }
+    let every = if checkpoints.is_empty() { 0 } else { every };
     CostateFile {
         format: FORMAT.into(),
         version: VERSION,

@@ -7,9 +7,9 @@
 //!   its length and FNV-1a hash) and nothing else than those files, byte for byte as we wrote
 //!   them (an empty directory holds nothing to lose and is replaced too). An existing single
 //!   file is replaced only if its caller recognises the contents as its own format. Anything
-//!   else is refused before any work ([`OutputError::Refused`]), unless `force`; device nodes
-//!   and other special files, a directory where a file goes, and an input of the command are
-//!   refused even then.
+//!   else is refused before any work ([`OutputError::Refused`]), unless `force`; symbolic
+//!   links, device nodes and other special files, a directory where a file goes, and an
+//!   input of the command are refused even then.
 //! - **Checked before the work.** `prepare` creates the staging directory or file next to
 //!   the path (and any missing parent directories), which proves the path can be written
 //!   before a long computation; if the command fails, dropping the value removes what it
@@ -192,7 +192,7 @@ fn classify_dir(path: &Path) -> io::Result<Existing> {
     } else if kind.is_file() {
         foreign("is a file, not a directory", true)
     } else if kind.is_symlink() {
-        foreign("is a symbolic link", true)
+        foreign("is a symbolic link (give the path it points to)", false)
     } else {
         foreign("is a device or other special file", false)
     })
@@ -649,9 +649,9 @@ pub struct OutputFile {
 
 impl OutputFile {
     /// Checks that `path` may be written: missing, or a regular file whose contents
-    /// `recognise` accepts as a previous result of ours (any regular file or symbolic link
-    /// with `force`), and never one of `inputs` (the same file by any name); then creates
-    /// the staging file next to it, before any work.
+    /// `recognise` accepts as a previous result of ours (any regular file with `force`), and
+    /// never one of `inputs` (the same file by any name); then creates the staging file next
+    /// to it, before any work.
     pub fn prepare(
         path: &Path,
         recognise: fn(&[u8]) -> bool,
@@ -762,7 +762,7 @@ fn classify_file(
             foreign("holds data that purcell-sim did not write", true)
         }
     } else if kind.is_symlink() {
-        foreign("is a symbolic link", true)
+        foreign("is a symbolic link (give the path it points to)", false)
     } else if kind.is_dir() {
         foreign("is a directory", false)
     } else {
@@ -919,6 +919,19 @@ mod tests {
                 Err(OutputError::Io { .. }) => assert!(!force_overrides, "{path:?}"),
                 Ok(_) => panic!("{path:?} accepted"),
             }
+        }
+        #[cfg(unix)]
+        {
+            let link = tmp.path().join("link");
+            std::os::unix::fs::symlink(&dir, &link).unwrap();
+            assert!(matches!(
+                OutputDir::prepare(&link, "solve", true),
+                Err(OutputError::Refused {
+                    force_overrides: false,
+                    ..
+                })
+            ));
+            fs::remove_file(&link).unwrap();
         }
         #[cfg(unix)]
         assert!(matches!(
