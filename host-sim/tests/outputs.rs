@@ -186,26 +186,6 @@ fn a_bad_out_is_refused_before_the_solve() {
     assert_eq!(std::fs::read(&file).unwrap(), b"x");
 }
 
-/// A failed solve leaves nothing, not even the parent directories it created.
-#[test]
-fn a_failed_solve_leaves_no_trace() {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("a/b/out");
-    let o = sim(&[
-        "solve",
-        "--target",
-        "40,0,0",
-        "--horizon",
-        "10",
-        "--starts",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
-}
-
 const COSTATE: &str = r#"{"format":"purcell-costate","version":2,
  "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
  "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":0,

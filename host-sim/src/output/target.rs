@@ -795,6 +795,11 @@ mod tests {
             .collect()
     }
 
+    /// Whether `r` is a refusal that `force` does (or does not) override.
+    fn refused<T>(r: Result<T, OutputError>, force_overrides: bool) -> bool {
+        matches!(r, Err(OutputError::Refused { force_overrides: f, .. }) if f == force_overrides)
+    }
+
     fn is_ours(dir: &Path) -> bool {
         matches!(classify_dir(dir).unwrap(), Existing::Ours(_))
     }
@@ -924,22 +929,13 @@ mod tests {
         {
             let link = tmp.path().join("link");
             std::os::unix::fs::symlink(&dir, &link).unwrap();
-            assert!(matches!(
-                OutputDir::prepare(&link, "solve", true),
-                Err(OutputError::Refused {
-                    force_overrides: false,
-                    ..
-                })
-            ));
+            assert!(refused(OutputDir::prepare(&link, "solve", true), false));
             fs::remove_file(&link).unwrap();
         }
         #[cfg(unix)]
-        assert!(matches!(
+        assert!(refused(
             OutputDir::prepare(Path::new("/dev/null"), "solve", true),
-            Err(OutputError::Refused {
-                force_overrides: false,
-                ..
-            })
+            false
         ));
         assert_eq!(
             fs::read_to_string(dir.join("thesis.tex")).unwrap(),
@@ -988,13 +984,7 @@ mod tests {
             .unwrap();
         assert_eq!(fs::read(&path).unwrap(), b"OURS 2");
         fs::write(&path, "theirs").unwrap();
-        assert!(matches!(
-            OutputFile::prepare(&path, ours, false, &[]),
-            Err(OutputError::Refused {
-                force_overrides: true,
-                ..
-            })
-        ));
+        assert!(refused(OutputFile::prepare(&path, ours, false, &[]), true));
         OutputFile::prepare(&path, ours, true, &[])
             .unwrap()
             .commit(b"OURS 3")
@@ -1003,20 +993,14 @@ mod tests {
         let alias = tmp.path().join("alias.json");
         fs::hard_link(&path, &alias).unwrap();
         for out in [&path, &alias] {
-            assert!(matches!(
+            assert!(refused(
                 OutputFile::prepare(out, ours, true, &[&path]),
-                Err(OutputError::Refused {
-                    force_overrides: false,
-                    ..
-                })
+                false
             ));
         }
-        assert!(matches!(
+        assert!(refused(
             OutputFile::prepare(tmp.path(), ours, true, &[]),
-            Err(OutputError::Refused {
-                force_overrides: false,
-                ..
-            })
+            false
         ));
         assert_eq!(fs::read(&path).unwrap(), b"OURS 3");
         assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
