@@ -58,7 +58,7 @@ pub enum InputError {
         links: [f64; 3],
         /// `r`.
         ratio: f64,
-        /// What went wrong, from [`connection_failure`].
+        /// What went wrong (the drag matrix is degenerate, or `ᾱ` rounds to the limit).
         why: &'static str,
     },
     /// Valid in `f64`, but not in the precision the result is also replayed in.
