@@ -22,7 +22,12 @@ pub enum Error {
     CheckpointOrder,
     /// A fixed-capacity buffer is full.
     CapacityExceeded,
-    /// A stored rotation `(cos θ, sin θ)` is not of unit length (to `1e-9` in `f64`).
+    /// A gait's checkpoints are not at every multiple of its spacing below its horizon
+    /// ([`crate::gait::check`]).
+    CheckpointSpacing,
+    /// A rotation `(cos θ, sin θ)` is not of unit length: to `1e-9` in a stored gait
+    /// ([`crate::gait`]), to [`crate::kinematics::UNIT_ROTATION_TOLERANCE`] where a state
+    /// enters the core ([`crate::State::check`]).
     NotRotation,
     /// Not a gait file: the bytes do not start with the gait magic ([`crate::gait`]).
     GaitMagic,
@@ -55,6 +60,9 @@ impl Error {
                 "checkpoint steps must be strictly increasing and within the horizon"
             }
             Error::CapacityExceeded => "fixed-capacity buffer is full",
+            Error::CheckpointSpacing => {
+                "gait checkpoints must sit at every multiple of checkpoint_every below the horizon"
+            }
             Error::NotRotation => "rotation (cos theta, sin theta) is not of unit length",
             Error::GaitMagic => "not a gait file (bad magic)",
             Error::GaitVersion(_) => "unsupported gait file version",

@@ -240,21 +240,31 @@ fn checkpoint<T: Real>(k: u32, [a1, a2, x, y, c, s, x1, x2]: [T; VALUES]) -> Che
 
 /// The one validation of a gait, for the binary file and the JSON costate file alike:
 /// [`GaitParams::check`], [`CheckpointRecord::check`] for each checkpoint, and
-/// [`Error::CheckpointOrder`] unless the step indices increase strictly and stay below `N`.
+/// [`Error::CheckpointSpacing`] unless the checkpoints sit at `k = M, 2M, …` below `N`, every
+/// one of them (`M` = `checkpoint_every`; none for `M = 0`). A checkpoint at `k = 0` would
+/// silently replace the start `(ᾱ, e, ξ^{−1})`.
 pub fn check(
     params: &GaitParams,
     checkpoints: impl IntoIterator<Item = CheckpointRecord>,
 ) -> Result<(), Error> {
     params.check()?;
-    let mut last: Option<u32> = None;
+    let every = u64::from(params.checkpoint_every);
+    let expected = (u64::from(params.steps) - 1)
+        .checked_div(every)
+        .unwrap_or(0);
+    let mut count = 0u64;
     for c in checkpoints {
-        if c.k >= params.steps || last.is_some_and(|l| l >= c.k) {
-            return Err(Error::CheckpointOrder);
+        count += 1;
+        if u64::from(c.k) != count * every {
+            return Err(Error::CheckpointSpacing);
         }
         c.check()?;
-        last = Some(c.k);
     }
-    Ok(())
+    if count == expected {
+        Ok(())
+    } else {
+        Err(Error::CheckpointSpacing)
+    }
 }
 
 /// The scalars a gait stores a checkpoint table in: `f32` (section `CK32`) and `f64`
@@ -480,7 +490,7 @@ impl<'a> Gait<'a> {
     /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
     /// [`Error::GaitLayout`] (sections), then the values as [`check`] does
     /// ([`Error::NonFinite`], [`Error::InvalidParameters`], [`Error::InvalidStep`],
-    /// [`Error::ShapeLimit`], [`Error::NotRotation`], [`Error::CheckpointOrder`]), and
+    /// [`Error::ShapeLimit`], [`Error::NotRotation`], [`Error::CheckpointSpacing`]), and
     /// [`Error::GaitLayout`] if the `f32` table is not the `f64` one rounded to nearest.
     pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, Error> {
         if bytes.first_chunk() != Some(&MAGIC) {

@@ -31,9 +31,26 @@ impl<T: Real> State<T> {
         }
     }
 
-    /// `Ok` if the shape is admissible (`|α_i| < π`) and every number is finite.
+    /// `Ok` if every number is finite, the shape is admissible (`|α_i| < π`) and the
+    /// rotation is one: `|cos²θ + sin²θ − 1| ≤` [`UNIT_ROTATION_TOLERANCE`].
+    ///
+    /// For states entering the core (a start, a checkpoint, the input of a checked step).
+    /// The state a step returns is checked without the rotation (three operations fewer
+    /// per step): [`Se2::compose`] keeps a unit rotation unit.
     #[inline]
     pub fn check(&self) -> Result<(), Error> {
+        self.check_step_output()?;
+        let (c, s) = (self.g.cos(), self.g.sin());
+        if (c * c + s * s - T::one()).abs() <= T::from_f64(UNIT_ROTATION_TOLERANCE) {
+            Ok(())
+        } else {
+            Err(Error::NotRotation)
+        }
+    }
+
+    /// Finite and admissible: [`State::check`] without the rotation.
+    #[inline]
+    pub(crate) fn check_step_output(&self) -> Result<(), Error> {
         let (a, g) = (&self.alpha, &self.g);
         if !T::all_finite([a.x, a.y, g.x(), g.y(), g.cos(), g.sin()]) {
             return Err(Error::NonFinite);
@@ -41,6 +58,12 @@ impl<T: Real> State<T> {
         within_limit(a.x, a.y)
     }
 }
+
+/// How far `cos²θ + sin²θ` of a state entering the core may be from 1: about 800 `f32`
+/// roundings (an `f64` rotation rounded to `f32` is within 2.4e-7), and small enough that the
+/// first [`Se2::compose`] brings it back to rounding (its first-order renormalisation leaves
+/// `¾e²` of an error `e`).
+pub const UNIT_ROTATION_TOLERANCE: f64 = 1e-4;
 
 /// A swimmer with a fixed time step `h`: the discrete system the control law runs on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,8 +106,8 @@ impl<T: Real> Kinematics<T> {
 
     /// One step of the kinematics under the control `u` (rad/s).
     ///
-    /// Errors: [`Error::NonFinite`], or [`Error::ShapeLimit`] if `α_k` or `α_{k+1}` is at or
-    /// past the link-overlap limit.
+    /// Errors: [`Error::NonFinite`], [`Error::ShapeLimit`] if `α_k` or `α_{k+1}` is at or
+    /// past the link-overlap limit, [`Error::NotRotation`] if `g_k`'s rotation is not one.
     pub fn step(&self, state: &State<T>, u: &Vector2<T>) -> Result<State<T>, Error> {
         state.check()?;
         if !T::all_finite([u.x, u.y]) {
@@ -107,7 +130,7 @@ impl<T: Real> Kinematics<T> {
             alpha: Vector2::new(state.alpha.x + self.h * u.x, state.alpha.y + self.h * u.y),
             g: state.g.compose(step),
         };
-        next.check()?;
+        next.check_step_output()?;
         Ok(next)
     }
 }

@@ -49,7 +49,7 @@ impl<T: Real> Kinematics<T> {
     ///
     /// Errors: [`Error::NonFinite`] for non-finite input or result, [`Error::ShapeLimit`]
     /// if `α_k` or `α_{k+1}` is at or past `|α_i| = π`, [`Error::Singular`] if
-    /// `I − h B_k` is singular.
+    /// `I − h B_k` is singular, [`Error::NotRotation`] as [`State::check`].
     #[inline]
     pub fn law_step(
         &self,

@@ -69,7 +69,8 @@ impl<T: Real, const CAP: usize> Checkpoints<T, CAP> {
     }
 
     /// Appends a checkpoint. Errors: [`Error::CheckpointOrder`] unless `k` is above the last
-    /// one's, [`Error::NonFinite`] or [`Error::ShapeLimit`] for its state,
+    /// one's, [`Error::NonFinite`], [`Error::ShapeLimit`] or [`Error::NotRotation`] for
+    /// its state (see [`State::check`]),
     /// [`Error::CapacityExceeded`] when full. A refused checkpoint leaves the table as it was.
     pub fn push(&mut self, checkpoint: Checkpoint<T>) -> Result<(), Error> {
         checkpoint.check()?;
@@ -154,8 +155,9 @@ impl<'a, T: Real> Replay<'a, T> {
     /// A replay of `steps` steps. `checkpoints` must be strictly increasing in `k` with
     /// `k < steps` (a [`Checkpoints`] table's slice is); pass `&[]` for none.
     ///
-    /// Errors: [`Error::NonFinite`], [`Error::ShapeLimit`] for the start state, the costate
-    /// or a checkpoint, [`Error::CheckpointOrder`] for a malformed checkpoint list.
+    /// Errors: [`Error::NonFinite`], [`Error::ShapeLimit`], [`Error::NotRotation`] for the
+    /// start state, the costate or a checkpoint (see [`State::check`]),
+    /// [`Error::CheckpointOrder`] for a malformed checkpoint list.
     pub fn new(
         kinematics: Kinematics<T>,
         start: State<T>,

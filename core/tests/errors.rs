@@ -220,6 +220,55 @@ fn degenerate_drag_matrix_is_refused() {
     assert_eq!(kin.step(&s, &Vector2::new(1.0, 1.0)), Err(Error::Singular));
 }
 
+/// Issue 9: a state whose rotation is not one (`(cos, sin) = (3, 0)`) is refused where
+/// states enter the core (it came back as `Ok` samples with `cos = −9`); the tolerance is
+/// far above rounding (every `f64` rotation rounded to `f32` passes).
+#[test]
+fn a_non_unit_rotation_is_refused_where_states_enter_the_core() {
+    let bad = State {
+        alpha: Vector2::new(0.1, 0.2),
+        g: Se2::from_rotation(0.0, 0.0, 3.0, 0.0),
+    };
+    let ok = State::at_origin(bad.alpha);
+    let (xi, mu) = (Vector2::new(0.1, 0.2), Vector3::new(1.0, 2.0, 0.5));
+    let costate = Costate { mu, xi };
+    let cp = [Checkpoint {
+        k: 3,
+        state: bad,
+        xi,
+    }];
+    let refused = Some(Error::NotRotation);
+    assert_eq!(bad.check().err(), refused);
+    assert_eq!(kin().step(&bad, &xi).err(), refused);
+    assert_eq!(kin().law_step(&bad, &xi, &mu).err(), refused);
+    assert_eq!(Replay::new(kin(), bad, costate, 10, &[]).err(), refused);
+    assert_eq!(Replay::new(kin(), ok, costate, 10, &cp).err(), refused);
+    let mut table = Checkpoints::<f64, 4>::new();
+    assert_eq!(table.push(cp[0]).err(), refused);
+    assert!(table.as_slice().is_empty());
+
+    let tol = purcell_core::kinematics::UNIT_ROTATION_TOLERANCE;
+    let off_by = |e: f64| State {
+        alpha: ok.alpha,
+        g: Se2::from_rotation(0.0, 0.0, (1.0 + e).sqrt(), 0.0),
+    };
+    for e in [0.9 * tol, -0.9 * tol] {
+        assert_eq!(off_by(e).check(), Ok(()), "{e}");
+    }
+    for e in [1.1 * tol, -1.1 * tol] {
+        assert_eq!(off_by(e).check().err(), refused, "{e}");
+    }
+    for i in 0..=100_000 {
+        let g = Se2::<f64>::new(0.0, 0.0, -PI + 2.0 * PI * f64::from(i) / 1e5);
+        let g32 = Se2::from_rotation(0.0f32, 0.0, g.cos() as f32, g.sin() as f32);
+        let s = State {
+            alpha: Vector2::new(0.1f32, 0.2),
+            g: g32,
+        };
+        assert_eq!(s.check(), Ok(()), "{g:?}");
+    }
+}
+
 #[test]
 fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
     let cp = |k| Checkpoint {
@@ -286,6 +335,7 @@ fn every_error_has_a_distinct_message() {
         Error::Singular,
         Error::CheckpointOrder,
         Error::CapacityExceeded,
+        Error::CheckpointSpacing,
         Error::NotRotation,
         Error::GaitMagic,
         Error::GaitVersion(7),
@@ -327,7 +377,7 @@ fn wild3() -> impl Strategy<Value = Vector3<f64>> {
     (wild(), wild(), wild()).prop_map(|(a, b, c)| Vector3::new(a, b, c))
 }
 
-/// An `Ok` from the core is finite and admissible.
+/// An `Ok` from the core is finite and admissible, its rotation one.
 fn sane<T: Real>(s: &State<T>) -> bool {
     s.check().is_ok()
 }
@@ -435,6 +485,36 @@ proptest! {
             f(h), alpha.map(f), [f(g.x), raw, f(g.z)], x.map(f), xi.map(f), mu.map(f),
             passes, steps, &cps.iter().map(|(k, v)| (*k, v.map(f))).collect::<Vec<_>>(),
         )?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Any `(cos, sin)` entering the core is accepted exactly when finite and of unit length
+    /// within the tolerance, and every state a replay from it returns has a unit rotation.
+    #[test]
+    fn only_unit_rotations_enter_the_core(c in wild(), s in wild(), steps in 0u32..20) {
+        let state = State {
+            alpha: Vector2::new(0.1, -0.2),
+            g: Se2::from_rotation(0.01, 0.02, c, s),
+        };
+        let tol = purcell_core::kinematics::UNIT_ROTATION_TOLERANCE;
+        let unit = c.is_finite() && s.is_finite() && (c * c + s * s - 1.0).abs() <= tol;
+        prop_assert_eq!(state.check().is_ok(), unit);
+        let costate = Costate {
+            mu: Vector3::new(0.3, -0.2, 0.1),
+            xi: Vector2::new(0.01, 0.02),
+        };
+        match Replay::new(kin(), state, costate, steps, &[]) {
+            Ok(replay) => {
+                prop_assert!(unit);
+                for sample in replay {
+                    prop_assert!(sane(&sample.map_err(|e| TestCaseError::fail(e.to_string()))?.state));
+                }
+            }
+            Err(_) => prop_assert!(!unit),
+        }
     }
 }
 

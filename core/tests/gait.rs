@@ -88,7 +88,7 @@ fn encode_then_from_bytes_gives_the_same_gait() {
     let mut out = vec![7; bytes.len()];
     assert_eq!(
         gait::encode(&params, &bad, &mut out),
-        Err(Error::CheckpointOrder)
+        Err(Error::CheckpointSpacing)
     );
     assert!(out.iter().all(|&b| b == 7));
 }
@@ -270,11 +270,11 @@ fn every_corruption_is_refused_with_its_reason() {
             let c = ck32(n);
             b.copy_within(c..c + 36, c + 36);
         }),
-        Some(Error::CheckpointOrder)
+        Some(Error::CheckpointSpacing)
     );
     assert_eq!(
         sealed(&|b| b[PARAMS..PARAMS + 4].copy_from_slice(&900u32.to_le_bytes())),
-        Some(Error::CheckpointOrder)
+        Some(Error::CheckpointSpacing)
     );
     let mut rotated = records.clone();
     rotated[0].g[2] *= 1.0 + 1e-8;

@@ -43,17 +43,31 @@ pub enum Command {
     Sweep(SweepArgs),
 }
 
+/// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
+pub const MAX_STARTS: usize = 4096;
+/// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
+/// start); `replay` accepts up to [`crate::problem::MAX_STEPS`].
+pub const MAX_SOLVE_STEPS: u32 = 1_000_000;
+
+// Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), and list
+// their defaults as they can be typed back (`0.1,0.1,0`).
+
 /// Swimmer parameters shared by the subcommands.
 #[derive(Debug, Args)]
 pub struct ModelArgs {
     /// Link lengths L0 (middle), L1 (front), L2 (rear), in metres.
-    #[arg(long, value_delimiter = ',', default_values_t = [1.0, 1.0, 1.0], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,1,1",
+        allow_hyphen_values = true
+    )]
     pub links: Vec<f64>,
     /// Drag coefficient k (force per unit length per unit speed; scales forces only).
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub drag: f64,
     /// Drag ratio r: normal over tangential drag (2 for slender bodies).
-    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
     pub ratio: f64,
 }
 
@@ -61,29 +75,40 @@ pub struct ModelArgs {
 #[derive(Debug, Args)]
 pub struct SolveArgs {
     /// Target position g_bar = X,Y,THETA (metres, metres, radians), reached from the origin.
-    #[arg(long, value_delimiter = ',', default_values_t = [0.1, 0.1, 0.0], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.1,0.1,0",
+        allow_hyphen_values = true
+    )]
     pub target: Vec<f64>,
-    /// Horizon T in seconds; must be a whole number of steps.
-    #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]
+    /// Horizon T in seconds; must be a whole number of steps (at most 1000000).
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
     pub horizon: f64,
     /// Time step h in seconds.
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub step: f64,
     /// Start and end shape alpha_bar = A1,A2 in radians (each |A_i| < pi).
-    #[arg(long, value_delimiter = ',', default_values_t = [0.0, 0.0], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0,0",
+        allow_hyphen_values = true
+    )]
     pub alpha0: Vec<f64>,
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
     /// Most start loops of the global search (run in batches of 32, in parallel; the search
-    /// stops earlier once its cheapest admissible extremal has been reached from 3 starts).
+    /// stops earlier once its cheapest admissible extremal has been reached from 3 starts and
+    /// 128 starts have run; 1 to 4096).
     #[arg(long, default_value_t = 256)]
     pub starts: usize,
     /// Orders the start loops (any value gives a diverse family; 0 is the default order).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Admissibility limit on |alpha_i| along the path, radians (links overlap at pi).
-    #[arg(long, default_value_t = core::f64::consts::PI, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = core::f64::consts::PI, allow_hyphen_values = true)]
     pub alpha_max: f64,
     /// Costate checkpoint spacing M in steps (0: none).
     #[arg(long, default_value_t = 100)]
@@ -95,9 +120,13 @@ pub struct SolveArgs {
     /// start shape or horizon) instead of the global search.
     #[arg(long, value_name = "COSTATE_JSON")]
     pub from: Option<PathBuf>,
-    /// Output directory (created or replaced atomically).
+    /// Output directory: created, or replaced in one step if it is empty or a previous
+    /// result of purcell-sim (anything else is refused before any work).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace --out even if it holds files purcell-sim did not write.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `sweep` flags.
@@ -133,9 +162,13 @@ pub struct SweepArgs {
     /// Skip the figure.
     #[arg(long)]
     pub no_plots: bool,
-    /// Output directory (created or replaced atomically).
+    /// Output directory: created, or replaced in one step if it is empty or a previous
+    /// result of purcell-sim (anything else is refused before any work).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace --out even if it holds files purcell-sim did not write.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Largest number of targets a sweep accepts.
@@ -167,9 +200,13 @@ pub struct ReplayArgs {
     /// With --precision: ignore the file's costate checkpoints.
     #[arg(long)]
     pub no_checkpoints: bool,
-    /// Also write the JSON report to this file (atomically).
+    /// Also write the JSON report to this file (atomically; an existing file is replaced
+    /// only if it is a previous replay report, never the costate file).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace --out even if it holds something else (never the costate file).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `export` flags.
@@ -178,9 +215,13 @@ pub struct ExportArgs {
     /// The costate file written by `solve` (DIR/costate.json).
     #[arg(long)]
     pub costate: PathBuf,
-    /// The binary gait file to write (atomically).
+    /// The binary gait file to write (atomically; an existing file is replaced only if it is
+    /// a gait file, never the costate file).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace --out even if it holds something else (never the costate file).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `connection` flags.
@@ -190,7 +231,7 @@ pub struct ConnectionArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         required = true
     )]
     pub alpha: Vec<f64>,
@@ -199,20 +240,30 @@ pub struct ConnectionArgs {
     pub model: ModelArgs,
 }
 
-/// A failure of the command, with its exit code.
+/// A failure of the command, with its exit code (the README's "Exit codes").
 #[derive(Debug)]
 pub struct Failure {
     /// Message for stderr.
     pub message: String,
-    /// Exit code: 2 bad input, 3 not solved, 1 other.
+    /// Exit code: 2 bad input (nothing done), 3 no solution (`solve`: no extremal;
+    /// `replay`: a replay failed), 1 I/O.
     pub code: u8,
+    /// What to print on stdout all the same (the `replay` report).
+    pub stdout: String,
 }
 
 fn fail(code: u8, message: impl ToString) -> Failure {
     Failure {
         message: message.to_string(),
         code,
+        stdout: String::new(),
     }
+}
+
+/// Exit code for an output refused or not creatable before the work (2), or failing after
+/// it (1).
+fn output_failure(before_work: bool) -> impl FnOnce(output::OutputError) -> Failure {
+    move |e| fail(if before_work { 2 } else { 1 }, e)
 }
 
 /// `N` comma-separated numbers of flag `name`.
@@ -251,9 +302,26 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         alpha_max: a.alpha_max,
     };
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
-    if a.starts == 0 {
-        return Err(fail(2, "--starts must be at least 1"));
+    // The costate file is for the f32 firmware, and the report replays it in f32.
+    problem
+        .check_precision::<f32>("f32")
+        .map_err(|e| fail(2, e))?;
+    if !(1..=MAX_STARTS).contains(&a.starts) {
+        return Err(fail(
+            2,
+            format!("--starts must be 1 to {MAX_STARTS} (got {})", a.starts),
+        ));
     }
+    if problem.steps > MAX_SOLVE_STEPS {
+        return Err(fail(
+            2,
+            format!(
+                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
+                problem.steps
+            ),
+        ));
+    }
+    let out = output::OutputDir::prepare(&a.out, "solve", a.force).map_err(output_failure(true))?;
     let options = SolveOptions {
         starts: a.starts,
         seed: a.seed,
@@ -332,8 +400,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
             files.push((name, svg.into_bytes()));
         }
     }
-    output::write_dir_atomically(&a.out, &files)
-        .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
+    out.commit(&files).map_err(output_failure(false))?;
     Ok(report_text)
 }
 
@@ -405,8 +472,11 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
             ),
         ));
     }
-    if a.starts == 0 {
-        return Err(fail(2, "--starts must be at least 1"));
+    if !(1..=MAX_STARTS).contains(&a.starts) {
+        return Err(fail(
+            2,
+            format!("--starts must be 1 to {MAX_STARTS} (got {})", a.starts),
+        ));
     }
     let spec = Spec {
         target: [0.0; 3],
@@ -418,7 +488,17 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
         ratio: a.model.ratio,
         alpha_max: a.alpha_max,
     };
-    Problem::new(&spec).map_err(|e| fail(2, e))?;
+    let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
+    if problem.steps > MAX_SOLVE_STEPS {
+        return Err(fail(
+            2,
+            format!(
+                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
+                problem.steps
+            ),
+        ));
+    }
+    let out = output::OutputDir::prepare(&a.out, "sweep", a.force).map_err(output_failure(true))?;
     let options = SolveOptions {
         starts: a.starts,
         ..SolveOptions::default()
@@ -468,8 +548,7 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
             files.push((name, bytes.into_bytes()));
         }
     }
-    output::write_dir_atomically(&a.out, &files)
-        .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
+    out.commit(&files).map_err(output_failure(false))?;
     Ok(summary_text)
 }
 
@@ -492,36 +571,96 @@ fn read_costate(path: &std::path::Path) -> Result<CostateFile, Failure> {
     CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
 }
 
+/// The `format` tag of the `replay` report, by which `replay --out` recognises its own.
+const REPLAY_REPORT: &str = "purcell-replay";
+
+/// Whether `bytes` are a `replay` report.
+fn is_replay_report(bytes: &[u8]) -> bool {
+    serde_json::from_slice::<serde_json::Value>(bytes)
+        .is_ok_and(|v| v.get("format").and_then(|f| f.as_str()) == Some(REPLAY_REPORT))
+}
+
+/// Whether `bytes` are a gait file (its magic), by which `export --out` recognises its own.
+fn is_gait_file(bytes: &[u8]) -> bool {
+    bytes.starts_with(&purcell_core::gait::MAGIC)
+}
+
 fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
-    let (path, bytes) = match (&a.costate, &a.gait) {
-        (Some(path), _) => (
-            path,
-            read_costate(path)?
+    let (path, bytes, file) = match (&a.costate, &a.gait) {
+        (Some(path), _) => {
+            let file = read_costate(path)?;
+            let bytes = file
                 .to_gait()
-                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?,
-        ),
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            (path, bytes, Some(file))
+        }
         (None, Some(path)) => (
             path,
             std::fs::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?,
+            None,
         ),
         (None, None) => return Err(fail(2, "replay needs --costate or --gait")),
     };
-    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
+    let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
+    if let Some(file) = &file {
+        file.problem().map_err(|e| refused(&e))?;
+        if !matches!(a.precision, Some(Precision::F64)) {
+            file.check_precision::<f32>("f32")
+                .map_err(|e| refused(&e))?;
+        }
+    }
+    let out = match &a.out {
+        Some(out) => Some(
+            output::OutputFile::prepare(out, is_replay_report, a.force, &[path.as_path()])
+                .map_err(output_failure(true))?,
+        ),
+        None => None,
+    };
     let checkpoints = !a.no_checkpoints;
     let results = match a.precision {
         None => replay::standard_replays(&gait),
         Some(Precision::F64) => vec![replay::replay_gait::<f64>(&gait, "f64", checkpoints)],
         Some(Precision::F32) => vec![replay::replay_gait::<f32>(&gait, "f32", checkpoints)],
     };
-    if let Some(path) = &a.out {
+    if let Some(out) = out {
         let p = gait.params();
-        let report = json!({ "crc": format!("{:#010x}", gait.crc()), "target": p.target,
+        let report = json!({ "format": REPLAY_REPORT, "version": 1,
+                             "crc": format!("{:#010x}", gait.crc()), "target": p.target,
                              "alpha0": p.alpha0, "replays": results });
         let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
-        output::write_file_atomically(path, json.as_bytes())
-            .map_err(|e| fail(1, format!("writing {}: {e}", path.display())))?;
+        out.commit(json.as_bytes()).map_err(output_failure(false))?;
     }
-    Ok(replay::text(&gait, &results))
+    let text = replay::text(&gait, &results);
+    let p = gait.params();
+    let failed: Vec<String> = results
+        .iter()
+        .filter_map(|r| {
+            let why = r.failure.as_ref()?;
+            let which = format!(
+                "{} replay {} checkpoints",
+                r.precision,
+                if r.checkpoints { "with" } else { "without" }
+            );
+            Some(match r.failed_at_step {
+                Some(k) => format!(
+                    "{which} failed at step {k} of {} (t = {} s): {why}",
+                    p.steps,
+                    (f64::from(k) * p.h * 1e9).round() / 1e9
+                ),
+                None => format!("{which} failed before its first step: {why}"),
+            })
+        })
+        .collect();
+    if failed.is_empty() {
+        Ok(text)
+    } else {
+        Err(Failure {
+            message: failed.join("\nerror: "),
+            code: 3,
+            stdout: text,
+        })
+    }
 }
 
 fn run_export(a: ExportArgs) -> Result<String, Failure> {
@@ -530,8 +669,9 @@ fn run_export(a: ExportArgs) -> Result<String, Failure> {
         .to_gait()
         .map_err(|e| fail(2, format!("{}: {e}", a.costate.display())))?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(1, e))?;
-    output::write_file_atomically(&a.out, &bytes)
-        .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
+    let out = output::OutputFile::prepare(&a.out, is_gait_file, a.force, &[a.costate.as_path()])
+        .map_err(output_failure(true))?;
+    out.commit(&bytes).map_err(output_failure(false))?;
     Ok(format!(
         "gait: wrote {} ({} bytes, crc={:#010x}, steps={}, checkpoints={})\n",
         a.out.display(),

@@ -23,8 +23,9 @@
 //! Numbers are written in shortest round-trip form, so reading gives the same bits back.
 //! Reading is strict: unknown fields, missing fields, wrong lengths, a different `format`
 //! or `version`, and whatever `purcell_core::gait::check` refuses (non-finite values, shapes
-//! at the overlap limit, rotations off unit length, out-of-order checkpoints) are typed
-//! errors.
+//! at the overlap limit, rotations off unit length, checkpoints anywhere but at every multiple
+//! of `checkpoint_every` below `steps`) are typed errors. A file replayed in `f32` must also
+//! fit `f32` ([`CostateFile::check_precision`]).
 
 pub use purcell_core::gait::{CheckpointRecord, GaitParams, Model};
 use serde::{Deserialize, Serialize};
@@ -121,6 +122,26 @@ impl CostateFile {
         let mut bytes = vec![0; purcell_core::gait::encoded_len(self.checkpoints.len())];
         purcell_core::gait::encode(&self.gait, &self.checkpoints, &mut bytes)?;
         Ok(bytes)
+    }
+
+    /// `Ok` if the file is also valid when replayed in scalar `T` (named `precision` in
+    /// messages): its problem ([`crate::problem::Problem::check_precision`]), and every
+    /// costate and checkpoint number finite there.
+    pub fn check_precision<T: purcell_core::Real>(
+        &self,
+        precision: &'static str,
+    ) -> Result<(), crate::problem::InputError> {
+        use crate::problem::check_fits;
+        self.problem()?.check_precision::<T>(precision)?;
+        check_fits::<T>("mu", &self.mu, false, precision)?;
+        check_fits::<T>("xi0", &self.xi0, false, precision)?;
+        for c in &self.checkpoints {
+            let at = |what| format!("{what} of the checkpoint at k = {}", c.k);
+            check_fits::<T>(&at("alpha"), &c.alpha, false, precision)?;
+            check_fits::<T>(&at("g"), &c.g, false, precision)?;
+            check_fits::<T>(&at("xi"), &c.xi, false, precision)?;
+        }
+        Ok(())
     }
 
     /// Serialises (pretty JSON, shortest round-trip numbers).

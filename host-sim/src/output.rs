@@ -1,15 +1,12 @@
-//! Writing results: `trajectory.csv`, `report.json`, the costate file, and atomic writes.
-//!
-//! A directory is produced whole or not at all: every file is written into a fresh
-//! temporary directory next to the target, which is then renamed into place (an existing
-//! target is moved aside first and removed after). A single file is written to a temporary
-//! file in the same directory and renamed.
+//! Results: `trajectory.csv`, the costate file, and ([`target`]) where every output goes:
+//! never over anything the tool did not write, checked before the work, atomically.
 
 use crate::problem::Problem;
 use crate::solver::{Extremal, Trajectory};
 use std::fmt::Write as _;
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
+
+pub mod target;
+pub use target::{MANIFEST, OutputDir, OutputError, OutputFile};
 
 /// `trajectory.csv`: `t,alpha1,alpha2,u1,u2,x,y,theta`, rows `k = 0..=N` (last `u` is 0).
 pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
@@ -107,62 +104,4 @@ pub fn sweep_csv(points: &[crate::solver::continuation::SweepPoint]) -> String {
         };
     }
     s
-}
-
-/// Writes `files` (name, contents) as the directory `dir`, atomically.
-pub fn write_dir_atomically(dir: &Path, files: &[(String, Vec<u8>)]) -> std::io::Result<()> {
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&parent)?;
-    let name = dir
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir(&tmp)?;
-    let result = (|| {
-        for (file, bytes) in files {
-            let mut f = std::fs::File::create(tmp.join(file))?;
-            f.write_all(bytes)?;
-            f.sync_all()?;
-        }
-        if dir.exists() {
-            let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-            std::fs::rename(dir, &old)?;
-            std::fs::rename(&tmp, dir)?;
-            std::fs::remove_dir_all(&old)
-        } else {
-            std::fs::rename(&tmp, dir)
-        }
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    result
-}
-
-/// Writes one file atomically (temporary file in the same directory, then rename).
-pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "file".into());
-    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }

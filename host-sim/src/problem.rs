@@ -16,13 +16,15 @@ pub enum InputError {
     #[error("{0} must be a finite number")]
     NonFinite(&'static str),
     /// `h ≤ 0`.
-    #[error("step h must be positive (got {0} s)")]
+    #[error("step h must be positive (got {0:?} s)")]
     Step(f64),
     /// `T ≤ 0`.
-    #[error("horizon T must be positive (got {0} s)")]
+    #[error("horizon T must be positive (got {0:?} s)")]
     Horizon(f64),
     /// `T/h` is not a whole number.
-    #[error("horizon T = {horizon} s is not a whole number of steps h = {step} s (T/h = {ratio})")]
+    #[error(
+        "horizon T = {horizon:?} s is not a whole number of steps h = {step:?} s (T/h = {ratio:?})"
+    )]
     NotWholeSteps {
         /// `T`.
         horizon: f64,
@@ -32,19 +34,83 @@ pub enum InputError {
         ratio: f64,
     },
     /// `T/h` above [`MAX_STEPS`].
-    #[error("horizon needs {0} steps, more than the limit {MAX_STEPS}")]
+    #[error("horizon needs {0:e} steps, more than the limit {MAX_STEPS}")]
     TooManySteps(f64),
     /// A non-positive link length, drag coefficient or drag ratio.
-    #[error("{0} must be positive (got {1})")]
+    #[error("{0} must be positive (got {1:?})")]
     NonPositive(&'static str, f64),
     /// `|α0_i| ≥ π` or beyond the admissibility limit.
     #[error(
-        "alpha0 = ({0}, {1}) rad: each |alpha0_i| must be below alpha-max = {2} rad (at most pi)"
+        "alpha0 = ({0:?}, {1:?}) rad: each |alpha0_i| must be below alpha-max = {2:?} rad (at most pi)"
     )]
     ShapeOutOfRange(f64, f64, f64),
     /// The admissibility limit is outside `]0, π]`.
-    #[error("alpha-max must be in ]0, pi] rad (got {0})")]
+    #[error("alpha-max must be in ]0, pi] rad (got {0:?})")]
     AlphaMax(f64),
+    /// The connection cannot be computed at `ᾱ`: the swimmer's parameters, not the law.
+    #[error(
+        "the swimmer's connection A(alpha) cannot be computed at alpha0 with links {} m and \
+         drag ratio {ratio}: {why}",
+        list(links)
+    )]
+    Connection {
+        /// `(L0, L1, L2)`.
+        links: [f64; 3],
+        /// `r`.
+        ratio: f64,
+        /// What went wrong (the drag matrix is degenerate, or `ᾱ` rounds to the limit).
+        why: &'static str,
+    },
+    /// Valid in `f64`, but not in the precision the result is also replayed in.
+    #[error("{what} in {precision}, the precision the costate is also replayed in")]
+    Precision {
+        /// What does not fit.
+        what: String,
+        /// `"f32"`.
+        precision: &'static str,
+    },
+}
+
+/// Numbers as they are typed on the command line: `1e39,1.0,1.0`.
+fn list(values: &[f64]) -> String {
+    values
+        .iter()
+        .map(|v| format!("{v:?}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// Why `Swimmer::connection_with_derivatives` failed at an admissible `ᾱ`, in words that
+/// blame the parameters (the drag matrix `W_ξ`), not the control law.
+fn connection_failure(e: purcell_core::Error) -> &'static str {
+    match e {
+        purcell_core::Error::ShapeLimit => "alpha0 rounds to the link-overlap limit |alpha_i| = pi",
+        _ => {
+            "its drag matrix is numerically singular or overflows (parameters of too \
+             different scales)"
+        }
+    }
+}
+
+/// `Ok` if every value converts to `T` finite (and nonzero where `positive`).
+pub fn check_fits<T: Real>(
+    name: &str,
+    values: &[f64],
+    positive: bool,
+    precision: &'static str,
+) -> Result<(), InputError> {
+    let fits = |x: f64| {
+        let y = T::from_f64(x);
+        y.is_finite() && !(positive && y <= T::zero())
+    };
+    if values.iter().all(|&x| fits(x)) {
+        Ok(())
+    } else {
+        Err(InputError::Precision {
+            what: format!("{name} = {} overflows or rounds to zero", list(values)),
+            precision,
+        })
+    }
 }
 
 /// The inputs of a solve, as given by a user (SI units, radians).
@@ -159,6 +225,13 @@ impl Problem {
         }
         let swimmer = Swimmer::new(spec.links, spec.drag, spec.ratio)
             .map_err(|_| InputError::NonPositive("swimmer parameter", f64::NAN))?;
+        swimmer
+            .connection_with_derivatives(&Vector2::new(a1, a2))
+            .map_err(|e| InputError::Connection {
+                links: spec.links,
+                ratio: spec.ratio,
+                why: connection_failure(e),
+            })?;
         Ok(Problem {
             swimmer,
             h: spec.step,
@@ -193,6 +266,33 @@ impl Problem {
             c(self.swimmer.ratio()),
         )?;
         Kinematics::new(swimmer, c(self.h))
+    }
+
+    /// `Ok` if the problem is also valid in scalar `T` (named `precision` in messages): every
+    /// parameter converts finite (and positive where it must be), and the connection can be
+    /// computed at `ᾱ` there.
+    pub fn check_precision<T: Real>(&self, precision: &'static str) -> Result<(), InputError> {
+        let sw = &self.swimmer;
+        check_fits::<T>("links", &sw.lengths(), true, precision)?;
+        check_fits::<T>("drag k", &[sw.drag()], true, precision)?;
+        check_fits::<T>("drag ratio r", &[sw.ratio()], true, precision)?;
+        check_fits::<T>("step h", &[self.h], true, precision)?;
+        check_fits::<T>("target", self.target.as_slice(), false, precision)?;
+        let kin = self.kinematics::<T>().map_err(|e| InputError::Precision {
+            what: format!("the swimmer or step is invalid ({e})"),
+            precision,
+        })?;
+        let alpha0 = self.alpha0.map(T::from_f64);
+        kin.swimmer()
+            .connection_with_derivatives(&alpha0)
+            .map_err(|e| InputError::Precision {
+                what: format!(
+                    "the connection A(alpha) cannot be computed at alpha0: {}",
+                    connection_failure(e)
+                ),
+                precision,
+            })?;
+        Ok(())
     }
 
     /// The target `ḡ` in scalar type `T`.

@@ -5,7 +5,7 @@
 use crate::costate_file::CostateFile;
 use crate::solver::Trajectory;
 use purcell_core::gait::Stored;
-use purcell_core::{Flight, Gait, Replay};
+use purcell_core::{Flight, Gait};
 use serde::Serialize;
 use std::fmt::Write as _;
 
@@ -26,6 +26,8 @@ pub struct ReplayReport {
     pub g_error: Option<f64>,
     /// Why the replay stopped early, if it did.
     pub failure: Option<String>,
+    /// The step `k` it failed at (`null` if it did not start, or did not fail).
+    pub failed_at_step: Option<u32>,
 }
 
 /// Replays `gait` in `T` (`precision` names it), with or without its checkpoints.
@@ -39,7 +41,15 @@ pub fn replay_gait<T: Stored>(
     } else {
         gait.replay_without_checkpoints::<T>()
     };
-    match replay.and_then(|r| r.fly(Replay::step)) {
+    // The step that was running when a step failed.
+    let mut at = 0;
+    let flight = replay.and_then(|r| {
+        r.fly(|r| {
+            at = r.steps_done();
+            r.step()
+        })
+    });
+    match flight {
         Ok(f) => {
             let error = gait.params().terminal_error(&f.end);
             ReplayReport {
@@ -50,7 +60,10 @@ pub fn replay_gait<T: Stored>(
                 ..failed(precision, checkpoints, None)
             }
         }
-        Err(e) => failed(precision, checkpoints, Some(e)),
+        Err(e) => ReplayReport {
+            failed_at_step: Some(at),
+            ..failed(precision, checkpoints, Some(e))
+        },
     }
 }
 
@@ -107,6 +120,7 @@ fn failed(
         alpha_error: None,
         g_error: None,
         failure: e.map(|e| e.to_string()),
+        failed_at_step: None,
     }
 }
 
@@ -145,7 +159,11 @@ pub fn text(gait: &Gait<'_>, reports: &[ReplayReport]) -> String {
             let _ = writeln!(s, "terminal_error: alpha={a:.2e} g={g:.2e}");
         }
         if let Some(f) = &r.failure {
-            let _ = writeln!(s, "failed: {f}");
+            match r.failed_at_step {
+                Some(k) => writeln!(s, "failed at step {k}: {f}"),
+                None => writeln!(s, "failed: {f}"),
+            }
+            .ok();
         }
     }
     s

@@ -1,0 +1,241 @@
+//! Outputs never lose a user's data (issue 9, defects 1, 3, 5, 8): `solve --out` replaces
+//! only a previous result of ours, refuses anything else before any work, replaces in one
+//! step; `replay --out` never overwrites its input or a file it did not write.
+
+mod common;
+
+use common::*;
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+/// A directory of somebody's files: text, a nested directory, a link, and names that
+/// `solve` writes too.
+fn users_files(dir: &Path) {
+    std::fs::create_dir_all(dir.join("chapter")).unwrap();
+    std::fs::write(dir.join("thesis.tex"), "precious\n").unwrap();
+    std::fs::write(dir.join("chapter/notes.md"), "more\n").unwrap();
+    std::fs::write(dir.join("report.json"), "{\"mine\": true}\n").unwrap();
+    std::fs::write(dir.join("trajectory.csv"), "1,2\n").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("thesis.tex", dir.join("link")).unwrap();
+}
+
+/// Issue 9, defect 1: an existing directory of unrelated files was silently replaced
+/// (exit 0). Now exit 2, every file byte-identical, nothing created next to it.
+#[test]
+fn solve_into_a_directory_of_other_files_changes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("mine");
+    users_files(&dir);
+    let before = snapshot(tmp.path());
+    let o = quick_solve(&dir, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+    assert_eq!(snapshot(tmp.path()), before);
+    // Also when it holds only a file of a name we write, or an empty manifest.
+    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::create_dir(&dir).unwrap();
+    std::fs::write(dir.join("costate.json"), "mine").unwrap();
+    assert_eq!(quick_solve(&dir, &[]).status.code(), Some(2));
+    std::fs::write(dir.join("purcell-sim-manifest.json"), "{}").unwrap();
+    assert_eq!(quick_solve(&dir, &[]).status.code(), Some(2));
+    assert_eq!(std::fs::read(dir.join("costate.json")).unwrap(), b"mine");
+}
+
+/// Issue 9, defect 1: `--out "$PWD"` emptied the current directory.
+#[test]
+fn solve_into_the_current_directory_changes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    users_files(tmp.path());
+    let before = snapshot(tmp.path());
+    let pwd = tmp.path().to_str().unwrap().to_string();
+    for out in [".", &pwd[..], "chapter/.."] {
+        let mut args = vec!["solve", "--out", out];
+        args.extend_from_slice(QUICK);
+        let o = sim_in(Some(tmp.path()), &args, LIMIT);
+        assert_eq!(o.status.code(), Some(2), "{out}: {}", stderr(&o));
+        assert_eq!(snapshot(tmp.path()), before, "{out}");
+    }
+}
+
+/// Issue 9, defect 1: an existing file was renamed to a hidden `.NAME.old-<pid>` and
+/// replaced by a directory; a device node was moved aside. Now both refused, unchanged.
+#[test]
+fn solve_onto_a_file_or_a_device_changes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("results");
+    std::fs::write(&file, "precious").unwrap();
+    let o = quick_solve(&file, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(
+        snapshot(tmp.path()),
+        [("results".into(), b"precious".to_vec())]
+    );
+    #[cfg(unix)]
+    for force in [&[][..], &["--force"][..]] {
+        let o = quick_solve(Path::new("/dev/null"), force);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(stderr(&o).contains("special file"), "{}", stderr(&o));
+    }
+}
+
+/// The README's main job, twice in a row: the second run recognises the first one's
+/// directory as ours and replaces it; the replay of the costate succeeds both times.
+#[test]
+fn the_main_job_twice_in_a_row_succeeds() {
+    let tmp = tempfile::tempdir().unwrap();
+    for _ in 0..2 {
+        let o = sim_in(Some(tmp.path()), &["solve", "--out", "out/paper"], LIMIT);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let costate = "out/paper/costate.json";
+        let o = sim_in(Some(tmp.path()), &["replay", "--costate", costate], LIMIT);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    // Nothing but the output (no staging or old copies).
+    let names: Vec<String> = snapshot(tmp.path()).into_iter().map(|(n, _)| n).collect();
+    assert!(names.iter().all(|n| n.starts_with("out/")), "{names:?}");
+    assert!(names.contains(&"out/paper/purcell-sim-manifest.json".to_string()));
+}
+
+/// A result of ours that a user changed (an edited file, an added one) is theirs now.
+#[test]
+fn a_result_changed_by_its_user_is_not_replaced_without_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    assert_eq!(quick_solve(&out, &[]).status.code(), Some(0));
+    let report = out.join("report.json");
+    let mut text = std::fs::read_to_string(&report).unwrap();
+    text.push_str("my note\n");
+    std::fs::write(&report, &text).unwrap();
+    let before = snapshot(tmp.path());
+    let o = quick_solve(&out, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("report.json, changed since"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(snapshot(tmp.path()), before);
+    // With --force it is replaced, by exactly our files.
+    std::fs::write(out.join("extra.txt"), "x").unwrap();
+    assert_eq!(quick_solve(&out, &["--force"]).status.code(), Some(0));
+    assert!(!out.join("extra.txt").exists());
+    assert_ne!(std::fs::read_to_string(&report).unwrap(), text);
+    assert_eq!(quick_solve(&out, &[]).status.code(), Some(0));
+}
+
+/// Issue 9, defect 3: replacing was two renames, and between them the output path did not
+/// exist. Now one exchange: a reader polling the path never finds it missing.
+#[test]
+fn replacing_a_result_never_leaves_the_path_missing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    assert_eq!(quick_solve(&out, &[]).status.code(), Some(0));
+    let (stop, missing) = (
+        Arc::new(AtomicBool::new(false)),
+        Arc::new(AtomicUsize::new(0)),
+    );
+    let poller = {
+        let (stop, missing, out) = (stop.clone(), missing.clone(), out.clone());
+        std::thread::spawn(move || {
+            while !stop.load(Ordering::Relaxed) {
+                if std::fs::symlink_metadata(&out).is_err() {
+                    missing.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+        })
+    };
+    for _ in 0..10 {
+        let o = quick_solve(&out, &["--no-plots"]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    stop.store(true, Ordering::Relaxed);
+    poller.join().unwrap();
+    assert_eq!(
+        missing.load(Ordering::Relaxed),
+        0,
+        "the output path went missing"
+    );
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 1);
+}
+
+/// Issue 9, defect 8: a bad `--out` was found only after the whole solve. Now exit 2 at
+/// once (the paper's problem with 100 starts would take a minute).
+#[test]
+fn a_bad_out_is_refused_before_the_solve() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("file");
+    std::fs::write(&file, "x").unwrap();
+    let under_file = file.join("out");
+    for out in [
+        Path::new("/proc/purcell-sim-test"),
+        Path::new("/"),
+        &under_file,
+    ] {
+        let t0 = Instant::now();
+        let o = sim(&["solve", "--starts", "100", "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{out:?}: {}", stderr(&o));
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "{out:?}: refused only after {:?}",
+            t0.elapsed()
+        );
+    }
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+}
+
+const COSTATE: &str = r#"{"format":"purcell-costate","version":2,
+ "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
+ "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":0,
+ "checkpoints":[]}"#;
+
+/// Issue 9, defect 5: `replay --costate c.json --out c.json` overwrote its own input. It
+/// is refused by any name, even with `--force`; `--out` replaces only a replay report.
+#[test]
+fn replay_out_never_overwrites_its_input_or_a_foreign_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let c = tmp.path().join("c.json");
+    std::fs::write(&c, COSTATE).unwrap();
+    let cs = c.to_str().unwrap();
+    let alias = tmp.path().join("alias.json");
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("c.json", &alias).unwrap();
+    #[cfg(not(unix))]
+    std::fs::hard_link(&c, &alias).unwrap();
+    for out in [cs, alias.to_str().unwrap()] {
+        for force in [&[][..], &["--force"][..]] {
+            let mut args = vec!["replay", "--costate", cs, "--out", out];
+            args.extend_from_slice(force);
+            let o = sim(&args);
+            assert_eq!(o.status.code(), Some(2), "{out} {force:?}: {}", stderr(&o));
+            assert!(stderr(&o).contains("input"), "{}", stderr(&o));
+        }
+    }
+    assert_eq!(std::fs::read_to_string(&c).unwrap(), COSTATE);
+
+    // A report of ours is replaced; somebody else's file only with --force.
+    let r = tmp.path().join("r.json");
+    let rs = r.to_str().unwrap();
+    for _ in 0..2 {
+        let o = sim(&["replay", "--costate", cs, "--out", rs]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let written: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&r).unwrap()).unwrap();
+        assert_eq!(written["format"], "purcell-replay");
+    }
+    std::fs::write(&r, "my notes").unwrap();
+    let o = sim(&["replay", "--costate", cs, "--out", rs]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&r).unwrap(), b"my notes");
+    let o = sim(&["replay", "--costate", cs, "--out", rs, "--force"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        std::fs::read_to_string(&r)
+            .unwrap()
+            .contains("purcell-replay")
+    );
+    let names: Vec<String> = snapshot(tmp.path()).into_iter().map(|(n, _)| n).collect();
+    assert_eq!(names, ["alias.json", "c.json", "r.json"]);
+}
