@@ -5,13 +5,15 @@
 //! → Newton on the multiple-shooting system ([`multiple`]), whose Jacobian comes from the
 //! core's own control law run on dual numbers ([`dual`]); then an independent optimality
 //! check ([`kkt`]), the costate file ([`costate_file`]), outputs ([`output`], [`plots`]) and
-//! replays in `f64`/`f32` ([`replay`]). [`shooting`] holds the single-shooting map and its
+//! replays in `f64`/`f32` ([`replay`]). [`curvature`] is the shape-space view of the model
+//! (the curvature of the connection) that `purcell-sim field` draws. [`shooting`] holds the single-shooting map and its
 //! Levenberg–Marquardt solver and homotopy; [`problem`] the validated inputs; [`cli`] the
 //! command line.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod costate_file;
+pub mod curvature;
 pub mod direct;
 pub mod dual;
 pub mod kkt;
