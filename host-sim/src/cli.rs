@@ -24,7 +24,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Solve the discrete optimal-control problem and write DIR/{trajectory.csv,
-    /// costate.json, report.json, *.svg}.
+    /// costate.json, report.json, field.csv, *.svg, *.png}.
     Solve(SolveArgs),
     /// Replay a costate file through the core (f64 and f32, with and without checkpoints)
     /// and report the terminal error against the target and alpha0.
@@ -32,6 +32,9 @@ pub enum Command {
     /// Print the local connection A(alpha) and its derivatives as JSON (rows x, y, theta;
     /// columns alpha1, alpha2).
     Connection(ConnectionArgs),
+    /// Draw the curvature of the connection over the shape plane (rows x, y, theta), with a
+    /// gait on top, and write DIR/{field.svg, field.png, field.csv}.
+    Field(FieldArgs),
 }
 
 /// Swimmer parameters shared by the subcommands.
@@ -81,9 +84,12 @@ pub struct SolveArgs {
     /// Multiple-shooting segments.
     #[arg(long, default_value_t = 20)]
     pub segments: u32,
-    /// Skip the SVG figures.
+    /// Skip the figures (SVG and PNG) and field.csv.
     #[arg(long)]
     pub no_plots: bool,
+    /// Angles in the figures in degrees and deg/s (the CSV files stay in radians).
+    #[arg(long)]
+    pub degrees: bool,
     /// Output directory (created or replaced atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -132,6 +138,37 @@ pub struct ConnectionArgs {
     pub model: ModelArgs,
 }
 
+/// A row of the curvature.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FieldComponent {
+    /// Forward motion (m/rad^2).
+    X,
+    /// Sideways motion (m/rad^2).
+    Y,
+    /// Turning (1/rad).
+    Theta,
+}
+
+/// `field` flags.
+#[derive(Debug, Args)]
+pub struct FieldArgs {
+    /// Swimmer parameters (not with --gait: the gait's file has its own).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// A costate file (DIR/costate.json) whose gait (replayed in f64) is drawn on top.
+    #[arg(long, conflicts_with_all = ["links", "drag", "ratio"])]
+    pub gait: Option<PathBuf>,
+    /// Draw only this row (default: all three). field.csv always has all three.
+    #[arg(long, value_enum)]
+    pub component: Option<FieldComponent>,
+    /// Shape axes in degrees (the curvature stays per rad^2, the CSV in radians).
+    #[arg(long)]
+    pub degrees: bool,
+    /// Output directory (created or replaced atomically).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
 /// A failure of the command, with its exit code.
 #[derive(Debug)]
 pub struct Failure {
@@ -167,6 +204,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
         Command::Solve(a) => run_solve(a),
         Command::Replay(a) => run_replay(a),
         Command::Connection(a) => run_connection(a),
+        Command::Field(a) => run_field(a),
     }
 }
 
@@ -259,15 +297,64 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         ("report.json".to_string(), report_text.clone().into_bytes()),
     ];
     if !a.no_plots {
-        for (name, svg) in plots::figures(&problem, &best.trajectory)
-            .map_err(|e| fail(1, format!("plotting: {e}")))?
-        {
-            files.push((name, svg.into_bytes()));
-        }
+        let mu = nalgebra::Vector3::new(best.z[0], best.z[1], best.z[2]);
+        let options = plots::Options { degrees: a.degrees };
+        files.extend(
+            plots::figures(&problem, &best.trajectory, &mu, &file, &options)
+                .map_err(|e| fail(1, format!("plotting: {e}")))?,
+        );
     }
     output::write_dir_atomically(&a.out, &files)
         .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
     Ok(report_text)
+}
+
+fn run_field(a: FieldArgs) -> Result<String, Failure> {
+    let (problem, states) = match &a.gait {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?;
+            let file = CostateFile::parse(&text)
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            let problem = file
+                .problem()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            let states = replay::gait_states(&file, 10_000).map_err(|e| {
+                fail(
+                    2,
+                    format!("{}: the gait does not replay: {e}", path.display()),
+                )
+            })?;
+            (problem, Some(states))
+        }
+        None => {
+            let spec = Spec {
+                links: arr("links", &a.model.links)?,
+                drag: a.model.drag,
+                ratio: a.model.ratio,
+                ..Spec::default()
+            };
+            (Problem::new(&spec).map_err(|e| fail(2, e))?, None)
+        }
+    };
+    let components = match a.component {
+        None => plots::field::Component::ALL.to_vec(),
+        Some(FieldComponent::X) => vec![plots::field::Component::X],
+        Some(FieldComponent::Y) => vec![plots::field::Component::Y],
+        Some(FieldComponent::Theta) => vec![plots::field::Component::Theta],
+    };
+    let options = plots::Options { degrees: a.degrees };
+    let gait = states.as_deref().map(|s| (&problem, s));
+    let files = plots::field_files(&problem.swimmer, gait, &components, &options)
+        .map_err(|e| fail(1, format!("plotting: {e}")))?;
+    output::write_dir_atomically(&a.out, &files)
+        .map_err(|e| fail(1, format!("writing {}: {e}", a.out.display())))?;
+    let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+    Ok(
+        serde_json::to_string_pretty(&json!({ "out": a.out, "files": names }))
+            .map_err(|e| fail(1, e))?
+            + "\n",
+    )
 }
 
 fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
