@@ -43,12 +43,23 @@ impl Component {
 
     /// A motion in this direction, as text (`θ` in the angle units).
     fn motion(self, v: f64, units: Units) -> String {
-        match self {
-            Component::Theta if units.per_radian == 1.0 => format!("{v:.4} rad"),
-            Component::Theta => format!("{:.2}°", units.angle(v)),
-            _ => format!("{v:.3} m"),
-        }
-        .replace('-', "−")
+        let (value, decimals, unit) = match self {
+            Component::Theta if units.per_radian == 1.0 => (v, 4, " rad"),
+            Component::Theta => (units.angle(v), 2, "°"),
+            _ => (v, 3, " m"),
+        };
+        let text = format!("{value:.decimals$}");
+        // No "−0.000": a value that rounds to zero is written without a sign.
+        let text = if text
+            .trim_start_matches('-')
+            .trim_matches(['0', '.'])
+            .is_empty()
+        {
+            text.trim_start_matches('-').to_string()
+        } else {
+            minus(&text)
+        };
+        format!("{text}{unit}")
     }
 }
 
@@ -272,15 +283,27 @@ impl Figure for FieldFigure<'_> {
         DB::ErrorType: 'static,
     {
         let k = Scale(scale);
-        root.fill(&WHITE)?;
-        draw_title(root, k, &self.title)?;
         let legend = self.overlay.legend();
-        let top = MARGIN + TITLE_HEIGHT;
-        draw_legend(root, k, (Y_LABELS, top), self.legend_width(), &legend)?;
-        let top = top + legend_height(self.legend_width(), &legend);
+        let top = draw_heading(root, k, &self.title, &legend, self.legend_width())?;
         for (i, c) in self.components.iter().enumerate() {
             self.draw_panel(root, k, *c, i as f64 * self.panel_width(), top)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plots::Options;
+
+    #[test]
+    fn motions_are_written_with_units_and_no_negative_zero() {
+        let deg = Units::new(&Options { degrees: true });
+        let rad = Units::new(&Options { degrees: false });
+        assert_eq!(Component::X.motion(-0.0283, deg), "−0.028 m");
+        assert_eq!(Component::Theta.motion(-1e-9, deg), "0.00°");
+        assert_eq!(Component::Theta.motion(-0.0004, rad), "−0.0004 rad");
+        assert_eq!(Component::Y.motion(-0.0001, rad), "0.000 m");
     }
 }

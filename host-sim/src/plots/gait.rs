@@ -39,8 +39,13 @@ impl Gait<'_> {
         self.problem.h * k as f64
     }
 
-    fn horizon(&self) -> (f64, f64) {
-        (0.0, self.time(self.trajectory.controls.len()))
+    /// Panels over the gait's horizon.
+    fn figure(&self, title: &str, panels: Vec<Panel>) -> TimeFigure {
+        TimeFigure {
+            title: title.into(),
+            t: (0.0, self.time(self.trajectory.controls.len())),
+            panels,
+        }
     }
 
     fn alphas(&self) -> Vec<Vector2<f64>> {
@@ -190,28 +195,21 @@ impl Gait<'_> {
                 },
             ];
         }
-        TimeFigure {
-            title: "Joint angles".into(),
-            t: self.horizon(),
-            panels: vec![panel],
-        }
+        self.figure("Joint angles", vec![panel])
     }
 
     /// `u1(t)`, `u2(t)` for `k < N` (the last CSV row's zero is padding, not a control).
     pub fn controls(&self) -> TimeFigure {
         let (c, u) = (&self.trajectory.controls, self.units);
         let last = c.len() - 1;
-        TimeFigure {
-            title: "Controls (joint rates)".into(),
-            t: self.horizon(),
-            panels: vec![Panel::new(
-                format!("u ({})", u.rate_unit),
-                vec![
-                    self.series("u₁", BLUE, last, |k| u.angle(c[k].x)),
-                    self.series("u₂", VERMILLION, last, |k| u.angle(c[k].y)),
-                ],
-            )],
-        }
+        let panel = Panel::new(
+            format!("u ({})", u.rate_unit),
+            vec![
+                self.series("u₁", BLUE, last, |k| u.angle(c[k].x)),
+                self.series("u₂", VERMILLION, last, |k| u.angle(c[k].y)),
+            ],
+        );
+        self.figure("Controls (joint rates)", vec![panel])
     }
 
     /// `x(t)`, `y(t)` with the target at `T`.
@@ -241,11 +239,7 @@ impl Gait<'_> {
                 label: Some("target y".into()),
             },
         ];
-        TimeFigure {
-            title: "Position of the body".into(),
-            t: self.horizon(),
-            panels: vec![panel],
-        }
+        self.figure("Position of the body", vec![panel])
     }
 
     /// `θ(t)` with the target at `T`.
@@ -262,11 +256,7 @@ impl Gait<'_> {
             color: BLUE,
             label: Some("target θ".into()),
         }];
-        TimeFigure {
-            title: "Orientation of the body".into(),
-            t: self.horizon(),
-            panels: vec![panel],
-        }
+        self.figure("Orientation of the body", vec![panel])
     }
 
     /// The costates of the law `u_k = ξ^k − A(α_k)ᵀ ζ^k` over `k < N`: `ξ^k` and
@@ -286,10 +276,9 @@ impl Gait<'_> {
         let last = n - 1;
         // `xis[k]` is ξ^{k−1}: ξ^k is `xis[k + 1]`.
         let xi = |k: usize, i: usize| t.xis[k + 1][i];
-        Ok(TimeFigure {
-            title: "Costates of the control law u = ξ − Aᵀζ".into(),
-            t: self.horizon(),
-            panels: vec![
+        Ok(self.figure(
+            "Costates of the control law u = ξ − Aᵀζ",
+            vec![
                 Panel::new(
                     "ξᵏ (rad/s)",
                     vec![
@@ -300,16 +289,16 @@ impl Gait<'_> {
                 Panel::new(
                     "ζᵏ (rad²/(m·s))",
                     vec![
-                        self.series("ζ_x", BLUE, last, |k| zeta[k].x),
-                        self.series("ζ_y", VERMILLION, last, |k| zeta[k].y),
+                        self.series("ζ (x)", BLUE, last, |k| zeta[k].x),
+                        self.series("ζ (y)", VERMILLION, last, |k| zeta[k].y),
                     ],
                 ),
                 Panel::new(
                     "ζᵏ (rad/s)",
-                    vec![self.series("ζ_θ", GREEN, last, |k| zeta[k].z)],
+                    vec![self.series("ζ (θ)", GREEN, last, |k| zeta[k].z)],
                 ),
             ],
-        })
+        ))
     }
 }
 

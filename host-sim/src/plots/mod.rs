@@ -8,6 +8,10 @@
 //!
 //! Angles are in radians, or degrees with [`Options::degrees`]; lengths in metres, time in
 //! seconds; costates and the curvature always in SI (per radian).
+//!
+//! Figures are data ([`time::Panel`], [`plane::Overlay`]) drawn by one routine per kind, so
+//! a new mark is a field and a loop: steps spent on the joint limit, say, would be shaded
+//! time spans of a `Panel` and highlighted stretches of an `Overlay`'s paths.
 
 pub mod field;
 pub mod gait;

@@ -224,13 +224,9 @@ impl Figure for PlaneFigure {
         DB::ErrorType: 'static,
     {
         let k = Scale(scale);
-        root.fill(&WHITE)?;
-        draw_title(root, k, &self.title)?;
-        let legend = self.legend();
-        let top = MARGIN + TITLE_HEIGHT;
-        draw_legend(root, k, (Y_LABELS, top), PLOT_WIDTH, &legend)?;
+        let top = draw_heading(root, k, &self.title, &self.legend(), PLOT_WIDTH)?;
         let mut axes = Axes::new(self.view[0], self.view[1], &self.x_desc, &self.y_desc);
-        axes.top = top + legend_height(PLOT_WIDTH, &legend) + 8.0;
+        axes.top = top + 8.0;
         let (w, h) = self.size();
         let area = root
             .clone()

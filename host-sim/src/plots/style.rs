@@ -28,6 +28,8 @@ pub const LEGEND_ROW: f64 = 48.0;
 pub const Y_LABELS: f64 = 150.0;
 /// Bottom label area.
 pub const X_LABELS: f64 = 100.0;
+/// Space left of the y description, within [`Y_LABELS`].
+pub const LEFT_PAD: f64 = 12.0;
 /// Right margin of a plot.
 pub const RIGHT: f64 = 40.0;
 /// Data lines.
@@ -226,22 +228,28 @@ where
     Ok(())
 }
 
-/// Draws the title at the top left of `root`.
-pub fn draw_title<DB: DrawingBackend>(
+/// Clears `root`, draws the title at its top left and `legend` (if any) under it, from the
+/// left of the plots and `width` wide; returns where the content below starts (unscaled).
+pub fn draw_heading<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     k: Scale,
     title: &str,
-) -> DrawResult
+    legend: &[(Key, String)],
+    width: f64,
+) -> Result<f64, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {
+    root.fill(&WHITE)?;
     let style = k.font(TITLE_FONT, HPos::Left, VPos::Top);
     root.draw(&Text::new(
         title.to_string(),
         (k.px(MARGIN), k.px(MARGIN)),
         style,
     ))?;
-    Ok(())
+    let top = MARGIN + TITLE_HEIGHT;
+    draw_legend(root, k, (Y_LABELS, top), width, legend)?;
+    Ok(top + legend_height(width, legend))
 }
 
 /// Axes of a plot: where the plotting area sits in its drawing area and what it shows.
@@ -311,10 +319,11 @@ impl Axes<'_> {
         Ok(ChartBuilder::on(area)
             .margin_top(k.u(self.top))
             .margin_right(k.u(self.right))
-            .margin_left(0)
+            // The rotated y description starts a little in from the edge.
+            .margin_left(k.u(LEFT_PAD))
             .margin_bottom(0)
             .x_label_area_size(k.u(self.bottom))
-            .y_label_area_size(k.u(self.left))
+            .y_label_area_size(k.u(self.left - LEFT_PAD))
             .build_cartesian_2d(self.x.0..self.x.1, self.y.0..self.y.1)?)
     }
 
@@ -546,6 +555,26 @@ mod tests {
             let (ux, uy) = ((rx.1 - rx.0) / wh.0, (ry.1 - ry.0) / wh.1);
             assert!((ux / uy - 1.0).abs() < 1e-12);
             assert!(rx.0 <= x.0 && rx.1 >= x.1 && ry.0 <= y.0 && ry.1 >= y.1);
+        }
+    }
+
+    #[test]
+    fn axes_put_the_plotting_area_where_the_layouts_assume() {
+        // Figures size their canvas from these sums (equal aspect depends on it).
+        let mut svg = String::new();
+        let (w, h) = (1500u32, 900u32);
+        let area = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+        let mut axes = Axes::new((0.0, 1.0), (0.0, 1.0), "x", "y");
+        axes.top = 70.0;
+        for scale in [1.0, 3.0] {
+            let chart = axes.build(&area, Scale(scale)).unwrap();
+            let k = Scale(scale);
+            let want = (
+                w as i32 - k.px(axes.left) - k.px(axes.right),
+                h as i32 - k.px(axes.top) - k.px(axes.bottom),
+            );
+            let (pw, ph) = chart.plotting_area().dim_in_pixel();
+            assert_eq!((pw as i32, ph as i32), want, "scale {scale}");
         }
     }
 

@@ -138,9 +138,7 @@ impl Figure for TimeFigure {
         DB::ErrorType: 'static,
     {
         let k = Scale(scale);
-        root.fill(&WHITE)?;
-        draw_title(root, k, &self.title)?;
-        let mut top = MARGIN + TITLE_HEIGHT;
+        let mut top = draw_heading(root, k, &self.title, &[], Self::legend_width())?;
         for (i, p) in self.panels.iter().enumerate() {
             let legend = p.legend();
             let lh = legend_height(Self::legend_width(), &legend);
