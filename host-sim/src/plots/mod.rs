@@ -1,4 +1,4 @@
-//! Figures, each written as SVG and PNG ([`render`]), in one style ([`style`]).
+//! Figures, each written as SVG and PNG ([`mod@render`]), in one style ([`style`]).
 //!
 //! [`figures`] makes every figure of a solved gait (what `solve` writes); [`field_files`]
 //! the curvature field alone (what `field` writes). Figure kinds: panels over time

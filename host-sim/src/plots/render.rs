@@ -6,7 +6,7 @@
 //! (anti-aliasing for every line, marker and glyph), and encoded by `png`. Text in both comes
 //! from the bundled DejaVu Sans ([`FONT`]), so nothing depends on the fonts of the machine:
 //! the bitmap backend's own text path misplaces glyphs (it drops their side bearings), so
-//! [`Raster`] draws text itself, with SVG's placement rules, and draws thick polylines with
+//! `Raster` draws text itself, with SVG's placement rules, and draws thick polylines with
 //! round joins.
 
 use super::PlotError;
