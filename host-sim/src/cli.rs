@@ -26,7 +26,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Solve the discrete optimal-control problem and write DIR/{trajectory.csv,
-    /// costate.json, report.json, *.svg}.
+    /// costate.json, report.json, field.csv, *.svg, *.png}.
     Solve(SolveArgs),
     /// Replay a gait (binary, or a costate file) through the core as firmware does (f64 and
     /// f32, with and without checkpoints): print each trajectory's digest, final state bits and
@@ -41,6 +41,9 @@ pub enum Command {
     /// (target, cost, residual, largest |alpha_i|, local minimum) and a map of the cost over
     /// the target plane.
     Sweep(SweepArgs),
+    /// Draw the curvature of the connection over the shape plane (rows x, y, theta), with a
+    /// gait on top, and write DIR/{field.svg, field.png, field.csv}.
+    Field(FieldArgs),
 }
 
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
@@ -113,9 +116,12 @@ pub struct SolveArgs {
     /// Costate checkpoint spacing M in steps (0: none).
     #[arg(long, default_value_t = 100)]
     pub checkpoint_every: u32,
-    /// Skip the SVG figures.
+    /// Skip the figures (SVG and PNG) and field.csv.
     #[arg(long)]
     pub no_plots: bool,
+    /// Angles in the figures in degrees and deg/s (the CSV files stay in radians).
+    #[arg(long)]
+    pub degrees: bool,
     /// Start from a stored extremal (a costate file of the same swimmer, for a nearby target,
     /// start shape or horizon) instead of the global search.
     #[arg(long, value_name = "COSTATE_JSON")]
@@ -240,6 +246,41 @@ pub struct ConnectionArgs {
     pub model: ModelArgs,
 }
 
+/// A row of the curvature.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FieldComponent {
+    /// Forward motion (m/rad^2).
+    X,
+    /// Sideways motion (m/rad^2).
+    Y,
+    /// Turning (1/rad).
+    Theta,
+}
+
+/// `field` flags.
+#[derive(Debug, Args)]
+pub struct FieldArgs {
+    /// Swimmer parameters (not with --gait: the gait's file has its own).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// A costate file (DIR/costate.json) whose gait (replayed in f64) is drawn on top.
+    #[arg(long, conflicts_with_all = ["links", "drag", "ratio"])]
+    pub gait: Option<PathBuf>,
+    /// Draw only this row (default: all three). field.csv always has all three.
+    #[arg(long, value_enum)]
+    pub component: Option<FieldComponent>,
+    /// Shape axes in degrees (the curvature stays per rad^2, the CSV in radians).
+    #[arg(long)]
+    pub degrees: bool,
+    /// Output directory: created, or replaced in one step if it is empty or a previous
+    /// result of purcell-sim (anything else is refused before any work).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out even if it holds files purcell-sim did not write.
+    #[arg(long)]
+    pub force: bool,
+}
+
 /// A failure of the command, with its exit code (the README's "Exit codes").
 #[derive(Debug)]
 pub struct Failure {
@@ -287,6 +328,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
         Command::Export(a) => run_export(a),
         Command::Connection(a) => run_connection(a),
         Command::Sweep(a) => run_sweep(a),
+        Command::Field(a) => run_field(a),
     }
 }
 
@@ -394,14 +436,59 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         ("report.json".to_string(), report_text.clone().into_bytes()),
     ];
     if !a.no_plots {
-        for (name, svg) in plots::figures(&problem, &best.trajectory)
-            .map_err(|e| fail(1, format!("plotting: {e}")))?
-        {
-            files.push((name, svg.into_bytes()));
-        }
+        let options = plots::Options { degrees: a.degrees };
+        files.extend(
+            plots::figures(&problem, &best.trajectory, &best.mu, &file, &options)
+                .map_err(|e| fail(1, format!("plotting: {e}")))?,
+        );
     }
     out.commit(&files).map_err(output_failure(false))?;
     Ok(report_text)
+}
+
+fn run_field(a: FieldArgs) -> Result<String, Failure> {
+    let (problem, states) = match &a.gait {
+        Some(path) => {
+            let file = read_costate(path)?;
+            let problem = file
+                .problem()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            let states = replay::gait_states(&file, 10_000).map_err(|e| {
+                fail(
+                    2,
+                    format!("{}: the gait does not replay: {e}", path.display()),
+                )
+            })?;
+            (problem, Some(states))
+        }
+        None => {
+            let spec = Spec {
+                links: arr("links", &a.model.links)?,
+                drag: a.model.drag,
+                ratio: a.model.ratio,
+                ..Spec::default()
+            };
+            (Problem::new(&spec).map_err(|e| fail(2, e))?, None)
+        }
+    };
+    let components = match a.component {
+        None => plots::field::Component::ALL.to_vec(),
+        Some(FieldComponent::X) => vec![plots::field::Component::X],
+        Some(FieldComponent::Y) => vec![plots::field::Component::Y],
+        Some(FieldComponent::Theta) => vec![plots::field::Component::Theta],
+    };
+    let out = output::OutputDir::prepare(&a.out, "field", a.force).map_err(output_failure(true))?;
+    let options = plots::Options { degrees: a.degrees };
+    let gait = states.as_deref().map(|s| (&problem, s));
+    let files = plots::field_files(&problem.swimmer, gait, &components, &options)
+        .map_err(|e| fail(1, format!("plotting: {e}")))?;
+    out.commit(&files).map_err(output_failure(false))?;
+    let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+    Ok(
+        serde_json::to_string_pretty(&json!({ "out": a.out, "files": names }))
+            .map_err(|e| fail(1, e))?
+            + "\n",
+    )
 }
 
 /// The stored extremal of `path` as a start for `problem`: same swimmer required.
@@ -542,11 +629,9 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
         ("report.json".to_string(), summary_text.clone().into_bytes()),
     ];
     if !a.no_plots {
-        for (name, bytes) in plots::sweep_figures(&lattice, &points)
-            .map_err(|e| fail(1, format!("plotting: {e}")))?
-        {
-            files.push((name, bytes.into_bytes()));
-        }
+        files.extend(
+            plots::sweep_files(&lattice, &points).map_err(|e| fail(1, format!("plotting: {e}")))?,
+        );
     }
     out.commit(&files).map_err(output_failure(false))?;
     Ok(summary_text)

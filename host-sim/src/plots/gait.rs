@@ -1,0 +1,386 @@
+//! The figures of a gait: the shape loop, the swimmer time-lapse, `α(t)`, `u(t)`, `x(t)`,
+//! `y(t)`, `θ(t)` and the costates `ξ^k`, `ζ^k`.
+
+use super::plane::{Drawing, Overlay, Path, PlaneFigure};
+use super::style::*;
+use super::time::{Level, Mark, Panel, Series, TimeFigure};
+use super::{PlotError, Units};
+use crate::problem::Problem;
+use crate::solver::Trajectory;
+use nalgebra::{Vector2, Vector3};
+use plotters::style::RGBColor;
+use purcell_core::se2::ExpCoefficients;
+
+/// Points kept per curve (the figures are 1 500 pixels wide).
+pub const POINTS: usize = 2500;
+
+/// The indices `0, s, 2s, …` and `last`, with `s` such that about `points` remain.
+pub fn thin(last: usize, points: usize) -> Vec<usize> {
+    let stride = (last / points.max(1)).max(1);
+    let mut ks: Vec<usize> = (0..=last).step_by(stride).collect();
+    if ks.last() != Some(&last) {
+        ks.push(last);
+    }
+    ks
+}
+
+/// A gait with what its figures need.
+pub struct Gait<'a> {
+    /// The problem.
+    pub problem: &'a Problem,
+    /// States, controls, costates `ξ`.
+    pub trajectory: &'a Trajectory,
+    /// Angle units of the figures.
+    pub units: Units,
+}
+
+impl Gait<'_> {
+    fn time(&self, k: usize) -> f64 {
+        self.problem.h * k as f64
+    }
+
+    /// Panels over the gait's horizon.
+    fn figure(&self, title: &str, panels: Vec<Panel>) -> TimeFigure {
+        TimeFigure {
+            title: title.into(),
+            t: (0.0, self.time(self.trajectory.controls.len())),
+            panels,
+        }
+    }
+
+    fn alphas(&self) -> Vec<Vector2<f64>> {
+        self.trajectory.states.iter().map(|s| s.alpha).collect()
+    }
+
+    /// A curve `(t_k, f(k))` over the states `k = 0..=N` (or, with `controls`, `k < N`).
+    fn series(
+        &self,
+        label: &str,
+        color: RGBColor,
+        last: usize,
+        f: impl Fn(usize) -> f64,
+    ) -> Series {
+        Series {
+            label: label.into(),
+            color,
+            points: thin(last, POINTS)
+                .into_iter()
+                .map(|k| (self.time(k), f(k)))
+                .collect(),
+        }
+    }
+
+    /// `(α1, α2)`, equal axes.
+    pub fn shape_loop(&self) -> PlaneFigure {
+        let u = self.units;
+        PlaneFigure::new(
+            "Shape loop".into(),
+            (
+                format!("α₁ ({})", u.angle_unit),
+                format!("α₂ ({})", u.angle_unit),
+            ),
+            Drawing::default(),
+            shape_overlay(self.problem, &self.alphas(), u, BLUE),
+        )
+    }
+
+    /// The swimmer in the plane every 5 s, links scaled down (as the paper draws it), with the
+    /// path of its body, start, end and direction of travel.
+    pub fn swimmer(&self) -> PlaneFigure {
+        let states = &self.trajectory.states;
+        let path: Vec<(f64, f64)> = thin(states.len() - 1, POINTS)
+            .into_iter()
+            .map(|k| (states[k].g.x(), states[k].g.y()))
+            .collect();
+        let [l0, l1, l2] = self.problem.swimmer.lengths();
+        // Scale the links so the swimmer is about a seventh of the path's extent.
+        let extent = {
+            let [x, y] = Overlay {
+                paths: vec![Path {
+                    label: String::new(),
+                    color: INK,
+                    points: path.clone(),
+                    arrows: 0,
+                }],
+                ..Overlay::default()
+            }
+            .data_bounds();
+            (x.1 - x.0).max(y.1 - y.0).max(1e-9)
+        };
+        let scale = nice_ratio((l0 + l1 + l2) / (extent / 7.0));
+        let every = ((5.0 / self.problem.h).round() as usize).max(1);
+        let mut snaps: Vec<usize> = (0..states.len()).step_by(every).collect();
+        if snaps.last() != Some(&(states.len() - 1)) {
+            snaps.push(states.len() - 1);
+        }
+        let mut lines = Vec::new();
+        for k in snaps {
+            let s = &states[k];
+            let (a1, a2) = (s.alpha.x, s.alpha.y);
+            let at = |x: f64, y: f64| {
+                let q = s.g.act(&Vector2::new(x / scale, y / scale));
+                (q.x, q.y)
+            };
+            let (front, rear) = (at(l0 / 2.0, 0.0), at(-l0 / 2.0, 0.0));
+            let front_tip = at(l0 / 2.0 + l1 * a1.cos(), l1 * a1.sin());
+            let rear_tip = at(-l0 / 2.0 - l2 * a2.cos(), -l2 * a2.sin());
+            lines.push((vec![rear, front], VERMILLION));
+            lines.push((vec![front, front_tip], GREEN));
+            lines.push((vec![rear, rear_tip], BLUE));
+        }
+        let (start, end) = (path[0], path[path.len() - 1]);
+        let overlay = Overlay {
+            paths: vec![Path {
+                label: "body path".into(),
+                color: LIMIT,
+                points: path,
+                arrows: 5,
+            }],
+            limit: None,
+            marks: vec![
+                Mark {
+                    at: start,
+                    marker: Marker::Circle,
+                    color: ORANGE,
+                    label: Some("start".into()),
+                },
+                Mark {
+                    at: end,
+                    marker: Marker::Square,
+                    color: SKY,
+                    label: Some("end".into()),
+                },
+            ],
+        };
+        let drawing = Drawing {
+            lines,
+            legend: vec![
+                (Key::Line(VERMILLION), "middle link".into()),
+                (Key::Line(GREEN), "front link (α₁)".into()),
+                (Key::Line(BLUE), "rear link (α₂)".into()),
+            ],
+        };
+        PlaneFigure::new(
+            format!("Swimmer every 5 s, links drawn at 1:{}", scale_label(scale)),
+            ("x (m)".into(), "y (m)".into()),
+            drawing,
+            overlay,
+        )
+    }
+
+    /// `α1(t)`, `α2(t)` with the joint limit when the gait comes near it.
+    pub fn alpha(&self) -> TimeFigure {
+        let (s, u) = (&self.trajectory.states, self.units);
+        let last = s.len() - 1;
+        let mut panel = Panel::new(
+            format!("joint angle ({})", u.angle_unit),
+            vec![
+                self.series("α₁", BLUE, last, |k| u.angle(s[k].alpha.x)),
+                self.series("α₂", VERMILLION, last, |k| u.angle(s[k].alpha.y)),
+            ],
+        );
+        let peak = s.iter().fold(0.0f64, |m, x| m.max(x.alpha.amax()));
+        if peak > 0.75 * self.problem.alpha_max {
+            let (l, label) = limit(self.problem, u);
+            panel.levels = vec![
+                Level {
+                    y: l,
+                    label: Some(label),
+                    color: LIMIT,
+                },
+                Level {
+                    y: -l,
+                    label: None,
+                    color: LIMIT,
+                },
+            ];
+        }
+        self.figure("Joint angles", vec![panel])
+    }
+
+    /// `u1(t)`, `u2(t)` for `k < N` (the last CSV row's zero is padding, not a control).
+    pub fn controls(&self) -> TimeFigure {
+        let (c, u) = (&self.trajectory.controls, self.units);
+        let last = c.len() - 1;
+        let panel = Panel::new(
+            format!("u ({})", u.rate_unit),
+            vec![
+                self.series("u₁", BLUE, last, |k| u.angle(c[k].x)),
+                self.series("u₂", VERMILLION, last, |k| u.angle(c[k].y)),
+            ],
+        );
+        self.figure("Controls (joint rates)", vec![panel])
+    }
+
+    /// `x(t)`, `y(t)` with the target at `T`.
+    pub fn position(&self) -> TimeFigure {
+        let s = &self.trajectory.states;
+        let last = s.len() - 1;
+        let t_end = self.time(last);
+        let mut panel = Panel::new(
+            "position (m)",
+            vec![
+                self.series("x", BLUE, last, |k| s[k].g.x()),
+                self.series("y", VERMILLION, last, |k| s[k].g.y()),
+            ],
+        );
+        let target = self.problem.target;
+        panel.marks = vec![
+            Mark {
+                at: (t_end, target.x),
+                marker: Marker::Square,
+                color: BLUE,
+                label: Some("target x".into()),
+            },
+            Mark {
+                at: (t_end, target.y),
+                marker: Marker::Diamond,
+                color: VERMILLION,
+                label: Some("target y".into()),
+            },
+        ];
+        self.figure("Position of the body", vec![panel])
+    }
+
+    /// `θ(t)` with the target at `T`.
+    pub fn theta(&self) -> TimeFigure {
+        let (s, u) = (&self.trajectory.states, self.units);
+        let last = s.len() - 1;
+        let mut panel = Panel::new(
+            format!("θ ({})", u.angle_unit),
+            vec![self.series("θ", BLUE, last, |k| u.angle(s[k].g.theta()))],
+        );
+        panel.marks = vec![Mark {
+            at: (self.time(last), u.angle(self.problem.target.z)),
+            marker: Marker::Square,
+            color: BLUE,
+            label: Some("target θ".into()),
+        }];
+        self.figure("Orientation of the body", vec![panel])
+    }
+
+    /// The costates of the law `u_k = ξ^k − A(α_k)ᵀ ζ^k` over `k < N`: `ξ^k` and
+    /// `ζ^k = dexp_{X_k}ᵀ Ad_{g_k}ᵀ μ` (SI units whatever the angle units).
+    pub fn costate(&self, mu: &Vector3<f64>) -> Result<TimeFigure, PlotError> {
+        let t = self.trajectory;
+        let n = t.controls.len();
+        let kin = self.problem.kinematics::<f64>()?;
+        let mut zeta = Vec::with_capacity(n);
+        for k in 0..n {
+            let s = &t.states[k];
+            let a = self.problem.swimmer.connection(&s.alpha)?;
+            let x = kin.twist(&a, &t.controls[k]);
+            let m = s.g.adjoint_transpose_mul(mu);
+            zeta.push(ExpCoefficients::new(x.z).dexp_transpose_mul(&x, &m));
+        }
+        let last = n - 1;
+        // `xis[k]` is ξ^{k−1}: ξ^k is `xis[k + 1]`.
+        let xi = |k: usize, i: usize| t.xis[k + 1][i];
+        Ok(self.figure(
+            "Costates of the control law u = ξ − Aᵀζ",
+            vec![
+                Panel::new(
+                    "ξᵏ (rad/s)",
+                    vec![
+                        self.series("ξ₁", BLUE, last, |k| xi(k, 0)),
+                        self.series("ξ₂", VERMILLION, last, |k| xi(k, 1)),
+                    ],
+                ),
+                Panel::new(
+                    "ζᵏ (rad²/(m·s))",
+                    vec![
+                        self.series("ζ (x)", BLUE, last, |k| zeta[k].x),
+                        self.series("ζ (y)", VERMILLION, last, |k| zeta[k].y),
+                    ],
+                ),
+                Panel::new(
+                    "ζᵏ (rad/s)",
+                    vec![self.series("ζ (θ)", GREEN, last, |k| zeta[k].z)],
+                ),
+            ],
+        ))
+    }
+}
+
+/// The joint limit `±α_max` in display units, and its label.
+fn limit(problem: &Problem, units: Units) -> (f64, String) {
+    let what = if problem.alpha_max >= std::f64::consts::PI {
+        "links overlap"
+    } else {
+        "joint limit"
+    };
+    let at = units.format_angle(problem.alpha_max);
+    (
+        units.angle(problem.alpha_max),
+        format!("{what}, |αᵢ| = {at}"),
+    )
+}
+
+/// A gait over the shape plane: the loop `alphas` with arrows, the joint limit, the start.
+pub fn shape_overlay(
+    problem: &Problem,
+    alphas: &[Vector2<f64>],
+    units: Units,
+    color: RGBColor,
+) -> Overlay {
+    let points = thin(alphas.len().saturating_sub(1), POINTS)
+        .into_iter()
+        .filter_map(|k| alphas.get(k))
+        .map(|a| (units.angle(a.x), units.angle(a.y)))
+        .collect();
+    let a0 = problem.alpha0;
+    Overlay {
+        paths: vec![Path {
+            label: "gait".into(),
+            color,
+            points,
+            arrows: 6,
+        }],
+        limit: Some(limit(problem, units)),
+        marks: vec![Mark {
+            at: (units.angle(a0.x), units.angle(a0.y)),
+            marker: Marker::Circle,
+            color: ORANGE,
+            label: Some("start = end, ᾱ".into()),
+        }],
+    }
+}
+
+/// The ratio 1, 2, 5 × 10ⁿ nearest above `r` (at least 1).
+fn nice_ratio(r: f64) -> f64 {
+    if r <= 1.0 {
+        return 1.0;
+    }
+    let base = 10f64.powf(r.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * base)
+        .find(|&v| v >= r)
+        .unwrap_or(10.0 * base)
+}
+
+fn scale_label(s: f64) -> String {
+    format!("{}", s.round() as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_both_ends() {
+        assert_eq!(thin(3, POINTS), vec![0, 1, 2, 3]);
+        let t = thin(10_000, POINTS);
+        assert_eq!((t[0], *t.last().unwrap()), (0, 10_000));
+        assert!(t.len() <= POINTS + 2);
+        let t = thin(10_001, 100);
+        assert_eq!(*t.last().unwrap(), 10_001);
+    }
+
+    #[test]
+    fn ratios() {
+        assert_eq!(nice_ratio(42.0), 50.0);
+        assert_eq!(nice_ratio(0.3), 1.0);
+        assert_eq!(nice_ratio(120.0), 200.0);
+    }
+}

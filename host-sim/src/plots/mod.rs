@@ -1,0 +1,262 @@
+//! Figures, each written as SVG and PNG ([`mod@render`]), in one style ([`style`]).
+//!
+//! [`figures`] makes every figure of a solved gait (what `solve` writes); [`field_files`]
+//! the curvature field alone (what `field` writes). Figure kinds: panels over time
+//! ([`time`]), equal-aspect planes ([`plane`]), the field over the shape plane ([`field`]);
+//! the figures of a gait are built in [`gait`], the replay-error figure in
+//! [`replay_error`]; [`sweep_files`] the atlas of a sweep ([`sweep`]).
+//!
+//! Angles are in radians, or degrees with [`Options::degrees`]; lengths in metres, time in
+//! seconds; costates and the curvature always in SI (per radian).
+//!
+//! Figures are data ([`time::Panel`], [`plane::Overlay`]) drawn by one routine per kind, so
+//! a new mark is a field and a loop: steps spent on the joint limit, say, would be shaded
+//! time spans of a `Panel` and highlighted stretches of an `Overlay`'s paths.
+
+pub mod field;
+pub mod gait;
+pub mod plane;
+pub mod render;
+pub mod replay_error;
+pub mod style;
+pub mod sweep;
+pub mod time;
+
+use crate::costate_file::CostateFile;
+use crate::curvature::Field;
+use crate::problem::Problem;
+use crate::solver::Trajectory;
+use crate::solver::continuation::{Lattice, SweepPoint};
+use field::{Component, FieldFigure};
+use gait::Gait;
+use nalgebra::{Vector2, Vector3};
+use plotters::coord::Shift;
+use plotters::prelude::{DrawingArea, DrawingBackend};
+use purcell_core::{State, Swimmer};
+use rayon::prelude::*;
+use render::{Figure, render};
+
+/// Why a figure could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The bundled font did not load.
+    #[error("the bundled font did not load")]
+    Font,
+    /// A backend failed.
+    #[error("drawing {0}")]
+    Draw(String),
+    /// The model refused a state of the gait.
+    #[error("model: {0}")]
+    Model(#[from] purcell_core::Error),
+    /// Replaying the costate file failed before its first step.
+    #[error("replaying the costate file: {0}")]
+    Replay(String),
+    /// The trajectory is not a gait of at least one step.
+    #[error("the trajectory has {states} states and {controls} controls")]
+    Trajectory {
+        /// States.
+        states: usize,
+        /// Controls.
+        controls: usize,
+    },
+}
+
+/// Choices for the figures.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Options {
+    /// Angles in degrees and rates in deg/s (radians otherwise).
+    pub degrees: bool,
+}
+
+/// How angles are shown.
+#[derive(Clone, Copy, Debug)]
+pub struct Units {
+    /// Display units per radian.
+    pub per_radian: f64,
+    /// `deg` or `rad`.
+    pub angle_unit: &'static str,
+    /// `deg/s` or `rad/s`.
+    pub rate_unit: &'static str,
+}
+
+impl Units {
+    /// The units `options` ask for.
+    pub fn new(options: &Options) -> Self {
+        if options.degrees {
+            Units {
+                per_radian: 180.0 / std::f64::consts::PI,
+                angle_unit: "deg",
+                rate_unit: "deg/s",
+            }
+        } else {
+            Units {
+                per_radian: 1.0,
+                angle_unit: "rad",
+                rate_unit: "rad/s",
+            }
+        }
+    }
+
+    /// An angle (or a rate) in display units.
+    pub fn angle(&self, radians: f64) -> f64 {
+        radians * self.per_radian
+    }
+
+    /// An angle as text with its unit.
+    pub fn format_angle(&self, radians: f64) -> String {
+        if self.per_radian == 1.0 {
+            format!("{radians:.3} rad")
+        } else {
+            format!("{:.1}°", self.angle(radians))
+        }
+    }
+}
+
+/// Every figure of a gait, as `(file name, bytes)`: for each of `shape_loop`, `swimmer`,
+/// `alpha`, `controls`, `position`, `theta`, `costate`, `replay_error` and `field` an SVG
+/// and a PNG, and `field.csv`.
+///
+/// `trajectory` holds `k = 0..=N` states, `k < N` controls and `ξ^{k−1}` for `k = 0..=N`;
+/// `mu` is its `μ`; `file` is its costate file (replayed in `f32` and `f64` for the
+/// replay-error figure).
+pub fn figures(
+    problem: &Problem,
+    trajectory: &Trajectory,
+    mu: &Vector3<f64>,
+    file: &CostateFile,
+    options: &Options,
+) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
+    let (states, controls) = (trajectory.states.len(), trajectory.controls.len());
+    if controls == 0 || states != controls + 1 || trajectory.xis.len() != states {
+        return Err(PlotError::Trajectory { states, controls });
+    }
+    let units = Units::new(options);
+    let gait = Gait {
+        problem,
+        trajectory,
+        units,
+    };
+    let field = Field::sample(&problem.swimmer, Field::CELLS)?;
+    let list = [
+        ("shape_loop", Any::Plane(gait.shape_loop())),
+        ("swimmer", Any::Plane(gait.swimmer())),
+        ("alpha", Any::Time(gait.alpha())),
+        ("controls", Any::Time(gait.controls())),
+        ("position", Any::Time(gait.position())),
+        ("theta", Any::Time(gait.theta())),
+        ("costate", Any::Time(gait.costate(mu)?)),
+        ("replay_error", Any::Time(replay_error::figure(file)?)),
+        (
+            "field",
+            Any::Field(field_figure(
+                &field,
+                Some((problem, &trajectory.states)),
+                &Component::ALL,
+                units,
+            )),
+        ),
+    ];
+    let mut files = render_all(&list)?;
+    files.push(("field.csv".into(), field.to_csv().into_bytes()));
+    Ok(files)
+}
+
+/// The curvature of the connection of `swimmer` over the shape plane: `field.svg`,
+/// `field.png` (the `components` as panels) and `field.csv` (all three rows, SI units); with
+/// a gait (its problem and states `k = 0..=N`), the gait drawn on top and, per row, the
+/// integral of `F` over the area it encloses beside the motion it makes.
+pub fn field_files(
+    swimmer: &Swimmer<f64>,
+    gait: Option<(&Problem, &[State<f64>])>,
+    components: &[Component],
+    options: &Options,
+) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
+    let field = Field::sample(swimmer, Field::CELLS)?;
+    let figure = field_figure(&field, gait, components, Units::new(options));
+    let mut files = render_all(&[("field", Any::Field(figure))])?;
+    files.push(("field.csv".into(), field.to_csv().into_bytes()));
+    Ok(files)
+}
+
+fn field_figure<'a>(
+    field: &'a Field,
+    gait: Option<(&Problem, &[State<f64>])>,
+    components: &[Component],
+    units: Units,
+) -> FieldFigure<'a> {
+    let (overlay, motion) = match gait {
+        Some((problem, states)) if !states.is_empty() => {
+            let alphas: Vec<Vector2<f64>> = states.iter().map(|s| s.alpha).collect();
+            let estimate = field.integral_over(&alphas);
+            let actual = states[0].g.between(&states[states.len() - 1].g).log();
+            let motion = [0, 1, 2].map(|i| (estimate[i], actual[i]));
+            // Drawn with fewer points than the other figures: the field's SVG is large.
+            let drawn: Vec<Vector2<f64>> = gait::thin(alphas.len() - 1, 600)
+                .into_iter()
+                .map(|k| alphas[k])
+                .collect();
+            let mut overlay = gait::shape_overlay(problem, &drawn, units, style::INK);
+            if problem.alpha_max >= std::f64::consts::PI {
+                // The overlap limit is the edge of the field.
+                overlay.limit = None;
+            }
+            (overlay, Some(motion))
+        }
+        _ => (plane::Overlay::default(), None),
+    };
+    FieldFigure {
+        title: "Curvature of the connection, −(∂A₂/∂α₁ − ∂A₁/∂α₂) + [A₁, A₂]".into(),
+        field,
+        components: components.to_vec(),
+        overlay,
+        motion,
+        units,
+    }
+}
+
+/// The sweep's atlas, `sweep.svg` and `sweep.png` ([`sweep::SweepFigure`]).
+pub fn sweep_files(
+    lattice: &Lattice,
+    points: &[SweepPoint],
+) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
+    Ok(render("sweep", &sweep::SweepFigure { lattice, points })?.into())
+}
+
+/// Any figure, so that a list of them renders in parallel.
+enum Any<'a> {
+    Time(time::TimeFigure),
+    Plane(plane::PlaneFigure),
+    Field(FieldFigure<'a>),
+}
+
+impl Figure for Any<'_> {
+    fn size(&self) -> (u32, u32) {
+        match self {
+            Any::Time(f) => f.size(),
+            Any::Plane(f) => f.size(),
+            Any::Field(f) => f.size(),
+        }
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        scale: f64,
+    ) -> render::DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        match self {
+            Any::Time(f) => f.draw(area, scale),
+            Any::Plane(f) => f.draw(area, scale),
+            Any::Field(f) => f.draw(area, scale),
+        }
+    }
+}
+
+/// Renders `(name, figure)`s on all cores, in order.
+fn render_all(list: &[(&str, Any<'_>)]) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
+    let rendered: Result<Vec<_>, PlotError> =
+        list.par_iter().map(|(name, f)| render(name, f)).collect();
+    Ok(rendered?.into_iter().flatten().collect())
+}
