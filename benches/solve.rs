@@ -3,9 +3,12 @@
 //!   of the candidates, certificates);
 //! - `refine_cheapest_admissible`: carrying the coarse grid's cheapest admissible extremal to
 //!   the fine grid (Newton on a 1 024-step grid, then on the problem's own);
-//! - `coarse_search`: the global search alone.
+//! - `coarse_search`: the global search alone;
+//! - `joint_limit_1.5`, `joint_limit_2.5`: the default `solve` with `--alpha-max 1.5` and
+//!   `2.5` (interior-point search, active-set refinement; issue target ≤ 2 s each on one
+//!   core, `RAYON_NUM_THREADS=1`).
 use criterion::{Criterion, criterion_group, criterion_main};
-use host_sim::problem::Problem;
+use host_sim::problem::{Problem, Spec};
 use host_sim::solver::direct::Grid;
 use host_sim::solver::stage::Rule;
 use host_sim::solver::{SolveOptions, refine, search, solve};
@@ -20,12 +23,13 @@ fn bench(c: &mut Criterion) {
         Rule::matching(p.horizon() / options.coarse_steps as f64, p.h),
     )
     .unwrap();
-    let admissible = |a: f64| a < p.alpha_max;
+    let admissible = |a: f64| p.admits(a);
     let found = search::search(
         &coarse,
         options.min_starts,
         options.starts,
         options.seed,
+        None,
         &admissible,
         &|| {},
     );
@@ -50,11 +54,22 @@ fn bench(c: &mut Criterion) {
                 options.min_starts,
                 options.starts,
                 options.seed,
+                None,
                 &admissible,
                 &|| {},
             )
         })
     });
+    for a in [1.5, 2.5] {
+        let limited = Problem::new(&Spec {
+            alpha_max: Some(a),
+            ..Spec::default()
+        })
+        .unwrap();
+        g.bench_function(format!("joint_limit_{a}"), |b| {
+            b.iter(|| solve(&limited, &options, &|| {}).unwrap())
+        });
+    }
     g.finish();
 }
 

@@ -3,7 +3,7 @@
 use crate::costate_file::CostateFile;
 use crate::problem::{Problem, Spec};
 use crate::solver::continuation::{self, Lattice};
-use crate::solver::{Extremal, SolveOptions, solve};
+use crate::solver::{Arc, Extremal, SolveOptions, solve};
 use crate::{output, plots, replay};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use purcell_core::Gait;
@@ -110,9 +110,11 @@ pub struct SolveArgs {
     /// Orders the start loops (any value gives a diverse family; 0 is the default order).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Admissibility limit on |alpha_i| along the path, radians (links overlap at pi).
-    #[arg(long, default_value_t = core::f64::consts::PI, allow_hyphen_values = true)]
-    pub alpha_max: f64,
+    /// Joint limit |alpha_i| <= alpha-max along the path, radians, below pi (default: only
+    /// the links' overlap at pi). The solver returns the cheapest gait within it, with the
+    /// limit active on arcs where that is cheaper.
+    #[arg(long, allow_hyphen_values = true)]
+    pub alpha_max: Option<f64>,
     /// Costate checkpoint spacing M in steps (0: none).
     #[arg(long, default_value_t = 100)]
     pub checkpoint_every: u32,
@@ -162,9 +164,9 @@ pub struct SweepArgs {
     /// Most start loops of each global search (see `solve --help`).
     #[arg(long, default_value_t = 256)]
     pub starts: usize,
-    /// Admissibility limit on |alpha_i| along the path, radians (links overlap at pi).
-    #[arg(long, default_value_t = core::f64::consts::PI, allow_negative_numbers = true)]
-    pub alpha_max: f64,
+    /// Joint limit |alpha_i| <= alpha-max, radians, below pi (see `solve --help`).
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha_max: Option<f64>,
     /// Skip the figure.
     #[arg(long)]
     pub no_plots: bool,
@@ -409,6 +411,8 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         "residual": best.residual,
         "terminal_residual": best.terminal_residual,
         "kkt_residual": best.kkt_residual,
+        "arcs": arcs_json(&best.arcs),
+        "min_eta": best.min_eta,
         "law_residual": best.law_residual,
         "local_min": best.local_min,
         "max_abs_alpha": best.max_abs_alpha,
@@ -420,7 +424,8 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         "mu": file.mu, "xi0": file.xi0,
         "problem": {"target": file.target, "horizon": problem.horizon(), "step": problem.h,
                     "steps": problem.steps, "alpha0": file.alpha0, "links": file.model.links,
-                    "drag": file.model.drag, "ratio": file.model.ratio, "alpha_max": problem.alpha_max},
+                    "drag": file.model.drag, "ratio": file.model.ratio,
+                    "alpha_max": problem.joint_limit()},
         "extremals": extremals,
         // Terminal errors of the stored costate replayed through the core, as the firmware
         // flies it (f32 with checkpoints) beside f64.
@@ -643,10 +648,19 @@ fn extremal_json(x: &Extremal) -> serde_json::Value {
         "cost": x.cost, "max_abs_alpha": x.max_abs_alpha, "admissible": x.admissible,
         "local_min": x.local_min, "residual": x.residual,
         "terminal_residual": x.terminal_residual, "kkt_residual": x.kkt_residual,
+        "arcs": arcs_json(&x.arcs), "min_eta": x.min_eta,
         "stationarity": x.stationarity, "law_residual": x.law_residual,
         "newton_iterations": x.iterations, "start": x.start, "hits": x.hits, "twin_of": x.twin_of,
         "mu": [x.mu.x, x.mu.y, x.mu.z], "xi0": [x.xi0.x, x.xi0.y],
     })
+}
+
+/// Joint-limit arcs in `report.json`: joint (1 or 2, as `α_1`, `α_2`), the first and last
+/// step `k` of the states on the limit, and the limit's sign.
+fn arcs_json(arcs: &[Arc]) -> serde_json::Value {
+    arcs.iter()
+        .map(|a| json!({"joint": a.joint + 1, "first": a.first, "last": a.last, "sign": a.sign()}))
+        .collect()
 }
 
 /// Reads a costate file (exit 2 if unreadable or invalid).

@@ -159,7 +159,7 @@ impl CostateFile {
             links: self.model.links,
             drag: self.model.drag,
             ratio: self.model.ratio,
-            alpha_max: core::f64::consts::PI,
+            alpha_max: None,
         })
     }
 }

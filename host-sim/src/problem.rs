@@ -44,8 +44,8 @@ pub enum InputError {
         "alpha0 = ({0:?}, {1:?}) rad: each |alpha0_i| must be below alpha-max = {2:?} rad (at most pi)"
     )]
     ShapeOutOfRange(f64, f64, f64),
-    /// The admissibility limit is outside `]0, π]`.
-    #[error("alpha-max must be in ]0, pi] rad (got {0:?})")]
+    /// The joint limit is outside `]0, π[`.
+    #[error("alpha-max must be in ]0, pi[ rad: the links overlap at pi (got {0:?})")]
     AlphaMax(f64),
     /// The connection cannot be computed at `ᾱ`: the swimmer's parameters, not the law.
     #[error(
@@ -130,13 +130,14 @@ pub struct Spec {
     pub drag: f64,
     /// Drag ratio `r` (normal over tangential).
     pub ratio: f64,
-    /// Admissibility limit on `|α_i|` along the whole path, radians.
-    pub alpha_max: f64,
+    /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, below `π`; `None`: only
+    /// the links' overlap, `|α_i| < π`.
+    pub alpha_max: Option<f64>,
 }
 
 impl Default for Spec {
     /// The paper's experiment: `ḡ = (0.1, 0.1, 0)`, `T = 100 s`, `h = 0.01 s`, `ᾱ = 0`,
-    /// unit links, `k = 1`, `r = 2`, limit `π`.
+    /// unit links, `k = 1`, `r = 2`, no joint limit.
     fn default() -> Self {
         Spec {
             target: [0.1, 0.1, 0.0],
@@ -146,10 +147,13 @@ impl Default for Spec {
             links: [1.0; 3],
             drag: 1.0,
             ratio: 2.0,
-            alpha_max: core::f64::consts::PI,
+            alpha_max: None,
         }
     }
 }
+
+/// Relative excess over the joint limit counted as rounding ([`Problem::admits`]).
+pub const LIMIT_ROUNDING: f64 = 1e-13;
 
 /// A validated problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -164,7 +168,7 @@ pub struct Problem {
     pub alpha0: Vector2<f64>,
     /// `ḡ` as `(x, y, θ)`.
     pub target: Vector3<f64>,
-    /// Admissibility limit on `|α_i|`.
+    /// Limit on `|α_i|`: the joint limit, or `π` (the links overlap) without one.
     pub alpha_max: f64,
 }
 
@@ -185,7 +189,9 @@ impl Problem {
         finite("links", &spec.links)?;
         finite("drag", &[spec.drag])?;
         finite("ratio", &[spec.ratio])?;
-        finite("alpha-max", &[spec.alpha_max])?;
+        if let Some(a) = spec.alpha_max {
+            finite("alpha-max", &[a])?;
+        }
         if spec.step <= 0.0 {
             return Err(InputError::Step(spec.step));
         }
@@ -216,12 +222,13 @@ impl Problem {
             }
         }
         let pi = core::f64::consts::PI;
-        if !(spec.alpha_max > 0.0 && spec.alpha_max <= pi) {
-            return Err(InputError::AlphaMax(spec.alpha_max));
+        let alpha_max = spec.alpha_max.unwrap_or(pi);
+        if !(alpha_max > 0.0 && alpha_max <= pi) || spec.alpha_max == Some(pi) {
+            return Err(InputError::AlphaMax(alpha_max));
         }
         let [a1, a2] = spec.alpha0;
-        if a1.abs() >= spec.alpha_max || a2.abs() >= spec.alpha_max {
-            return Err(InputError::ShapeOutOfRange(a1, a2, spec.alpha_max));
+        if a1.abs() >= alpha_max || a2.abs() >= alpha_max {
+            return Err(InputError::ShapeOutOfRange(a1, a2, alpha_max));
         }
         let swimmer = Swimmer::new(spec.links, spec.drag, spec.ratio)
             .map_err(|_| InputError::NonPositive("swimmer parameter", f64::NAN))?;
@@ -238,7 +245,7 @@ impl Problem {
             steps: steps as u32,
             alpha0: Vector2::new(a1, a2),
             target: Vector3::from(spec.target),
-            alpha_max: spec.alpha_max,
+            alpha_max,
         })
     }
 
@@ -248,6 +255,21 @@ impl Problem {
             Ok(p) => p,
             // The default spec is valid by construction (tested).
             Err(_) => unreachable!("the paper's problem is valid"),
+        }
+    }
+
+    /// The joint limit `α_max < π`, if the problem has one.
+    pub fn joint_limit(&self) -> Option<f64> {
+        (self.alpha_max < core::f64::consts::PI).then_some(self.alpha_max)
+    }
+
+    /// Whether a path whose largest `|α_i|` is `max_abs_alpha` is admissible: within the
+    /// joint limit to rounding ([`LIMIT_ROUNDING`]: a path on the limit lands there as the
+    /// sum of its steps), or short of the overlap `|α_i| = π` without one.
+    pub fn admits(&self, max_abs_alpha: f64) -> bool {
+        match self.joint_limit() {
+            Some(a) => max_abs_alpha <= a * (1.0 + LIMIT_ROUNDING),
+            None => max_abs_alpha < core::f64::consts::PI,
         }
     }
 
@@ -349,7 +371,7 @@ pub fn read_suite(text: &str) -> Result<Vec<SuiteProblem>, String> {
                 links: e.links.unwrap_or(d.links),
                 drag: e.drag.unwrap_or(d.drag),
                 ratio: e.ratio.unwrap_or(d.ratio),
-                alpha_max: e.alpha_max.unwrap_or(d.alpha_max),
+                alpha_max: e.alpha_max,
             },
             reference: e.reference,
             expect: e.expect,

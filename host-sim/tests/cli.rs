@@ -306,7 +306,7 @@ fn negative_numbers_work_as_typed_and_help_defaults_paste_back() {
             "--alpha-max",
             "-1",
         ],
-        "alpha-max must be in ]0, pi] rad (got -1.0)",
+        "alpha-max must be in ]0, pi[ rad: the links overlap at pi (got -1.0)",
     );
     let help = String::from_utf8_lossy(&sim(&["solve", "--help"]).stdout).into_owned();
     for (flag, default) in [

@@ -63,6 +63,86 @@ fn starts_near_the_limit_do_not_hang() {
 /// A stored extremal continued to a nearby target, start shape and horizon: the result is
 /// an extremal of the new problem (residual, KKT, local minimum) and costs what a full solve
 /// of it costs when it is the same branch.
+/// A joint limit at or past the overlap, not finite, or that the start shape already
+/// violates: exit 2 at once, nothing written. One so tight that no loop reaches the target:
+/// exit 3 quickly, with the best residual.
+#[test]
+fn bad_or_hopeless_joint_limits_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let out_s = out.to_str().unwrap();
+    for (extra, code, says) in [
+        (
+            &["--alpha-max", "3.2"][..],
+            2,
+            "alpha-max must be in ]0, pi[",
+        ),
+        (
+            &["--alpha-max", "3.141592653589793"][..],
+            2,
+            "the links overlap at pi",
+        ),
+        (
+            &["--alpha-max", "nan"][..],
+            2,
+            "alpha-max must be a finite number",
+        ),
+        (
+            &["--alpha-max", "-1"][..],
+            2,
+            "alpha-max must be in ]0, pi[",
+        ),
+        (
+            &["--alpha-max", "0.3", "--alpha0", "0.3,0"][..],
+            2,
+            "must be below alpha-max",
+        ),
+        (&["--alpha-max", "0.05"][..], 3, "best residual"),
+    ] {
+        let mut args = vec!["solve", "--no-plots", "--out", out_s];
+        args.extend_from_slice(extra);
+        let o = sim(&args, MINUTE);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(code), "{extra:?}: {stderr}");
+        assert!(stderr.contains(says), "{extra:?}: {stderr}");
+        assert!(!out.exists(), "{extra:?}");
+    }
+}
+
+/// `--alpha-max`: the gait stays within the limit, touching it on arcs that the report lists
+/// with their multipliers' smallest value.
+#[test]
+fn a_joint_limit_gives_a_gait_within_it_with_its_arcs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("limited");
+    let o = sim(
+        &[
+            "solve",
+            "--alpha-max",
+            "1.5",
+            "--no-plots",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        2 * MINUTE,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert!(r["max_abs_alpha"].as_f64().unwrap() <= 1.5 * (1.0 + 1e-13));
+    assert_eq!(r["problem"]["alpha_max"].as_f64(), Some(1.5));
+    let arcs = r["arcs"].as_array().unwrap();
+    assert!(!arcs.is_empty());
+    for a in arcs {
+        let (first, last) = (a["first"].as_u64().unwrap(), a["last"].as_u64().unwrap());
+        assert!(1 <= first && first <= last && last < 10_000, "{a}");
+        assert!([1, 2].contains(&a["joint"].as_u64().unwrap()), "{a}");
+        assert_eq!(a["sign"].as_f64().unwrap().abs(), 1.0, "{a}");
+    }
+    assert!(r["min_eta"].as_f64().unwrap() >= 0.0);
+    assert!(r["kkt_residual"].as_f64().unwrap() <= 1e-8);
+    assert_eq!(r["local_min"].as_bool(), Some(true));
+}
+
 #[test]
 fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
     let dir = tempfile::tempdir().unwrap();

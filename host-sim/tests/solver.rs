@@ -5,7 +5,7 @@
 use host_sim::output;
 use host_sim::problem::{Problem, Spec, SuiteProblem, read_suite};
 use host_sim::replay;
-use host_sim::solver::{Solution, SolveError, SolveOptions, solve};
+use host_sim::solver::{Extremal, Solution, SolveError, SolveOptions, solve};
 
 fn public_problems() -> Vec<SuiteProblem> {
     let text = include_str!("../../tests/problems/public.json");
@@ -16,7 +16,35 @@ fn public_problems() -> Vec<SuiteProblem> {
 /// lands on `(ᾱ, ḡ)` within 1e-8 in f64 and 1e-5 in f32 (with its checkpoints).
 fn check_solution(name: &str, p: &Problem, s: &Solution, reference: Option<f64>) {
     let best = &s.extremals[s.best];
+    check_extremal(name, p, best, reference);
+    let file = output::costate_file(p, best, 100);
+    for (precision, bound) in [("f64", 1e-8), ("f32", 1e-5)] {
+        let r = if precision == "f64" {
+            replay::replay::<f64>(&file, precision, true)
+        } else {
+            replay::replay::<f32>(&file, precision, true)
+        };
+        assert!(r.failure.is_none(), "{name} {precision}: {r:?}");
+        let (a, g) = (r.alpha_error.unwrap(), r.g_error.unwrap());
+        assert!(a <= bound && g <= bound, "{name} {precision}: {r:?}");
+    }
+}
+
+/// The certificates of a returned extremal: admissible, cost at or below the reference,
+/// residuals, KKT with the joint limit's multipliers all `η ≥ 0`, the core's law, a strict
+/// local minimum.
+fn check_extremal(name: &str, p: &Problem, best: &Extremal, reference: Option<f64>) {
     assert!(best.admissible, "{name}");
+    assert!(p.admits(best.max_abs_alpha), "{name}");
+    if best.arcs.is_empty() {
+        assert!(best.min_eta.is_none(), "{name}");
+    } else {
+        let eta = best.min_eta.expect("arcs, so multipliers");
+        assert!(
+            eta >= 0.0,
+            "{name}: a joint-limit multiplier is negative: {eta}"
+        );
+    }
     if let Some(r) = reference {
         assert!(
             best.cost <= r * (1.0 + 1e-6) + 1e-15,
@@ -37,23 +65,12 @@ fn check_solution(name: &str, p: &Problem, s: &Solution, reference: Option<f64>)
         best.local_min,
         "{name}: returned extremal is not a strict local minimum"
     );
-    let file = output::costate_file(p, best, 100);
-    for (precision, bound) in [("f64", 1e-8), ("f32", 1e-5)] {
-        let r = if precision == "f64" {
-            replay::replay::<f64>(&file, precision, true)
-        } else {
-            replay::replay::<f32>(&file, precision, true)
-        };
-        assert!(r.failure.is_none(), "{name} {precision}: {r:?}");
-        let (a, g) = (r.alpha_error.unwrap(), r.g_error.unwrap());
-        assert!(a <= bound && g <= bound, "{name} {precision}: {r:?}");
-    }
 }
 
 #[test]
 fn every_public_problem_solves_at_or_below_its_reference() {
     for sp in public_problems() {
-        if sp.spec.alpha_max < core::f64::consts::PI {
+        if sp.spec.alpha_max.is_some() {
             continue; // joint-limit problems: the constrained solver
         }
         let p = Problem::new(&sp.spec).unwrap();
@@ -65,6 +82,31 @@ fn every_public_problem_solves_at_or_below_its_reference() {
                 sp.name
             ),
             _ => check_solution(&sp.name, &p, &r.unwrap(), sp.reference),
+        }
+    }
+}
+
+/// The joint-limit problems (`alpha_max`): the cheapest gait within the limit, on arcs of it
+/// (1.5) or inside it (2.0), with its certificates.
+#[test]
+fn joint_limit_problems_solve_at_or_below_their_reference() {
+    for sp in public_problems() {
+        let Some(limit) = sp.spec.alpha_max else {
+            continue;
+        };
+        let p = Problem::new(&sp.spec).unwrap();
+        let s = solve(&p, &SolveOptions::default(), &|| {}).unwrap();
+        let best = &s.extremals[s.best];
+        check_extremal(&sp.name, &p, best, sp.reference);
+        assert!(best.max_abs_alpha <= limit * (1.0 + 1e-13), "{}", sp.name);
+        for a in &best.arcs {
+            for st in &best.trajectory.states[a.first..=a.last] {
+                let off = (a.sign() * st.alpha[a.joint] - limit).abs();
+                assert!(off <= 1e-13 * limit, "{}: {a:?} {off}", sp.name);
+            }
+            for u in &best.trajectory.controls[a.first..a.last] {
+                assert_eq!(u[a.joint], 0.0, "{}: {a:?}", sp.name);
+            }
         }
     }
 }

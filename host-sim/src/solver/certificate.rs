@@ -5,10 +5,13 @@
 //!   and costate, must give back the trajectory's control.
 //! - [`terminal_residual`]: the controls re-integrated from scratch through the core's
 //!   [`purcell_core::Kinematics::step`] must reach `(ᾱ, ḡ)`.
-//! - [`kkt_residual`]: the gradient of the direct problem's Lagrangian with respect to the
+//! - [`kkt`]: the gradient of the direct problem's Lagrangian with respect to the
 //!   controls, in reverse mode through the core's kinematics on dual numbers, with the
 //!   multipliers the costate gives (MODEL.md §5, "Multipliers"): `λ = −Ad_{g_N}ᵀμ` for
-//!   `log(ḡ⁻¹g_N) = 0` and `ν = −ξ^{N−1}` for `α_N = ᾱ`.
+//!   `log(ḡ⁻¹g_N) = 0` and `ν = −ξ^{N−1}` for `α_N = ᾱ`. With a joint limit, the states found
+//!   on it get multipliers `η_k` of `σ·α_{k,i} ≤ α_max` solved from the stationarity of the
+//!   control that moves them (`u_{k−1,i}`), as the sweep reaches them (MODEL.md §9); the
+//!   residual is then that of the other controls, and every `η_k` must be `≥ 0`.
 //!
 //! The second-order check (no conjugate point) is the inertia of the direct method's own
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
@@ -54,12 +57,27 @@ pub fn terminal_residual(
 
 type D = Dual<7>;
 
-/// `max_k |∂L/∂u_k|_∞ / h` (see the module docs) for the trajectory and the costate's `μ`.
-pub fn kkt_residual(
+/// Outcome of [`kkt`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Kkt {
+    /// `max_k |∂L/∂u_k|_∞ / h` over the controls (rad/s).
+    pub residual: f64,
+    /// Smallest multiplier `η_k` of the joint limit (`None`: no state on the limit).
+    pub min_eta: Option<f64>,
+    /// States found on the joint limit.
+    pub active: usize,
+}
+
+/// A state is on the joint limit when `|α_i| ≥ α_max (1 − 1e-12)`.
+pub const ON_LIMIT: f64 = 1e-12;
+
+/// The KKT conditions of the direct problem (see the module docs) for the trajectory and the
+/// costate's `μ`.
+pub fn kkt(
     problem: &Problem,
     t: &Trajectory,
     mu: &Vector3<f64>,
-) -> Result<f64, purcell_core::Error> {
+) -> Result<Kkt, purcell_core::Error> {
     let kin = problem.kinematics::<D>()?;
     let (Some(end), Some(xi_last)) = (t.states.last(), t.xis.last()) else {
         return Err(purcell_core::Error::NonFinite);
@@ -78,7 +96,11 @@ pub fn kkt_residual(
         + v(1) * D::constant(nu.y);
     let mut adj = SVector::<f64, 5>::from_fn(|i, _| phi.d[i]);
     let mut worst = 0.0f64;
-    for (s, u) in t.states.iter().zip(&t.controls).rev() {
+    let mut min_eta: Option<f64> = None;
+    let mut active = 0;
+    let n = t.controls.len();
+    let limit = problem.joint_limit();
+    for (k, (s, u)) in t.states.iter().zip(&t.controls).enumerate().rev() {
         let [a1, a2, px, py, th] = coordinates(s);
         let x = [a1, a2, px, py, th, u.x, u.y];
         let w = |i: usize| D::variable(x[i], i);
@@ -94,11 +116,33 @@ pub fn kkt_residual(
                 *gi += a * di;
             }
         }
+        // State k + 1 on the limit (the end state is fixed): η from ∂L/∂u_{k,i} = 0, with
+        // ∂(η σ α_{k+1,i})/∂x = η σ (row i of the step's Jacobian).
+        for (i, a) in [t.states[k + 1].alpha.x, t.states[k + 1].alpha.y]
+            .into_iter()
+            .enumerate()
+        {
+            if !(k + 1 < n && limit.is_some_and(|l| a.abs() >= l * (1.0 - ON_LIMIT))) {
+                continue;
+            }
+            let sigma = a.signum();
+            let row = out[i].d;
+            let eta = -(problem.h * u[i] + grad[5 + i]) / (sigma * row[5 + i]);
+            for (gi, di) in grad.iter_mut().zip(row) {
+                *gi += eta * sigma * di;
+            }
+            min_eta = Some(min_eta.map_or(eta, |m| m.min(eta)));
+            active += 1;
+        }
         let gu = Vector2::new(problem.h * u.x + grad[5], problem.h * u.y + grad[6]);
         worst = worst.max(gu.amax() / problem.h);
         adj = SVector::<f64, 5>::from_fn(|i, _| grad[i]);
     }
-    Ok(worst)
+    Ok(Kkt {
+        residual: worst,
+        min_eta,
+        active,
+    })
 }
 
 /// `s = (α1, α2, x, y, θ)` of a state, for any scalar.

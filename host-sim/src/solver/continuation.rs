@@ -8,6 +8,7 @@
 //! on success (natural-parameter continuation), on a medium grid, then refines.
 
 use super::direct::{self, Grid, Point, Settings};
+use super::limits;
 use super::search::{self, Candidate};
 use super::stage::{Rule, StageState};
 use super::symmetry::{self, Symmetry};
@@ -67,10 +68,13 @@ impl Warm {
 pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveError> {
     let unreachable = |best_residual| SolveError::Unreachable { best_residual };
     let horizon = problem.horizon();
-    // Directly on the problem's own grid.
+    let limit = problem.joint_limit();
+    // Directly on the problem's own grid (without a joint limit).
     let fine = Grid::new(problem, problem.steps as usize, Rule::LEFT_POINT)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    if let Ok(p) = warm.point(&fine, horizon) {
+    if limit.is_none()
+        && let Ok(p) = warm.point(&fine, horizon)
+    {
         let settings = super::fine_settings(problem, &p.u);
         if let Ok(run) = direct::newton(&fine, p, &settings)
             && run.converged
@@ -85,7 +89,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     } else {
         Rule::matching(horizon / steps as f64, problem.h)
     };
-    let medium = Grid::new(problem, steps, rule).map_err(|_| unreachable(f64::INFINITY))?;
+    let mut medium = Grid::new(problem, steps, rule).map_err(|_| unreachable(f64::INFINITY))?;
     let mut point = warm
         .point(&medium, horizon)
         .map_err(|_| unreachable(f64::INFINITY))?;
@@ -94,6 +98,25 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
     };
+    // With a joint limit: the warm start pulled inside it and through the barrier path at
+    // its own target; the walk then keeps the barrier's last weight.
+    if let Some(a) = limit {
+        let w = warm.target;
+        let mut own = medium.clone();
+        own.target = StageState::new(own.target[0], own.target[1], w.x, w.y, w.z);
+        let u = limits::shrink_into(point.u, &problem.alpha0, a, medium.h());
+        let start = Point::new(&own, u, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
+        let run = limits::barrier_path(&own, a, limits::coarse_path(0), start, &settings)
+            .map_err(|_| unreachable(f64::INFINITY))?;
+        if !run.converged {
+            return Err(unreachable(run.defect));
+        }
+        point = run.point;
+        medium.limits = direct::Limits::Barrier {
+            alpha_max: a,
+            tau: limits::COARSE_TAU,
+        };
+    }
     let (from, to) = (warm.target, problem.target);
     let (mut s, mut ds) = (0.0f64, 0.25f64);
     let mut best_residual = f64::INFINITY;
@@ -103,7 +126,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         }
         let next = (s + ds).min(1.0);
         let t = from + (to - from) * next;
-        let mut grid = medium;
+        let mut grid = medium.clone();
         grid.target = StageState::new(grid.target[0], grid.target[1], t.x, t.y, t.z);
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
@@ -298,7 +321,8 @@ pub fn sweep(
                     options.min_starts,
                     options.starts,
                     options.seed,
-                    &|a| a < p.alpha_max,
+                    p.joint_limit(),
+                    &|a| p.admits(a),
                     &|| {},
                 );
                 (i, s.candidates)
@@ -401,7 +425,7 @@ fn merge(
     let Some(grid) = grid else { return false };
     let before: Vec<f64> = kept.iter().map(|c| c.cost).collect();
     for c in new {
-        if c.max_abs_alpha < problem.alpha_max
+        if problem.admits(c.max_abs_alpha)
             && !kept.iter().any(|m| search::same_path(&m.u, &c.u, grid.h()))
         {
             kept.push(c);

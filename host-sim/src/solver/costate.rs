@@ -30,8 +30,16 @@ pub fn multiplier(mu: &Vector3<f64>, xi_last: &Vector2<f64>, s: &StageState) -> 
     StageState::new(-xi_last.x, -xi_last.y, lx, ly, -mu.z - lpjp)
 }
 
-/// The trajectory in the core's terms: states `(α_k, g_k)`, controls, and `ξ^{k−1} = −λ^α_k`.
-pub fn trajectory(states: &[StageState], u: &[Vector2<f64>], lambda: &[StageState]) -> Trajectory {
+/// The trajectory in the core's terms: states `(α_k, g_k)`, controls, and
+/// `ξ^{k−1} = −(λ^α_k − j_k)`, where `j_k` is the jump of `λ^α` at a state on a joint-limit arc
+/// (MODEL.md §9: the law's `ξ^{k−1}` is the costate without state `k`'s jump; no jumps without
+/// limits).
+pub fn trajectory(
+    states: &[StageState],
+    u: &[Vector2<f64>],
+    lambda: &[StageState],
+    jumps: &[Vector2<f64>],
+) -> Trajectory {
     Trajectory {
         states: states
             .iter()
@@ -41,6 +49,10 @@ pub fn trajectory(states: &[StageState], u: &[Vector2<f64>], lambda: &[StageStat
             })
             .collect(),
         controls: u.to_vec(),
-        xis: lambda.iter().map(|l| Vector2::new(-l[0], -l[1])).collect(),
+        xis: lambda
+            .iter()
+            .zip(jumps)
+            .map(|(l, j)| -(Vector2::new(l[0], l[1]) - j))
+            .collect(),
     }
 }

@@ -26,7 +26,7 @@ use nalgebra::{Vector2, Vector5};
 use purcell_core::{Error, Kinematics};
 
 /// One time grid of the problem: `steps` steps over the horizon `T`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Grid {
     /// The stage model with `h = T/steps`.
     pub model: StageModel,
@@ -36,6 +36,71 @@ pub struct Grid {
     pub start: StageState,
     /// `s̄ = (ᾱ, x̄, ȳ, θ̄)`.
     pub target: StageState,
+    /// How the joint limit `|α_i| ≤ α_max` enters, if at all.
+    pub limits: Limits,
+}
+
+/// A stretch of steps on which a joint rests at its limit: `α_{k,joint} = ±α_max` for
+/// `first ≤ k ≤ last` (`+` if `upper`), so `u_{k,joint} = 0` for `first ≤ k < last`, and the
+/// control of step `first − 1` brings the joint exactly to the limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Arc {
+    /// The joint, 0 (front) or 1 (rear).
+    pub joint: usize,
+    /// At `+α_max` (else `−α_max`).
+    pub upper: bool,
+    /// First step on the limit (at least 1).
+    pub first: usize,
+    /// Last step on the limit (below `N`).
+    pub last: usize,
+}
+
+impl Arc {
+    /// `±1`.
+    pub fn sign(&self) -> f64 {
+        if self.upper { 1.0 } else { -1.0 }
+    }
+}
+
+/// The joint limit `|α_{k,i}| ≤ α_max` (`k = 1 … N−1`) in the direct method (MODEL.md §9).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Limits {
+    /// None (only the link-overlap limit, checked afterwards).
+    #[default]
+    None,
+    /// A logarithmic barrier `h·τ·Σ_k Σ_i −ln(α_max − α_{k,i}) − ln(α_max + α_{k,i})` added to
+    /// the cost; every iterate strictly inside the limits.
+    Barrier {
+        /// `α_max`.
+        alpha_max: f64,
+        /// `τ`.
+        tau: f64,
+    },
+    /// The limit active exactly on the given arcs (their controls fixed and entries imposed,
+    /// as stage-wise substitutions), inactive elsewhere.
+    Arcs {
+        /// `α_max`.
+        alpha_max: f64,
+        /// The arcs, in any order, disjoint per joint.
+        arcs: Vec<Arc>,
+    },
+}
+
+/// How the controls of one stage are tied by the arcs: per joint, free, fixed at zero (inside
+/// an arc) or set by the state (`δu_i = −δα_i/h` at an arc's entry step).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ControlMap {
+    /// `u_{k,i}` fixed at zero.
+    pub fixed: [bool; 2],
+    /// `u_{k,i} = (±α_max − α_{k,i})/h`.
+    pub entry: [bool; 2],
+}
+
+impl ControlMap {
+    /// Whether control `i` is a free variable.
+    pub fn free(&self, i: usize) -> bool {
+        !self.fixed[i] && !self.entry[i]
+    }
 }
 
 impl Grid {
@@ -51,6 +116,7 @@ impl Grid {
             steps,
             start: StageState::new(a.x, a.y, 0.0, 0.0, 0.0),
             target: StageState::new(a.x, a.y, t.x, t.y, t.z),
+            limits: Limits::None,
         })
     }
 
@@ -66,7 +132,9 @@ impl Grid {
         Ok(Grid {
             model: StageModel::new(kin, rule)?,
             steps,
-            ..*self
+            start: self.start,
+            target: self.target,
+            limits: Limits::None,
         })
     }
 
@@ -95,13 +163,21 @@ impl Grid {
         dist(a, b) <= 0.2 * dist(&self.target, &self.start)
     }
 
-    /// The states `s_0 … s_N` under the controls `u`.
+    /// The states `s_0 … s_N` under the controls `u`; with a barrier, `Err(ShapeLimit)` unless
+    /// every `|α_{k,i}| < α_max` (`k = 1 … N−1`).
     pub fn rollout(&self, u: &[Vector2<f64>]) -> Result<Vec<StageState>, Error> {
         let mut s = self.start;
         let mut out = Vec::with_capacity(u.len() + 1);
         out.push(s);
-        for uk in u {
+        let inside = |s: &StageState| match self.limits {
+            Limits::Barrier { alpha_max, .. } => s[0].abs() < alpha_max && s[1].abs() < alpha_max,
+            _ => true,
+        };
+        for (k, uk) in u.iter().enumerate() {
             s = self.model.step(&s, uk)?;
+            if k + 1 < u.len() && !inside(&s) {
+                return Err(Error::ShapeLimit);
+            }
             out.push(s);
         }
         Ok(out)
@@ -112,6 +188,63 @@ impl Grid {
         0.5 * self.h() * u.iter().map(|v| v.norm_squared()).sum::<f64>()
     }
 
+    /// What the direct method minimises: `J`, plus the barrier if there is one.
+    pub fn objective(&self, u: &[Vector2<f64>], states: &[StageState]) -> f64 {
+        let j = self.cost(u);
+        match self.limits {
+            Limits::Barrier { alpha_max, tau } => {
+                let n = states.len().saturating_sub(1);
+                let sum: f64 = states
+                    .iter()
+                    .take(n)
+                    .skip(1)
+                    .map(|s| barrier(alpha_max, s[0]).0 + barrier(alpha_max, s[1]).0)
+                    .sum();
+                j + self.h() * tau * sum
+            }
+            _ => j,
+        }
+    }
+
+    /// The derivative of [`Grid::objective`] along the step `du` (`δα_k = h Σ_{j<k} δu_j`).
+    pub fn objective_slope(
+        &self,
+        u: &[Vector2<f64>],
+        states: &[StageState],
+        du: &[Vector2<f64>],
+    ) -> f64 {
+        let h = self.h();
+        let mut slope = h * u.iter().zip(du).map(|(a, b)| a.dot(b)).sum::<f64>();
+        if let Limits::Barrier { alpha_max, tau } = self.limits {
+            let mut da = Vector2::zeros();
+            for (k, d) in du.iter().enumerate().take(du.len().saturating_sub(1)) {
+                da += d * h;
+                let s = &states[k + 1];
+                slope += h
+                    * tau
+                    * (barrier(alpha_max, s[0]).1 * da.x + barrier(alpha_max, s[1]).1 * da.y);
+            }
+        }
+        slope
+    }
+
+    /// The control maps of the arcs, one per stage (`None` without arcs).
+    pub fn control_maps(&self) -> Option<Vec<ControlMap>> {
+        let Limits::Arcs { arcs, .. } = &self.limits else {
+            return None;
+        };
+        let mut maps = vec![ControlMap::default(); self.steps];
+        for a in arcs {
+            if let Some(m) = a.first.checked_sub(1).and_then(|k| maps.get_mut(k)) {
+                m.entry[a.joint] = true;
+            }
+            for m in maps.iter_mut().take(a.last).skip(a.first) {
+                m.fixed[a.joint] = true;
+            }
+        }
+        Some(maps)
+    }
+
     /// `c = s_N − s̄` of a rollout.
     pub fn defect(&self, states: &[StageState]) -> Vector5<f64> {
         states
@@ -119,7 +252,8 @@ impl Grid {
             .map_or(Vector5::repeat(f64::INFINITY), |s| s - self.target)
     }
 
-    /// Stage derivatives along a rollout for the terminal multiplier `nu` (see [`Linearised`]).
+    /// Stage derivatives along a rollout for the terminal multiplier `nu` (see [`Linearised`]),
+    /// with the barrier's gradient in the costates and its Hessian in the stages' `hss`.
     pub fn linearise(
         &self,
         states: &[StageState],
@@ -128,26 +262,62 @@ impl Grid {
     ) -> Result<Linearisation, Error> {
         let n = u.len();
         let h = self.h();
+        let maps = self.control_maps();
+        let free = |k: usize, i: usize| maps.as_ref().is_none_or(|m| m[k].free(i));
         let mut lin = Vec::with_capacity(n);
         let mut lambda = vec![StageState::zeros(); n + 1];
         lambda[n] = *nu;
         let mut kkt = 0.0f64;
         let mut grad = vec![Vector2::zeros(); n];
-        // Least-squares multiplier: minimise Σ_k |h·u_k + G_k ν|², G_k = B_kᵀΨ_{k+1},
-        // Ψ_N = I, Ψ_k = A_kᵀΨ_{k+1} (so that λ_{k+1} = Ψ_{k+1}ν).
+        let mut jumps = vec![Vector2::zeros(); n + 1];
+        // Least-squares multiplier: minimise Σ_k |h·u_k + B_kᵀλ_{k+1}|² over the free controls,
+        // with λ_{k+1} = Ψ_{k+1}ν + β_{k+1}: Ψ_N = I, Ψ_k = A_kᵀΨ_{k+1}; β_N = 0,
+        // β_k = A_kᵀβ_{k+1} + ∇Φ_k (the barrier's gradient).
         let mut psi = nalgebra::Matrix5::<f64>::identity();
+        let mut beta = Vector5::<f64>::zeros();
         let mut normal = nalgebra::Matrix5::<f64>::zeros();
         let mut rhs = Vector5::<f64>::zeros();
         for k in (0..n).rev() {
-            let l = self.model.linearise(&states[k], &u[k], &lambda[k + 1])?;
-            let g = u[k] * h + l.b.transpose() * lambda[k + 1];
-            kkt = kkt.max(g.amax() / h);
+            let mut l = self.model.linearise(&states[k], &u[k], &lambda[k + 1])?;
+            let mut g = u[k] * h + l.b.transpose() * lambda[k + 1];
+            // A control tied by an arc (fixed, or an entry) is stationary by the multiplier η
+            // of the limit at state k+1: λ^α_{k+1,i} jumps so that h·u_{k,i} + (B_kᵀλ_{k+1})_i = 0
+            // (∂α_{k+1,i}/∂u_{k,i} = h). The jump does not enter the Hessians (α enters f
+            // linearly).
+            for i in 0..2 {
+                if !free(k, i) {
+                    let jump = -g[i] / h;
+                    lambda[k + 1][i] += jump;
+                    jumps[k + 1][i] = jump;
+                    g[i] = 0.0;
+                }
+            }
+            let mut gk = l.b.transpose() * psi;
+            let mut own = u[k] * h + l.b.transpose() * beta;
+            for i in 0..2 {
+                if free(k, i) {
+                    kkt = kkt.max(g[i].abs() / h);
+                } else {
+                    gk.row_mut(i).fill(0.0);
+                    own[i] = 0.0;
+                }
+            }
             grad[k] = g;
-            lambda[k] = l.a.transpose() * lambda[k + 1];
-            let gk = l.b.transpose() * psi;
             normal += gk.transpose() * gk;
-            rhs -= gk.transpose() * (u[k] * h);
+            rhs -= gk.transpose() * own;
+            lambda[k] = l.a.transpose() * lambda[k + 1];
+            beta = l.a.transpose() * beta;
             psi = l.a.transpose() * psi;
+            if let Limits::Barrier { alpha_max, tau } = self.limits
+                && k > 0
+            {
+                for i in 0..2 {
+                    let (_, d1, d2) = barrier(alpha_max, states[k][i]);
+                    lambda[k][i] += h * tau * d1;
+                    beta[i] += h * tau * d1;
+                    l.hss[(i, i)] += h * tau * d2;
+                }
+            }
             lin.push(l);
         }
         lin.reverse();
@@ -155,11 +325,22 @@ impl Grid {
         Ok(Linearisation {
             lin,
             lambda,
+            jumps,
             grad,
             kkt,
             nu_ls,
         })
     }
+}
+
+/// `(φ, φ′, φ″)` of the barrier `φ(α) = −ln(A − α) − ln(A + α)`.
+fn barrier(a: f64, x: f64) -> (f64, f64, f64) {
+    let (p, m) = (a - x, a + x);
+    (
+        -(p.ln() + m.ln()),
+        1.0 / p - 1.0 / m,
+        1.0 / (p * p) + 1.0 / (m * m),
+    )
 }
 
 /// Derivatives of the problem along a rollout.
@@ -169,7 +350,10 @@ pub struct Linearisation {
     pub lin: Vec<Linearised>,
     /// Costates `λ_0 … λ_N` for the given `ν`.
     pub lambda: Vec<StageState>,
-    /// `∇_{u_k}L = h·u_k + B_kᵀλ_{k+1}`.
+    /// The jumps of `λ^α_k` at the states on arcs (the limit's multipliers `η_k` times the
+    /// arc's sign; zero elsewhere).
+    pub jumps: Vec<Vector2<f64>>,
+    /// `∇_{u_k}L = h·u_k + B_kᵀλ_{k+1}` (zero for controls tied by arcs).
     pub grad: Vec<Vector2<f64>>,
     /// Stationarity residual `max_k |h·u_k + B_kᵀλ_{k+1}|_∞ / h`.
     pub kkt: f64,
@@ -213,8 +397,10 @@ pub struct Settings {
 pub struct Run {
     /// The last iterate.
     pub point: Point,
-    /// Its costates `λ_0 … λ_N`.
+    /// Its costates `λ_0 … λ_N` (with the jumps of the limit's multipliers).
     pub lambda: Vec<StageState>,
+    /// The jumps of `λ^α_k` at states on arcs ([`Linearisation::jumps`]).
+    pub jumps: Vec<Vector2<f64>>,
     /// `|c|_∞` there.
     pub defect: f64,
     /// Stationarity residual there.
@@ -240,10 +426,12 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
     loop {
         let c = grid.defect(&pt.states);
         let lz = grid.linearise(&pt.states, &pt.u, &pt.nu)?;
+        let maps = grid.control_maps();
+        let maps = maps.as_deref();
         let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
         if done || iterations >= settings.max_iterations {
             let local_min =
-                done && Factor::new(&lz.lin, &lz.grad, h, 0.0).is_some_and(|f| f.convex());
+                done && Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex());
             return Ok(finish(grid, pt, lz, iterations, done, local_min));
         }
         iterations += 1;
@@ -251,7 +439,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         // makes the QP convex on the constraint's null space.
         let mut delta = 0.0;
         let factor = loop {
-            if let Some(f) = Factor::new(&lz.lin, &lz.grad, h, delta)
+            if let Some(f) = Factor::new(&lz.lin, &lz.grad, h, delta, maps)
                 && f.convex()
             {
                 break Some(f);
@@ -296,8 +484,8 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
             lz.nu_ls.unwrap_or(pt.nu)
         };
         let theta = c.lp_norm(1);
-        let phi = grid.cost(&pt.u);
-        let slope = h * pt.u.iter().zip(&du).map(|(a, b)| a.dot(b)).sum::<f64>();
+        let phi = grid.objective(&pt.u, &pt.states);
+        let slope = grid.objective_slope(&pt.u, &pt.states, &du);
         let trial = |t: f64, extra: Option<&[Vector2<f64>]>| -> Option<(Point, f64, f64)> {
             let u: Vec<Vector2<f64>> = match extra {
                 None => pt.u.iter().zip(&du).map(|(a, b)| a + b * t).collect(),
@@ -311,7 +499,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
             };
             let p = Point::new(grid, u, nu_next).ok()?;
             let th = grid.defect(&p.states).lp_norm(1);
-            let ph = grid.cost(&p.u);
+            let ph = grid.objective(&p.u, &p.states);
             Some((p, th, ph))
         };
         let mut accepted = None;
@@ -439,6 +627,7 @@ fn finish(
     Run {
         point,
         lambda: lz.lambda,
+        jumps: lz.jumps,
         defect,
         kkt: lz.kkt,
         iterations,

@@ -7,7 +7,9 @@
 //!    whose rule mimics the fine one; distinct local minima, cheapest first;
 //! 3. [`refine`]: the cheapest candidates carried to the problem's own grid through finer
 //!    grids, Newton converging in a few steps at each; second-order check by the inertia of
-//!    the last factorisation;
+//!    the last factorisation. With a joint limit ([`limits`]), the search and the refinement
+//!    run an interior-point path and the refinement ends with the limit imposed exactly on
+//!    the arcs where it is active;
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
 //! 5. [`certificate`]: independent checks (the core's law reproduces the controls, the
 //!    controls reach the target through the core's kinematics, KKT by reverse mode).
@@ -19,6 +21,7 @@ pub mod certificate;
 pub mod continuation;
 pub mod costate;
 pub mod direct;
+pub mod limits;
 pub mod riccati;
 pub mod search;
 pub mod stage;
@@ -26,7 +29,8 @@ pub mod starts;
 pub mod symmetry;
 
 use crate::problem::Problem;
-use direct::{Grid, Point, Run, Settings};
+pub use direct::Arc;
+use direct::{Grid, Limits, Point, Run, Settings};
 use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::State;
 use stage::Rule;
@@ -81,16 +85,23 @@ pub struct Extremal {
     pub xi0: Vector2<f64>,
     /// Largest `|α_i|` along the path.
     pub max_abs_alpha: f64,
-    /// Whether `max_abs_alpha < α_max`.
+    /// Whether the path is admissible ([`Problem::admits`]).
     pub admissible: bool,
     /// Terminal defect of the direct method's trajectory (largest component, m / rad).
     pub residual: f64,
     /// The same after re-integrating the controls through the core's kinematics
     /// ([`certificate::terminal_residual`]); `None` if the path is not admissible.
     pub terminal_residual: Option<f64>,
-    /// Independent KKT residual ([`certificate::kkt_residual`], rad/s); `None` if the path is
-    /// not admissible (the core refuses shapes past the overlap limit).
+    /// Independent KKT residual ([`certificate::kkt`], rad/s, with the joint limit's
+    /// multipliers); `None` if the path is not admissible (the core refuses shapes past the
+    /// overlap limit).
     pub kkt_residual: Option<f64>,
+    /// The joint limit's arcs: maximal runs of states `k = first..=last` on `σ α_{k,i} = α_max`
+    /// (empty without a limit or where it is inactive).
+    pub arcs: Vec<Arc>,
+    /// Smallest multiplier `η_k ≥ 0` of the joint limit over the arcs' states, from
+    /// [`certificate::kkt`]; `None` without arcs.
+    pub min_eta: Option<f64>,
     /// The direct method's own stationarity residual (rad/s).
     pub stationarity: f64,
     /// Relative deviation of the core's law from the controls ([`certificate::law_residual`]);
@@ -161,10 +172,22 @@ pub fn fine_settings(problem: &Problem, controls: &[Vector2<f64>]) -> Settings {
 }
 
 /// Carries controls `u` (on any grid over the same horizon) with multiplier `nu` to the
-/// problem's grid through grids at most 16 times finer each ([`Rule::matching`] on the
-/// intermediate ones), Newton converging at each. `Err` holds the terminal defect where it
-/// stopped.
+/// problem's grid: [`refine_free`], or [`limits::refine`] with a joint limit. `Err` holds
+/// the terminal defect where it stopped.
 pub fn refine(
+    problem: &Problem,
+    u: &[Vector2<f64>],
+    nu: &Vector5<f64>,
+) -> Result<(Grid, Run), f64> {
+    match problem.joint_limit() {
+        None => refine_free(problem, u, nu),
+        Some(a) => limits::refine(problem, a, u, nu),
+    }
+}
+
+/// Without a joint limit: through grids at most 16 times finer each ([`Rule::matching`] on
+/// the intermediate ones), Newton converging at each.
+pub fn refine_free(
     problem: &Problem,
     u: &[Vector2<f64>],
     nu: &Vector5<f64>,
@@ -210,7 +233,7 @@ pub fn refine(
 /// The extremal of a converged fine run, with its certificates.
 pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let p = &run.point;
-    let trajectory = costate::trajectory(&p.states, &p.u, &run.lambda);
+    let trajectory = costate::trajectory(&p.states, &p.u, &run.lambda, &run.jumps);
     let n = p.u.len();
     let mu = costate::momentum(&run.lambda[n], &p.states[n]);
     let max_abs_alpha = p
@@ -221,15 +244,28 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let physical = max_abs_alpha < core::f64::consts::PI;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
     let cost = grid.cost(&p.u);
+    let kkt = certificate::kkt(problem, &trajectory, &mu)
+        .ok()
+        .filter(|_| physical);
+    let arcs = match &grid.limits {
+        Limits::Arcs { arcs, .. } => {
+            let mut arcs = arcs.clone();
+            arcs.sort_by_key(|a| (a.first, a.joint));
+            arcs
+        }
+        _ => Vec::new(),
+    };
     Extremal {
         cost,
         mu,
         xi0: trajectory.xis.first().copied().unwrap_or_default(),
         max_abs_alpha,
-        admissible: max_abs_alpha < problem.alpha_max,
+        admissible: problem.admits(max_abs_alpha),
         residual: run.defect,
         terminal_residual: check(certificate::terminal_residual(problem, &p.u)),
-        kkt_residual: check(certificate::kkt_residual(problem, &trajectory, &mu)),
+        kkt_residual: kkt.map(|k| k.residual),
+        arcs,
+        min_eta: kkt.and_then(|k| k.min_eta),
         stationarity: run.kkt,
         law_residual: check(certificate::law_residual(problem, &trajectory, &mu)),
         // J ≥ 0, so J = 0 is the global minimum (there the terminal constraint is degenerate
@@ -244,7 +280,8 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 }
 
 /// The coarse grid of the global search: `options.coarse_steps` steps (at most the problem's)
-/// with the rule that mimics the problem's discretisation.
+/// with the rule that mimics the problem's discretisation; with a joint limit, its barrier
+/// at the last weight of the search's path ([`limits::COARSE_TAU`]).
 pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
     let n = options.coarse_steps.min(problem.steps as usize).max(1);
     let rule = if n == problem.steps as usize {
@@ -252,7 +289,14 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
     } else {
         Rule::matching(problem.horizon() / n as f64, problem.h)
     };
-    Grid::new(problem, n, rule).ok()
+    let mut grid = Grid::new(problem, n, rule).ok()?;
+    if let Some(alpha_max) = problem.joint_limit() {
+        grid.limits = Limits::Barrier {
+            alpha_max,
+            tau: limits::COARSE_TAU,
+        };
+    }
+    Some(grid)
 }
 
 /// Solves from many starts (see the module docs); `progress` is called once per start.
@@ -264,12 +308,14 @@ pub fn solve(
     let unreachable = |best_residual| SolveError::Unreachable { best_residual };
     let grid = coarse_grid(problem, options).ok_or(unreachable(f64::INFINITY))?;
     let alpha_max = problem.alpha_max;
+    let limit = problem.joint_limit();
     let found = search::search(
         &grid,
         options.min_starts,
         options.starts,
         options.seed,
-        &|a| a < alpha_max,
+        limit,
+        &|a| problem.admits(a),
         progress,
     );
     // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for

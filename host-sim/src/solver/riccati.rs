@@ -33,6 +33,7 @@
 //! Hessian and the step is zero) exactly when the KKT matrix has `m = 5` negative eigenvalues,
 //! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
 
+use super::direct::ControlMap;
 use super::stage::Linearised;
 use nalgebra::{
     Matrix2, Matrix2x3, Matrix2x5, Matrix3, Matrix3x2, Matrix3x5, Matrix5, SymmetricEigen, Vector2,
@@ -68,9 +69,26 @@ impl Split {
     }
 }
 
+/// `δu = S δv + L δa` for a stage's [`ControlMap`]: `S` keeps the free controls, `L` sets an
+/// arc's entry control from the state (`δu_i = −δα_i/h`); fixed controls are zero.
+fn substitution(map: &ControlMap, h: f64) -> (Matrix2<f64>, Matrix2x3<f64>) {
+    let mut s = Matrix2::zeros();
+    let mut l = Matrix2x3::zeros();
+    for i in 0..2 {
+        if map.free(i) {
+            s[(i, i)] = 1.0;
+        } else if map.entry[i] {
+            l[(i, i)] = -1.0 / h;
+        }
+    }
+    (s, l)
+}
+
 /// The factorisation of one LQ problem (see the module docs).
 #[derive(Clone, Debug)]
 pub struct Factor {
+    /// Per stage, `δu = S δv + L δa` (none: `δu = δv`).
+    subs: Option<Vec<(Matrix2<f64>, Matrix2x3<f64>)>>,
     k: Vec<Matrix2x3<f64>>,
     d0: Vec<Vector2<f64>>,
     d: Vec<Matrix2x5<f64>>,
@@ -97,8 +115,20 @@ impl Factor {
     /// the identity on `p` and zero elsewhere, and no Hessian involves `p`), so the value
     /// function does not depend on `δp`: the recursion runs on `a = (α1, α2, θ)` alone, and
     /// `ν_pᵀδp_N = Σ_k ν_pᵀ(C_kδa_k + D_kδu_k)` becomes stage terms linear in `ν`.
-    pub fn new(lin: &[Linearised], r: &[Vector2<f64>], h: f64, delta: f64) -> Option<Self> {
+    ///
+    /// With control maps (joint-limit arcs), each stage's controls are substituted,
+    /// `δu = S δv + L δa`, and the recursion runs on `δv`: a fixed control gets a unit pivot
+    /// and zero terms (so `δv_i = 0`), and the inertia is that of the reduced Hessian on the
+    /// arcs' tangent space.
+    pub fn new(
+        lin: &[Linearised],
+        r: &[Vector2<f64>],
+        h: f64,
+        delta: f64,
+        maps: Option<&[ControlMap]>,
+    ) -> Option<Self> {
         let n = lin.len();
+        let subs: Option<Vec<_>> = maps.map(|m| m.iter().map(|c| substitution(c, h)).collect());
         let mut k = vec![Matrix2x3::zeros(); n];
         let mut d0 = vec![Vector2::zeros(); n];
         let mut d = vec![Matrix2x5::zeros(); n];
@@ -113,11 +143,32 @@ impl Factor {
         let mut m = Matrix5::<f64>::zeros();
         let mut negative_h = 0;
         for i in (0..n).rev() {
-            let st = Split::new(&lin[i]);
+            let mut st = Split::new(&lin[i]);
+            let mut huu = lin[i].huu + Matrix2::identity() * h;
+            let mut reg = Matrix2::identity() * delta;
+            let mut ri = r[i];
+            let mut qa = Vector3::zeros();
+            let mut fixed_pivot = Matrix2::zeros();
+            if let Some((sm, lm)) = subs.as_ref().map(|v| v[i]) {
+                // δu = Sδv + Lδa: dynamics A + BL, B S; costs in (δa, δv); the linear term
+                // rᵀδu = (Sr)ᵀδv + (Lᵀr)ᵀδa; a unit pivot for each control that is not free.
+                st.qaa +=
+                    st.qau * lm + lm.transpose() * st.qau.transpose() + lm.transpose() * huu * lm;
+                st.qau = (st.qau + lm.transpose() * huu) * sm;
+                huu = sm * huu * sm;
+                reg = sm * reg * sm;
+                fixed_pivot = Matrix2::identity() - sm;
+                qa = lm.transpose() * ri;
+                ri = sm * ri;
+                st.a += st.b * lm;
+                st.c += st.d * lm;
+                st.b *= sm;
+                st.d *= sm;
+            }
             let (a, b) = (&st.a, &st.b);
             let pa = p * a;
             let pb = p * b;
-            let quu = lin[i].huu + Matrix2::identity() * (h + delta) + b.transpose() * pb;
+            let quu = huu + reg + fixed_pivot + b.transpose() * pb;
             let quu = (quu + quu.transpose()) * 0.5;
             let qua = st.qau.transpose() + pb.transpose() * a;
             let qaa = st.qaa + a.transpose() * pa;
@@ -142,7 +193,7 @@ impl Factor {
                 delta_u.set_column(pc, &st.d.row(col).transpose());
             }
             let ki = -(inv * qua);
-            let q0 = r[i] + b.transpose() * p0;
+            let q0 = ri + b.transpose() * p0;
             let qnu = delta_u + b.transpose() * pi;
             let d0i = -(inv * q0);
             let di = -(inv * qnu);
@@ -150,7 +201,7 @@ impl Factor {
             m -= di.transpose() * quu * di;
             p = qaa + qua.transpose() * ki;
             p = (p + p.transpose()) * 0.5;
-            p0 = a.transpose() * p0 + qua.transpose() * d0i;
+            p0 = qa + a.transpose() * p0 + qua.transpose() * d0i;
             pi = gamma + a.transpose() * pi + qua.transpose() * di;
             k[i] = ki;
             d0[i] = d0i;
@@ -167,6 +218,7 @@ impl Factor {
         }
         let negative_m = eig.iter().filter(|e| **e < 0.0).count();
         Some(Factor {
+            subs,
             k,
             d0,
             d,
@@ -205,6 +257,9 @@ impl Factor {
                 if linear {
                     u += self.d0[i];
                 }
+                if let Some((sm, lm)) = self.subs.as_ref().map(|v| v[i]) {
+                    u = sm * u + lm * da;
+                }
                 open = l.a * open + l.b * u;
                 du.push(u);
             }
@@ -225,29 +280,34 @@ mod tests {
     use super::*;
     use nalgebra::{DMatrix, DVector, Matrix5x2};
 
-    /// A random LQ problem solved by the Riccati factorisation and by a dense KKT system.
-    #[test]
-    fn riccati_step_solves_the_dense_kkt_system() {
-        let n = 6;
-        let mut seed = 7u64;
+    /// A random LQ problem shaped like the swimmer's: the position (rows/columns 2, 3) only
+    /// accumulates and enters no Hessian, and `δα' = δα + h δu` (so arcs can be imposed).
+    fn random_problem(
+        n: usize,
+        h: f64,
+        seed: u64,
+    ) -> (Vec<Linearised>, Vec<Vector2<f64>>, Vector5<f64>) {
+        let mut seed = seed;
         let mut rnd = || {
             seed = seed
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
-        let h = 0.3;
-        // Stages shaped like the swimmer's: the position (rows/columns 2, 3) only accumulates
-        // and enters no Hessian.
         let on_a = |i: usize| i != 2 && i != 3;
         let lin: Vec<Linearised> = (0..n)
             .map(|_| {
                 let a = Matrix5::from_fn(|i, j| match (on_a(i), on_a(j)) {
                     _ if i == j => 1.0,
+                    _ if i < 2 => 0.0,
                     (_, false) => 0.0,
                     _ => 0.5 * rnd(),
                 });
-                let b = Matrix5x2::from_fn(|_, _| rnd());
+                let b = Matrix5x2::from_fn(|i, j| match i {
+                    0 | 1 if i == j => h,
+                    0 | 1 => 0.0,
+                    _ => rnd(),
+                });
                 let q = Matrix5::from_fn(|i, j| if on_a(i) && on_a(j) { 0.2 * rnd() } else { 0.0 });
                 let hsu = Matrix5x2::from_fn(|i, _| if on_a(i) { 0.1 * rnd() } else { 0.0 });
                 let huu = Matrix2::from_fn(|_, _| 0.1 * rnd());
@@ -262,9 +322,20 @@ mod tests {
             .collect();
         let r: Vec<Vector2<f64>> = (0..n).map(|_| Vector2::new(rnd(), rnd())).collect();
         let e = Vector5::from_fn(|_, _| rnd());
-        let f = Factor::new(&lin, &r, h, 0.0).unwrap();
-        let (du, nu) = f.solve(&lin, &e, true).unwrap();
-        // Dense: variables δu (2n); δs_k = Σ_j S_kj δu_j; H = Σ stage quadratic forms.
+        (lin, r, e)
+    }
+
+    /// The dense KKT matrix and right-hand side of the LQ problem in the controls `δu`, with
+    /// the terminal constraint and, per `maps`, `δu_{k,i} = 0` (fixed) or `δα_{k+1,i} = 0`
+    /// (entry); the reduced Hessian `H` too.
+    fn dense(
+        lin: &[Linearised],
+        r: &[Vector2<f64>],
+        e: &Vector5<f64>,
+        h: f64,
+        maps: Option<&[ControlMap]>,
+    ) -> (DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
+        let n = lin.len();
         let nv = 2 * n;
         let mut s = vec![DMatrix::<f64>::zeros(5, nv)]; // δs_k as a function of δu
         for k in 0..n {
@@ -295,16 +366,45 @@ mod tests {
             g[2 * k] += r[k].x;
             g[2 * k + 1] += r[k].y;
         }
-        let gm = &s[n];
-        let mut kkt = DMatrix::<f64>::zeros(nv + 5, nv + 5);
-        kkt.view_mut((0, 0), (nv, nv)).copy_from(&hm);
-        kkt.view_mut((0, nv), (nv, 5)).copy_from(&gm.transpose());
-        kkt.view_mut((nv, 0), (5, nv)).copy_from(gm);
-        let mut rhs = DVector::<f64>::zeros(nv + 5);
-        rhs.rows_mut(0, nv).copy_from(&(-g));
-        for i in 0..5 {
-            rhs[nv + i] = e[i];
+        let mut rows: Vec<DVector<f64>> = (0..5).map(|i| s[n].row(i).transpose()).collect();
+        let mut rhs_c: Vec<f64> = e.iter().copied().collect();
+        for (k, m) in maps.unwrap_or(&[]).iter().enumerate() {
+            for i in 0..2 {
+                if m.fixed[i] {
+                    rows.push(DVector::from_fn(nv, |j, _| f64::from(j == 2 * k + i)));
+                } else if m.entry[i] {
+                    rows.push(s[k + 1].row(i).transpose());
+                } else {
+                    continue;
+                }
+                rhs_c.push(0.0);
+            }
         }
+        let m = rows.len();
+        let mut kkt = DMatrix::<f64>::zeros(nv + m, nv + m);
+        kkt.view_mut((0, 0), (nv, nv)).copy_from(&hm);
+        for (c, row) in rows.iter().enumerate() {
+            kkt.view_mut((0, nv + c), (nv, 1)).copy_from(row);
+            kkt.view_mut((nv + c, 0), (1, nv))
+                .copy_from(&row.transpose());
+        }
+        let mut rhs = DVector::<f64>::zeros(nv + m);
+        rhs.rows_mut(0, nv).copy_from(&(-g));
+        for (c, v) in rhs_c.iter().enumerate() {
+            rhs[nv + c] = *v;
+        }
+        (kkt, rhs, hm)
+    }
+
+    /// A random LQ problem solved by the Riccati factorisation and by a dense KKT system.
+    #[test]
+    fn riccati_step_solves_the_dense_kkt_system() {
+        let (n, h) = (6, 0.3);
+        let (lin, r, e) = random_problem(n, h, 7);
+        let f = Factor::new(&lin, &r, h, 0.0, None).unwrap();
+        let (du, nu) = f.solve(&lin, &e, true).unwrap();
+        let (kkt, rhs, hm) = dense(&lin, &r, &e, h, None);
+        let nv = 2 * n;
         let sol = kkt.clone().lu().solve(&rhs).unwrap();
         for k in 0..n {
             assert!((du[k].x - sol[2 * k]).abs() < 1e-9);
@@ -324,5 +424,48 @@ mod tests {
             .filter(|v| **v < 0.0)
             .count();
         assert_eq!(neg_h, f.negative_h);
+    }
+
+    /// With joint-limit arcs (MODEL.md §9): the Riccati step with the controls substituted
+    /// (fixed in the arc, the entry control set by the state) solves the dense KKT system
+    /// with those controls as equality constraints.
+    #[test]
+    fn riccati_step_with_arcs_solves_the_constrained_dense_kkt_system() {
+        let (n, h) = (9, 0.3);
+        let (lin, mut r, e) = random_problem(n, h, 11);
+        // Joint 0 on the limit at states 3..=5 (entry control 2, fixed 3, 4); joint 1 touches
+        // it at state 7 (entry control 6 only).
+        let mut maps = vec![ControlMap::default(); n];
+        maps[2].entry[0] = true;
+        maps[3].fixed[0] = true;
+        maps[4].fixed[0] = true;
+        maps[6].entry[1] = true;
+        // The direct method zeroes the gradient of tied controls (the jumps absorb it).
+        for (m, rk) in maps.iter().zip(r.iter_mut()) {
+            for i in [0, 1] {
+                if !m.free(i) {
+                    rk[i] = 0.0;
+                }
+            }
+        }
+        let f = Factor::new(&lin, &r, h, 0.0, Some(&maps)).unwrap();
+        let (du, nu) = f.solve(&lin, &e, true).unwrap();
+        let (kkt, rhs, _) = dense(&lin, &r, &e, h, Some(&maps));
+        let sol = kkt.clone().lu().solve(&rhs).unwrap();
+        let nv = 2 * n;
+        for k in 0..n {
+            assert!(
+                (du[k].x - sol[2 * k]).abs() < 1e-9,
+                "du {k}: {} {}",
+                du[k].x,
+                sol[2 * k]
+            );
+            assert!((du[k].y - sol[2 * k + 1]).abs() < 1e-9, "du {k}");
+        }
+        for i in 0..5 {
+            assert!((nu[i] - sol[nv + i]).abs() < 1e-9, "nu {i}");
+        }
+        assert_eq!(du[3].x, 0.0);
+        assert_eq!(du[4].x, 0.0);
     }
 }

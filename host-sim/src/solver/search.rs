@@ -11,6 +11,7 @@
 //! does not resolve ([`Grid::resolves`]) is dropped.
 
 use super::direct::{self, Grid, Point, Settings};
+use super::limits;
 use super::starts::{self, StartLoop};
 use nalgebra::{Vector2, Vector5};
 use rayon::prelude::*;
@@ -55,12 +56,15 @@ pub struct Search {
 
 /// Runs at least `min_starts` (at most `max_starts`) start loops and the zero loop on `grid`;
 /// `admissible` decides from the largest `|α_i|` whether an extremal counts for the stopping
-/// rule; `progress` is called once per finished start.
+/// rule; `progress` is called once per finished start. With a joint limit `limit`, the starts
+/// are shrunk into it and run through the barrier path ([`super::limits`]): the candidates
+/// are then minima of the barrier problem at its last weight.
 pub fn search(
     grid: &Grid,
     min_starts: usize,
     max_starts: usize,
     seed: u64,
+    limit: Option<f64>,
     admissible: &(dyn Fn(f64) -> bool + Sync),
     progress: &(dyn Fn() + Sync),
 ) -> Search {
@@ -86,8 +90,17 @@ pub fn search(
             .map(|&(index, start_loop)| {
                 let u = start_loop
                     .map_or_else(|| vec![Vector2::zeros(); grid.steps], |s| s.controls(grid));
-                let r = Point::new(grid, u, Vector5::zeros())
-                    .and_then(|p| direct::newton(grid, p, &settings));
+                let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+                let r = match limit {
+                    None => Point::new(grid, u, Vector5::zeros())
+                        .and_then(|p| direct::newton(grid, p, &settings)),
+                    Some(a) => {
+                        let u = limits::shrink_into(u, &alpha0, a, grid.h());
+                        Point::new(grid, u, Vector5::zeros()).and_then(|p| {
+                            limits::barrier_path(grid, a, limits::coarse_path(index), p, &settings)
+                        })
+                    }
+                };
                 progress();
                 (index, start_loop, r)
             })

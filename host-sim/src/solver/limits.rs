@@ -1,0 +1,278 @@
+//! The joint limit `|α_{k,i}| ≤ α_max` as a state constraint (MODEL.md §9).
+//!
+//! 1. **Interior point.** The direct method with a logarithmic barrier ([`Limits::Barrier`]):
+//!    from strictly feasible starts ([`shrink_into`]), Newton at decreasing weights `τ`
+//!    ([`barrier_path`]); the barrier's minimisers approach the constrained minimum, resting
+//!    a distance `O(τ)` from the limit where it is active.
+//! 2. **Active set.** The stretches within [`NEAR`] of the limit become arcs ([`arcs_of`]);
+//!    the problem with the limit imposed exactly on them ([`Limits::Arcs`]: controls fixed
+//!    inside an arc, the entry control set by the state) is solved by Newton
+//!    ([`polish`]), which returns the multipliers `η_k` of the limit with it (the jumps of
+//!    the shape costate). A state that leaves the limit elsewhere adds an arc; an arc state
+//!    with `η_k < 0` leaves it; repeat.
+//!
+//! The result is a KKT point of the constrained problem: stationarity in every free
+//! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
+
+use super::direct::{self, Arc, Grid, Limits, Point, Run, Settings};
+use super::stage::StageState;
+use crate::problem::Problem;
+use nalgebra::Vector2;
+use purcell_core::Error;
+
+/// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for every
+/// other start, at `1e-2` (a stronger push off the limit at first leads to other basins).
+const COARSE_PATHS: [&[f64]; 2] = [&[1e-3, 1e-4, 1e-5, 1e-6], &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6]];
+/// The last weight of the coarse paths: the coarse problem's barrier.
+pub const COARSE_TAU: f64 = 1e-6;
+
+/// The barrier path of start `index` on the coarse grid.
+pub fn coarse_path(index: usize) -> &'static [f64] {
+    COARSE_PATHS[index % 2]
+}
+/// Barrier weights of the fine grid before the active set is fixed.
+pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
+/// A state this close to the limit (radians) at the end of the barrier path is on an arc.
+pub const NEAR: f64 = 1e-6;
+
+/// The controls `u` (from `ᾱ`) with their shape path shrunk about `ᾱ` so that it stays within
+/// 95 % of the limit.
+pub fn shrink_into(
+    u: Vec<Vector2<f64>>,
+    alpha0: &Vector2<f64>,
+    alpha_max: f64,
+    h: f64,
+) -> Vec<Vector2<f64>> {
+    let mut offset = Vector2::zeros();
+    let mut reach = 0.0f64;
+    for v in &u {
+        offset += v * h;
+        reach = reach.max(offset.amax());
+    }
+    let room = 0.95 * alpha_max - alpha0.amax();
+    if reach <= room || room <= 0.0 {
+        return u;
+    }
+    let f = room / reach;
+    u.into_iter().map(|v| v * f).collect()
+}
+
+/// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last;
+/// the run at the last weight.
+pub fn barrier_path(
+    grid: &Grid,
+    alpha_max: f64,
+    taus: &[f64],
+    start: Point,
+    settings: &Settings,
+) -> Result<Run, Error> {
+    let mut g = grid.clone();
+    let mut point = start;
+    let mut last = None;
+    for &tau in taus {
+        g.limits = Limits::Barrier { alpha_max, tau };
+        let p = Point::new(&g, point.u.clone(), point.nu)?;
+        let run = direct::newton(&g, p, settings)?;
+        if !run.converged {
+            return Ok(run);
+        }
+        point = run.point.clone();
+        last = Some(run);
+    }
+    last.ok_or(Error::NonFinite)
+}
+
+/// The arcs of a path: maximal stretches of states `k = 1 … N−1` within `near` of `±α_max`.
+pub fn arcs_of(states: &[StageState], alpha_max: f64, near: f64) -> Vec<Arc> {
+    let n = states.len().saturating_sub(1);
+    let mut arcs = Vec::new();
+    for joint in [0, 1] {
+        for upper in [true, false] {
+            let sign = if upper { 1.0 } else { -1.0 };
+            let on = |k: usize| sign * states[k][joint] >= alpha_max - near;
+            let mut k = 1;
+            while k < n {
+                if on(k) {
+                    let first = k;
+                    while k + 1 < n && on(k + 1) {
+                        k += 1;
+                    }
+                    arcs.push(Arc {
+                        joint,
+                        upper,
+                        first,
+                        last: k,
+                    });
+                }
+                k += 1;
+            }
+        }
+    }
+    arcs
+}
+
+/// The controls `u` made to satisfy the arcs exactly: zero inside each arc, and the entry
+/// control bringing the joint to the limit (the shape path recomputed from `ᾱ`).
+pub fn snap(u: &[Vector2<f64>], grid: &Grid) -> Vec<Vector2<f64>> {
+    let (Limits::Arcs { alpha_max, arcs }, Some(maps)) = (&grid.limits, grid.control_maps()) else {
+        return u.to_vec();
+    };
+    let h = grid.h();
+    let mut alpha = Vector2::new(grid.start[0], grid.start[1]);
+    let mut out = Vec::with_capacity(u.len());
+    for (k, v) in u.iter().enumerate() {
+        let mut w = *v;
+        for i in 0..2 {
+            if maps[k].fixed[i] {
+                w[i] = 0.0;
+            } else if maps[k].entry[i] {
+                let sign = arcs
+                    .iter()
+                    .find(|a| a.joint == i && a.first == k + 1)
+                    .map_or(1.0, Arc::sign);
+                w[i] = (sign * alpha_max - alpha[i]) / h;
+            }
+        }
+        alpha += w * h;
+        out.push(w);
+    }
+    out
+}
+
+/// Why [`polish`] gave up.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PolishError {
+    /// Newton did not converge (the terminal defect where it stopped).
+    NotConverged(f64),
+    /// The active set did not settle within the rounds allowed.
+    Unsettled,
+}
+
+/// The constrained extremal near a barrier solution `run` on `grid` (the problem's own grid):
+/// active-set rounds of Newton with the limit imposed on the arcs (see the module docs).
+/// Returns the grid (with its final arcs) and the run.
+pub fn polish(
+    grid: &Grid,
+    alpha_max: f64,
+    run: &Run,
+    settings: &Settings,
+) -> Result<(Grid, Run), PolishError> {
+    let mut arcs = arcs_of(&run.point.states, alpha_max, NEAR);
+    let mut point = run.point.clone();
+    for _ in 0..6 {
+        let mut g = grid.clone();
+        g.limits = Limits::Arcs {
+            alpha_max,
+            arcs: arcs.clone(),
+        };
+        let start = Point::new(&g, snap(&point.u, &g), point.nu)
+            .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
+        let r = direct::newton(&g, start, settings)
+            .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
+        if !r.converged {
+            return Err(PolishError::NotConverged(r.defect));
+        }
+        // States beyond the limit off the arcs, and arc states with η < 0.
+        let states = &r.point.states;
+        let n = states.len() - 1;
+        let eta = |k: usize, a: &Arc| a.sign() * r.jumps[k][a.joint];
+        let scale = arcs
+            .iter()
+            .flat_map(|a| (a.first..=a.last).map(move |k| (k, a)))
+            .fold(0.0f64, |m, (k, a)| m.max(eta(k, a).abs()));
+        let violated: Vec<Arc> = arcs_of(states, alpha_max, -1e-12 * alpha_max)
+            .into_iter()
+            .filter(|v| {
+                !arcs.iter().any(|a| {
+                    a.joint == v.joint
+                        && a.upper == v.upper
+                        && a.first <= v.first
+                        && v.last <= a.last
+                })
+            })
+            .collect();
+        let mut released = Vec::new();
+        for a in &arcs {
+            // Keep the stretches of the arc where η ≥ 0 (to rounding).
+            let mut k = a.first;
+            while k <= a.last {
+                if eta(k, a) >= -1e-9 * scale {
+                    let first = k;
+                    while k < a.last && eta(k + 1, a) >= -1e-9 * scale {
+                        k += 1;
+                    }
+                    released.push(Arc {
+                        first,
+                        last: k,
+                        ..*a
+                    });
+                }
+                k += 1;
+            }
+        }
+        let settled = violated.is_empty() && released == arcs && k_ok(n, &arcs);
+        if settled {
+            return Ok((g, r));
+        }
+        arcs = released;
+        arcs.extend(violated);
+        point = r.point;
+    }
+    Err(PolishError::Unsettled)
+}
+
+/// Every arc inside `1 … N−1`.
+fn k_ok(n: usize, arcs: &[Arc]) -> bool {
+    arcs.iter().all(|a| a.first >= 1 && a.last < n)
+}
+
+/// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
+/// through finer grids with the barrier at the coarse path's last weight, then the fine
+/// path's weights, then [`polish`]. `Err` holds the terminal defect where it stopped.
+pub fn refine(
+    problem: &Problem,
+    alpha_max: f64,
+    u: &[Vector2<f64>],
+    nu: &nalgebra::Vector5<f64>,
+) -> Result<(Grid, Run), f64> {
+    let n_fine = problem.steps as usize;
+    let mut u = u.to_vec();
+    let mut nu = *nu;
+    let coarse_tau = [COARSE_TAU];
+    loop {
+        let n = u.len();
+        let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
+        let last = next == n_fine;
+        let h = problem.horizon() / next as f64;
+        let rule = if last {
+            super::stage::Rule::LEFT_POINT
+        } else {
+            super::stage::Rule::matching(h, problem.h)
+        };
+        let grid = Grid::new(problem, next, rule).map_err(|_| f64::INFINITY)?;
+        let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(|_| f64::INFINITY)?;
+        // The barrier's Hessian grows like τ/d² near the limit, so its stationarity is
+        // asked only to 1e-6 at the small weights: the path is there to find the arcs,
+        // [`polish`] converges the constrained problem itself.
+        let settings = Settings {
+            max_iterations: 40,
+            tol_defect: 1e-10,
+            tol_kkt: if last { 1e-6 } else { 1e-8 },
+        };
+        let taus: &[f64] = if last { &FINE_TAUS } else { &coarse_tau };
+        let run =
+            barrier_path(&grid, alpha_max, taus, start, &settings).map_err(|_| f64::INFINITY)?;
+        if !run.converged {
+            return Err(run.defect);
+        }
+        if last {
+            let fine = super::fine_settings(problem, &run.point.u);
+            return polish(&grid, alpha_max, &run, &fine).map_err(|e| match e {
+                PolishError::NotConverged(d) => d,
+                PolishError::Unsettled => f64::INFINITY,
+            });
+        }
+        u = run.point.u;
+        nu = run.point.nu;
+    }
+}
