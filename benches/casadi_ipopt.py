@@ -4,21 +4,27 @@ CasADi + IPOPT (the paper's method), multi-start, next to purcell-sim's result. 
 
     pip install casadi
     python3 benches/casadi_ipopt.py --check                        # transcription check
-    python3 benches/casadi_ipopt.py PROBLEMS.json [--only a,b] [--starts 8] \
-        [--jsonl FILE] [--ours DIR] [--max-cpu 400] [--max-iter 3000]
+    python3 benches/casadi_ipopt.py PROBLEMS.json [--only a,b] [--starts 8] [--guard A] \
+        [--jsonl FILE] [--ours BENCH.md] [--max-cpu 400] [--max-iter 3000]
+    python3 benches/casadi_ipopt.py PROBLEMS.json --table --jsonl FILE [--ours BENCH.md]
 
-PROBLEMS.json is a list in the format of the shared suite (../shared/suite/problems.json):
+PROBLEMS.json is a list in the format of the public suite (tests/problems/public.json):
 `name`, `target`, and where given `horizon` (default 100), `step` (0.01), `alpha0` (0,0),
-`links` (1,1,1), `drag` (1), `ratio` (2), `alpha_max` (none). Without PROBLEMS.json: the
-paper's problem. Each problem is run from the first --starts starts of a fixed family (below),
-one after the other; every start prints a line and, with --jsonl, appends one JSON line
+`links` (1,1,1), `drag` (1), `ratio` (2), `alpha_max` (none), `ref`. Without PROBLEMS.json:
+the paper's problem. Each problem is run from the first --starts starts of a fixed family
+(below), one after the other; every start prints a line and, with --jsonl, appends one JSON line
 {problem, start, label, status, cost, max_abs_alpha, admissible, replay_error, seconds,
 cpu_seconds, iterations}. A (problem, start) pair already in the --jsonl file is not run again
-(resume an interrupted run with the same command). The closing table gives per problem the
-listed `ref`, IPOPT's cheapest admissible cost, its largest |alpha_i|, the start that found it
-and the seconds of each start, and, with --ours DIR, purcell-sim's result from
-DIR/<name>/report.json (written by `purcell-sim solve --out DIR/<name> <the problem's flags>`).
-Admissible: IPOPT converged, max |alpha_i| < pi, and <= alpha_max when given.
+(resume an interrupted run with the same command). With --table nothing is run: the table is
+made from the --jsonl file alone (CasADi not needed).
+
+The closing table gives per problem IPOPT's cheapest admissible cost, its largest |alpha_i|
+and replay error, how many starts reached it, were admissible, converged and ran, the CPU
+seconds per start (min / median / max; the graph build, once per N, h and model, not
+included), and with --ours purcell-sim's cost, its relative difference and its time, read
+from the table `cargo bench -p purcell-benches --bench suite -- PROBLEMS.json` prints (saved
+to BENCH.md). Admissible: IPOPT converged (Solve_Succeeded), max |alpha_i| < pi, and
+<= alpha_max when given.
 
 Decision variables: the states x_k = (alpha_k, g_k) (k = 0..N, g = (x, y, theta)) and the
 controls u_k (k = 0..N-1). Equality constraints: the exact step alpha_{k+1} = alpha_k + h u_k,
@@ -36,10 +42,15 @@ import argparse
 import json
 import math
 import os
+import statistics
 import time
 
-import casadi as ca
 import numpy as np
+
+try:
+    import casadi as ca
+except ImportError:  # --table needs no CasADi
+    ca = None
 
 DEFAULTS = {"horizon": 100.0, "step": 0.01, "alpha0": [0.0, 0.0], "links": [1.0, 1.0, 1.0],
             "drag": 1.0, "ratio": 2.0, "alpha_max": None}
@@ -266,49 +277,65 @@ def run(problems, args):
     return results
 
 
-def ours(args, name):
-    if not args.ours:
-        return None
-    path = os.path.join(args.ours, name, "report.json")
-    if not os.path.exists(path):
-        return None
-    return json.load(open(path))
+def recorded(path):
+    """The --jsonl file's starts, per problem, in file order (for --table)."""
+    results = {}
+    for r in load_done(path).values():
+        results.setdefault(r["problem"], []).append(r)
+    return results
 
 
-def summary(problems, results, args):
-    """A Markdown table: per problem the listed ref, IPOPT's cheapest admissible cost, its largest
-    |alpha_i| and start (and how many starts reached it to 1e-7), how many starts converged (IPOPT Solve_Succeeded) and how many of those
-    were admissible, each start's CPU seconds, and purcell-sim's result."""
-    print("\n| problem | ref | IPOPT best | max abs alpha | found by start | converged / admissible / starts "
-          "| CPU s per start | purcell-sim: cost, max abs alpha, s |\n|---|---|---|---|---|---|---|---|")
+def bench_table(path):
+    """purcell-sim's side: per problem {cost, rel (its J/ref - 1), seconds} or {error, seconds},
+    from the table `cargo bench -p purcell-benches --bench suite -- PROBLEMS.json` prints."""
+    ours = {}
+    for line in open(path):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) != 10 or not cells[-1].endswith(" s"):
+            continue  # not a problem's row
+        name, cost, _, rel = cells[:4]
+        seconds = float(cells[-1][:-2])
+        try:
+            ours[name] = {"cost": float(cost), "rel": None if rel == "–" else float(rel), "seconds": seconds}
+        except ValueError:
+            ours[name] = {"error": cost, "seconds": seconds}
+    return ours
+
+
+def summary(problems, results, ours):
+    """The Markdown table of the module's doc. purcell-sim's difference to IPOPT, ours / IPOPT - 1,
+    is taken through the bench's own full-precision J/ref - 1 where the problem lists a ref."""
+    print("\n| problem | IPOPT cheapest admissible J | its max abs alpha, replay error "
+          "| reached / admissible / converged / starts | IPOPT CPU s per start: min / median / max "
+          "| purcell-sim J | purcell-sim / IPOPT - 1 | purcell-sim s |\n|---|---|---|---|---|---|---|---|")
     for p in problems:
-        rows = results[p["name"]]
+        rows = results.get(p["name"], [])
         conv = [r for r in rows if r["status"] == "Solve_Succeeded"]
         adm = [r for r in rows if r["admissible"]]
         best = min(adm, key=lambda r: r["cost"]) if adm else None
-        hits = sum(abs(r["cost"] - best["cost"]) <= 1e-7 * best["cost"] for r in adm) if best else 0
-        found = (f"{best['cost']:.10g} | {best['max_abs_alpha']:.4f} | {best['start']}: {best['label']}"
-                 f" ({hits} reached it)" if best else "none | | ")
-        secs = " ".join(f"{r['cpu_seconds']:.0f}" for r in rows)
-        o = ours(args, p["name"])
-        oc = (f"{o['cost']:.10g}, {o['max_abs_alpha']:.4f}, {o['solve_seconds']:.1f}" if o
-              else "no report" if args.ours else "")
-        ref = p.get("ref")
-        print(f"| {p['name']} | {'-' if ref is None else f'{ref:.10g}'} | {found} | {len(conv)} / {len(adm)} / {len(rows)} "
-              f"| {secs} | {oc} |")
-
-
-def commands(problems, out):
-    """purcell-sim solve command lines for the problems (pipe them to sh)."""
-    flags = {"horizon": "--horizon", "step": "--step", "alpha0": "--alpha0", "links": "--links",
-             "drag": "--drag", "ratio": "--ratio", "alpha_max": "--alpha-max"}
-    for p in problems:
-        line = f"${{PURCELL_SIM:-target/release/purcell-sim}} solve --no-plots --out {out}/{p['name']}"
-        for k in ["target"] + list(flags):
-            v = p.get(k)
-            if v is not None and v != DEFAULTS.get(k):
-                line += f" {flags.get(k, '--target')}=" + (",".join(map(repr, v)) if isinstance(v, list) else repr(v))
-        print(line + f" >/dev/null || echo \"{p['name']}: exit $?\"")
+        if best:
+            hits = sum(abs(r["cost"] - best["cost"]) <= 1e-7 * best["cost"] for r in adm)
+            ipopt = (f"{best['cost']:.10g} | {best['max_abs_alpha']:.4f}, {best['replay_error']:.0e} "
+                     f"| {hits} / {len(adm)} / {len(conv)} / {len(rows)}")
+        else:
+            ipopt = f"none | | 0 / 0 / {len(conv)} / {len(rows)}" if rows else "not run | | "
+        cpu = [r["cpu_seconds"] for r in rows]
+        times = f"{min(cpu):.0f} / {statistics.median(cpu):.0f} / {max(cpu):.0f}" if cpu else ""
+        o = ours.get(p["name"])
+        if o is None:
+            mine = ("pending (joint limits: the suite bench skips alpha_max)" if p["alpha_max"] is not None
+                    else "not in the bench's table") + " | | "
+        elif "error" in o:
+            mine = f"{o['error']} | | {o['seconds']:.2f}"
+        else:
+            rel = ""
+            if best and best["cost"] > 1e-12:
+                exact = p["ref"] * (1 + o["rel"]) if p.get("ref") and o["rel"] is not None else o["cost"]
+                rel = f"{exact / best['cost'] - 1:+.1e}"
+            elif best:  # a zero optimum: the absolute difference
+                rel = f"{o['cost'] - best['cost']:+.0e} (absolute)"
+            mine = f"{o['cost']:.7f} | {rel} | {o['seconds']:.2f}"
+        print(f"| {p['name']} | {ipopt} | {times} | {mine} |")
 
 
 def check(args):
@@ -338,25 +365,28 @@ def main():
     ap.add_argument("--only", help="comma-separated problem names")
     ap.add_argument("--starts", type=int, default=8, help=f"starts per problem (family of {2 * len(START_PAIRS)})")
     ap.add_argument("--jsonl", help="append one JSON line per start here; skip pairs already in it")
-    ap.add_argument("--ours", help="DIR with <name>/report.json from purcell-sim solve")
+    ap.add_argument("--ours", metavar="BENCH.md",
+                    help="the saved output of `cargo bench -p purcell-benches --bench suite -- PROBLEMS.json`")
+    ap.add_argument("--table", action="store_true", help="run nothing: the table from the --jsonl file alone")
     ap.add_argument("--max-cpu", type=float, default=400.0, help="IPOPT max_cpu_time per start, seconds")
     ap.add_argument("--max-iter", type=int, default=3000, help="IPOPT max_iter per start")
     ap.add_argument("--guard", type=float, metavar="A",
                     help="also run every start in two phases: with |alpha_i| <= A, then without (problems without alpha_max)")
     ap.add_argument("--check", action="store_true", help="check the transcription on the paper's problem")
-    ap.add_argument("--commands", metavar="DIR", help="print the purcell-sim solve commands that fill DIR, run nothing")
     args = ap.parse_args()
+    if args.table and not args.jsonl:
+        ap.error("--table reads the --jsonl file")
+    if ca is None and not args.table:
+        raise SystemExit("CasADi is missing: pip install casadi")
     if args.check:
         raise SystemExit(0 if check(args) else 1)
     problems = json.load(open(args.problems)) if args.problems else [PAPER]
     if args.only:
         names = args.only.split(",")
         problems = [p for p in problems if p["name"] in names]
-    if args.commands:
-        return commands(problems, args.commands)
     problems = [full(p) for p in problems]
-    summary(problems, run(problems, args), args)
-
+    results = recorded(args.jsonl) if args.table else run(problems, args)
+    summary(problems, results, bench_table(args.ours) if args.ours else {})
 
 if __name__ == "__main__":
     main()
