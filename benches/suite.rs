@@ -17,13 +17,10 @@ fn main() {
     let problems = read_suite(&text).expect("problems file parses");
     println!("{path}, default flags, {} thread(s)", rayon_threads());
     println!(
-        "| problem | J | reference | J/ref − 1 | residual | KKT | local min | max \\|α\\| | starts | time |\n|---|---|---|---|---|---|---|---|---|---|"
+        "| problem | J | reference | J/ref − 1 | residual | KKT | local min | max \\|α\\| (limit) | arcs, min η | starts | time |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let t_all = Instant::now();
     for sp in problems {
-        if sp.spec.alpha_max.is_some() {
-            continue;
-        }
         let p = Problem::new(&sp.spec).expect("valid problem");
         let t0 = Instant::now();
         let r = solve(&p, &SolveOptions::default(), &|| {});
@@ -36,8 +33,12 @@ fn main() {
                     .reference
                     .filter(|r| *r > 0.0)
                     .map_or("–".into(), |r| format!("{:+.1e}", b.cost / r - 1.0));
+                let limit = p.joint_limit().map_or(String::new(), |a| format!(" ({a})"));
+                let arcs = b
+                    .min_eta
+                    .map_or("–".into(), |e| format!("{}, {e:.1e}", b.arcs.len()));
                 println!(
-                    "| {} | {:.7} | {reference} | {rel} | {:.1e} | {} | {} | {:.4} | {} | {secs:.2} s |",
+                    "| {} | {:.7} | {reference} | {rel} | {:.1e} | {} | {} | {:.4}{limit} | {arcs} | {} | {secs:.2} s |",
                     sp.name,
                     b.cost,
                     b.residual,
@@ -48,7 +49,7 @@ fn main() {
                 )
             }
             Err(e) => println!(
-                "| {} | {e} | {reference} | expected: {} | | | | | | {secs:.2} s |",
+                "| {} | {e} | {reference} | expected: {} | | | | | | | {secs:.2} s |",
                 sp.name,
                 sp.expect.as_deref().unwrap_or("a solution")
             ),

@@ -238,7 +238,6 @@ pub fn refine(
     let n_fine = problem.steps as usize;
     let mut u = u.to_vec();
     let mut nu = *nu;
-    let coarse_tau = [COARSE_TAU];
     loop {
         let n = u.len();
         let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
@@ -257,9 +256,13 @@ pub fn refine(
         let settings = Settings {
             max_iterations: 40,
             tol_defect: 1e-10,
-            tol_kkt: if last { 1e-6 } else { 1e-8 },
+            tol_kkt: 1e-6,
         };
-        let taus: &[f64] = if last { &FINE_TAUS } else { &coarse_tau };
+        let taus: &[f64] = if last {
+            &FINE_TAUS[FINE_TAUS.len() - 1..]
+        } else {
+            &FINE_TAUS
+        };
         let run =
             barrier_path(&grid, alpha_max, taus, start, &settings).map_err(|_| f64::INFINITY)?;
         if !run.converged {
