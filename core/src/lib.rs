@@ -24,7 +24,7 @@ pub mod swimmer;
 pub use digest::TrajectoryDigest;
 pub use error::Error;
 pub use kinematics::{Kinematics, State};
-pub use law::LawStep;
+pub use law::{LawStep, PassKind, Passes};
 pub use real::Real;
 pub use replay::{Checkpoint, Checkpoints, Costate, Replay, Sample};
 pub use se2::{Se2, Tangent};

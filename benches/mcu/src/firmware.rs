@@ -245,7 +245,7 @@ fn run() -> Result<(), Failure> {
         BOARD,
         S::NAME,
         problem.steps,
-        S::FIXED_POINT_PASSES,
+        S::PASSES.count,
         CHECKPOINT_CAPACITY,
         costate::PROVISIONAL,
         black_box(&PURCELL_BOARD)[..]
