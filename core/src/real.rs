@@ -38,6 +38,10 @@ pub trait Real:
     /// (`core/tests/law.rs::passes_reach_rounding` checks both).
     const PASSES: Passes;
 
+    /// The spacing of this type's numbers at 1 (for a compound type, of its value), as an
+    /// `f64`: series are cut where their truncation falls below it. Defaults to `f64`'s.
+    const EPSILON: f64 = f64::EPSILON;
+
     /// Converts a constant. Exact for the values the core uses (small rationals, π).
     fn from_f64(x: f64) -> Self;
     /// The value as an `f64` (for a dual number: its real part).
@@ -129,6 +133,7 @@ impl Real for f32 {
     /// 1 plain pass leaves ≤ 2e-8 of `|u_k|` (against 25), well below rounding (see
     /// `core/tests/law.rs`).
     const PASSES: Passes = Passes::plain(1);
+    const EPSILON: f64 = f32::EPSILON as f64;
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {

@@ -16,9 +16,9 @@
 //! `dexp_X` is the left Jacobian of `exp`: `exp(X + δ) = exp(dexp_X·δ)·exp(X) + O(|δ|²)`.
 //!
 //! Small angles: per-step twists here have `|ω| ≈ 1e-3…1e-2`, where `1 − cos ω` loses every
-//! digit in f32. Below `|ω| = 0.01` ([`SMALL_ANGLE`]) all coefficients come from three terms
-//! of their Taylor series in `ω²` (truncation ≤ 2e-16, so exact in f64; no trigonometry and
-//! no division on the MCU); above, from the half angle (`1 − cos ω = 2 sin²(ω/2)`), which has
+//! digit in f32. Below `|ω| = 0.01` ([`SMALL_ANGLE`]) all coefficients come from their Taylor
+//! series in `ω²`, three terms in f64 (truncation ≤ 2e-16), two in f32 (≤ 8e-11; chosen by
+//! [`Real::EPSILON`]), so no trigonometry and no division on the MCU; above, from the half angle (`1 − cos ω = 2 sin²(ω/2)`), which has
 //! no cancellation. `c₃` keeps a longer series up to `|ω| = 0.5` ([`C3_SERIES_LIMIT`]).
 
 use crate::Real;
@@ -71,28 +71,43 @@ fn alternating_series<T: Real>(z: T, divisors: &[f64]) -> T {
 
 impl<T: Real> ExpCoefficients<T> {
     /// Coefficients at angle `ω`, accurate to rounding for every `ω` (see the module docs).
-    #[inline]
+    /// The small-angle series is inlined (it is what a control step takes); the rest is not.
+    #[inline(always)]
     pub fn new(w: T) -> Self {
         let z = w * w;
-        let aw = w.abs();
-        if aw < T::from_f64(SMALL_ANGLE) {
-            // Three terms of each series; truncation ≤ z³/5040 ≤ 2e-16 for |ω| < 0.01.
-            let poly = |c0: f64, c1: f64, c2: f64| {
-                T::from_f64(c0) + z * (T::from_f64(c1) + z * T::from_f64(c2))
-            };
-            let a = poly(1.0, -1.0 / 6.0, 1.0 / 120.0);
-            let c2 = poly(0.5, -1.0 / 24.0, 1.0 / 720.0);
-            let c3 = poly(1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0);
-            let b = w * c2;
-            return ExpCoefficients {
-                sin: w * a,
-                cos: T::one() - w * b,
-                a,
-                b,
-                c2,
-                c3,
-            };
+        if w.abs() >= T::from_f64(SMALL_ANGLE) {
+            return Self::not_small(w, z);
         }
+        // Taylor series in z = ω² < 1e-4, as many terms as the type needs: the truncation
+        // z^n/(2n+1)! relative to the first term is ≤ 8e-11 after n = 2 terms (below f32's
+        // 1.2e-7), ≤ 2e-16 after 3 (f64).
+        let three = T::EPSILON < 1e-10;
+        let poly = |c0: f64, c1: f64, c2: f64| {
+            let tail = if three {
+                T::from_f64(c1) + z * T::from_f64(c2)
+            } else {
+                T::from_f64(c1)
+            };
+            T::from_f64(c0) + z * tail
+        };
+        let a = poly(1.0, -1.0 / 6.0, 1.0 / 120.0);
+        let c2 = poly(0.5, -1.0 / 24.0, 1.0 / 720.0);
+        let c3 = poly(1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0);
+        let b = w * c2;
+        ExpCoefficients {
+            sin: w * a,
+            cos: T::one() - w * b,
+            a,
+            b,
+            c2,
+            c3,
+        }
+    }
+
+    /// [`ExpCoefficients::new`] for `|ω| ≥ SMALL_ANGLE`.
+    #[inline(never)]
+    fn not_small(w: T, z: T) -> Self {
+        let aw = w.abs();
         let half_w = T::half() * w;
         let (sh, ch) = half_w.sin_cos();
         let sinc_h = sh / half_w;
