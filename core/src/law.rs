@@ -134,45 +134,30 @@ impl<T: Real> Kinematics<T> {
     ) -> Result<LawStep<T>, Error> {
         let frame = self.swimmer().frame(&state.alpha)?;
         let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
-        let (u0, p) = eq.first_iterate()?;
+        let (u0, hb0, p) = eq.first_iterate()?;
         let (u, hb) = match passes.kind {
             PassKind::Plain => {
-                let mut it = (u0, None);
-                for _ in 0..passes.count {
-                    let (u, hb) = eq.plain_pass(&it.0)?;
-                    it = (u, Some(hb));
-                }
-                it
+                (0..passes.count).try_fold((u0, hb0), |(u, _), _| eq.plain_pass(&u))?
             }
             PassKind::QuasiNewton => {
                 let n = eq.newton_inverse(&p, &u0)?;
-                let mut u = u0;
-                for _ in 0..passes.count {
-                    u = eq.quasi_newton_pass(&n, &u);
-                }
-                (u, None)
+                (0..passes.count).fold((u0, hb0), |(u, _), _| eq.quasi_newton_pass(&n, &u))
             }
         };
         self.finish(state, &eq, u, hb)
     }
 
-    /// The end of a step from its `u_k`: `X = −hAu`, `ξ^k = ξ^{k−1} + hB u` with `hb` if
-    /// given (the `hB` that `u` was solved with) or else `hB(ζ^k)` at `ζ^k = dexp_Xᵀ m_k`,
-    /// and `(α_{k+1}, g_{k+1})`, all checked.
+    /// The end of a step from its `u_k` and the `hB(ζ)` of the pass that gave it:
+    /// `X = −hAu`, `ξ^k = ξ^{k−1} + hB u`, `(α_{k+1}, g_{k+1})`, all checked.
     #[inline(always)]
     fn finish(
         &self,
         state: &State<T>,
         eq: &Equation<T>,
         u: Vector2<T>,
-        hb: Option<Mat2<T>>,
+        (b11, b12, b21, b22): Mat2<T>,
     ) -> Result<LawStep<T>, Error> {
         let x = eq.twist(&u);
-        let k = ExpCoefficients::new(x.z);
-        let (b11, b12, b21, b22) = match hb {
-            Some(hb) => hb,
-            None => eq.hb(&k.dexp_transpose_mul(&x, &eq.m)),
-        };
         let xi_prev = &eq.xi_prev;
         let xi = Vector2::new(
             xi_prev.x + (b11 * u.x + b12 * u.y),
@@ -181,7 +166,7 @@ impl<T: Real> Kinematics<T> {
         if !T::all_finite([u.x, u.y, xi.x, xi.y]) {
             return Err(Error::NonFinite);
         }
-        let next = self.advance(state, &u, &se2::exp_with(&k, &x))?;
+        let next = self.advance(state, &u, &se2::exp(&x))?;
         Ok(LawStep { u, next, xi })
     }
 }
@@ -251,17 +236,18 @@ impl<T: Real> Equation<T> {
         ExpCoefficients::new(x.z).dexp_transpose_mul(&x, &self.m)
     }
 
-    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)` and `M` (see the module docs).
+    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`, `hB(m)` and `M` (see the module docs).
     #[inline(always)]
-    fn first_iterate(&self) -> Result<(Vector2<T>, Mat2<T>), Error> {
+    fn first_iterate(&self) -> Result<(Vector2<T>, Mat2<T>, Mat2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
-        let (b11, b12, b21, b22) = self.hb(m);
+        let hb = self.hb(m);
+        let (b11, b12, b21, b22) = hb;
         // κ = a₁ᵀK(m)a₂ = m_x (a₁z a₂y − a₁y a₂z) + m_y (a₁x a₂z − a₁z a₂x).
         let kappa = m.x * (a.m31 * a.m22 - a.m21 * a.m32) + m.y * (a.m11 * a.m32 - a.m31 * a.m12);
         let hk = T::half() * self.h * kappa;
         let p = (T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22);
         let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
-        Ok((cramer(&p, inv, &self.rhs(m)), p))
+        Ok((cramer(&p, inv, &self.rhs(m)), hb, p))
     }
 
     /// `N`, the inverse of `∂R/∂u` at the first iterate `u⁰` with `dexp_X ≈ I + ½ad_X`, from
@@ -303,17 +289,19 @@ impl<T: Real> Equation<T> {
         Ok((cramer(&p, inv, &self.rhs(&z)), hb))
     }
 
-    /// A quasi-Newton pass `u ← u − N·R(u)`, `R(u) = (I − hB(ζ))u − (ξ^{k−1} − Aᵀζ)`.
+    /// A quasi-Newton pass `u ← u − N·R(u)`, `R(u) = (I − hB(ζ))u − (ξ^{k−1} − Aᵀζ)`;
+    /// returns the new `u` and the `hB(ζ)` of the pass.
     #[inline(always)]
-    fn quasi_newton_pass(&self, n: &Mat2<T>, u: &Vector2<T>) -> Vector2<T> {
+    fn quasi_newton_pass(&self, n: &Mat2<T>, u: &Vector2<T>) -> (Vector2<T>, Mat2<T>) {
         let z = self.zeta(u);
-        let (b11, b12, b21, b22) = self.hb(&z);
+        let hb = self.hb(&z);
+        let (b11, b12, b21, b22) = hb;
         let r = self.rhs(&z);
         let res = Vector2::new(
             (u.x - (b11 * u.x + b12 * u.y)) - r.x,
             (u.y - (b21 * u.x + b22 * u.y)) - r.y,
         );
-        u - mul(n, &res)
+        (u - mul(n, &res), hb)
     }
 }
 
