@@ -134,39 +134,34 @@ impl<T: Real> Kinematics<T> {
     ) -> Result<LawStep<T>, Error> {
         let frame = self.swimmer().frame(&state.alpha)?;
         let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
-        let (u0, hb0, p) = eq.first_iterate()?;
-        let (u, hb) = match passes.kind {
+        let (u0, xi0, p) = eq.first_iterate()?;
+        let (u, xi) = match passes.kind {
             PassKind::Plain => {
-                (0..passes.count).try_fold((u0, hb0), |(u, _), _| eq.plain_pass(&u))?
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.plain_pass(&u))?
             }
             PassKind::QuasiNewton => {
-                let n = eq.newton_inverse(&p, &u0)?;
-                (0..passes.count).fold((u0, hb0), |(u, _), _| eq.quasi_newton_pass(&n, &u))
+                let newton = eq.newton(&p, &u0)?;
+                let pass = |(u, _), _| eq.quasi_newton_pass(&newton, &u);
+                (0..passes.count).fold((u0, xi0), pass)
             }
         };
-        self.finish(state, &eq, u, hb)
+        self.finish(state, &eq, u, xi)
     }
 
-    /// The end of a step from its `u_k` and the `hB(ζ)` of the pass that gave it:
-    /// `X = −hAu`, `ξ^k = ξ^{k−1} + hB u`, `(α_{k+1}, g_{k+1})`, all checked.
+    /// The end of a step from its `u_k` and `ξ^k`: `X = −hAu`, `(α_{k+1}, g_{k+1})`, all
+    /// checked.
     #[inline(always)]
     fn finish(
         &self,
         state: &State<T>,
         eq: &Equation<T>,
         u: Vector2<T>,
-        (b11, b12, b21, b22): Mat2<T>,
+        xi: Vector2<T>,
     ) -> Result<LawStep<T>, Error> {
-        let x = eq.twist(&u);
-        let xi_prev = &eq.xi_prev;
-        let xi = Vector2::new(
-            xi_prev.x + (b11 * u.x + b12 * u.y),
-            xi_prev.y + (b21 * u.x + b22 * u.y),
-        );
         if !T::all_finite([u.x, u.y, xi.x, xi.y]) {
             return Err(Error::NonFinite);
         }
-        let next = self.advance(state, &u, &se2::exp(&x))?;
+        let next = self.advance(state, &u, &se2::exp(&eq.twist(&u)))?;
         Ok(LawStep { u, next, xi })
     }
 }
@@ -185,6 +180,20 @@ struct Equation<T: Real> {
     xi_prev: Vector2<T>,
 }
 
+/// What the quasi-Newton passes share: `h·∂A/∂α_i` by columns and `N`.
+struct Newton<T> {
+    hda: [[Vector3<T>; 2]; 2],
+    n: Mat2<T>,
+}
+
+impl<T: Real> Newton<T> {
+    /// `V(u)` by rows, `(h∂A/∂α_i u)ᵀ`, so that `hB(ζ)u = V(u)ζ`.
+    #[inline(always)]
+    fn v(&self, u: &Vector2<T>) -> [Vector3<T>; 2] {
+        self.hda.map(|[d1, d2]| d1 * u.x + d2 * u.y)
+    }
+}
+
 impl<T: Real> Equation<T> {
     #[inline(always)]
     fn new(frame: Frame<T>, h: T, m: Vector3<T>, xi_prev: Vector2<T>) -> Self {
@@ -197,14 +206,18 @@ impl<T: Real> Equation<T> {
         }
     }
 
-    /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j`: row `i` is link `i`'s bracket contracted with
-    /// `λ = h·W_ξ⁻¹ζ`.
+    /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j = λ·E_i e_j` with `λ = h·W_ξ⁻¹ζ`.
     #[inline(always)]
     fn hb(&self, z: &Vector3<T>) -> Mat2<T> {
         let lam = sym_mul_vec(&self.hw_inv, z);
-        let [front, rear] = &self.frame.links;
-        let ((b11, b12), (b21, b22)) = (front.contract(&lam), rear.contract(&lam));
-        (b11, b12, b21, b22)
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        (lam.dot(e11), lam.dot(e12), lam.dot(e21), lam.dot(e22))
+    }
+
+    /// `ξ^{k−1} + hB·u`.
+    #[inline(always)]
+    fn xi(&self, hb: &Mat2<T>, u: &Vector2<T>) -> Vector2<T> {
+        self.xi_prev + mul(hb, u)
     }
 
     /// `X = −hAu`.
@@ -236,9 +249,10 @@ impl<T: Real> Equation<T> {
         ExpCoefficients::new(x.z).dexp_transpose_mul(&x, &self.m)
     }
 
-    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`, `hB(m)` and `M` (see the module docs).
+    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`, its `ξ = ξ^{k−1} + hB(m)u⁰` and `M` (see
+    /// the module docs).
     #[inline(always)]
-    fn first_iterate(&self) -> Result<(Vector2<T>, Mat2<T>, Mat2<T>), Error> {
+    fn first_iterate(&self) -> Result<(Vector2<T>, Vector2<T>, Mat2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
         let hb = self.hb(m);
         let (b11, b12, b21, b22) = hb;
@@ -247,18 +261,38 @@ impl<T: Real> Equation<T> {
         let hk = T::half() * self.h * kappa;
         let p = (T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22);
         let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
-        Ok((cramer(&p, inv, &self.rhs(m)), hb, p))
+        let u = cramer(&p, inv, &self.rhs(m));
+        Ok((u, self.xi(&hb, &u), p))
     }
 
-    /// `N`, the inverse of `∂R/∂u` at the first iterate `u⁰` with `dexp_X ≈ I + ½ad_X`, from
-    /// the first iterate's `M`: `∂R/∂u = M − V·∂ζ/∂u` with `V = [(h∂A/∂α_i u⁰)ᵀ]_i` and
-    /// `∂ζ/∂u = ½K(m)(−hA)` (see the module docs).
+    /// A plain pass from `u`: `ζ(u)`, then `u' = (I − hB(ζ))⁻¹(ξ^{k−1} − Aᵀζ)`; returns `u'`
+    /// and `ξ^{k−1} + hB(ζ)u'`.
     #[inline(always)]
-    fn newton_inverse(&self, p: &Mat2<T>, u0: &Vector2<T>) -> Result<Mat2<T>, Error> {
+    fn plain_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Vector2<T>), Error> {
+        let z = self.zeta(u);
+        let hb = self.hb(&z);
+        let (b11, b12, b21, b22) = hb;
+        let p = (T::one() - b11, -b12, -b21, T::one() - b22);
+        let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
+        let u = cramer(&p, inv, &self.rhs(&z));
+        Ok((u, self.xi(&hb, &u)))
+    }
+
+    /// What the quasi-Newton passes share: `h∂A/∂α_i = h·W_ξ⁻¹E_i` and `N`, the inverse of
+    /// `∂R/∂u` at the first iterate `u⁰` with `dexp_X ≈ I + ½ad_X`, from the first iterate's
+    /// `M`: `∂R/∂u = M − V(u⁰)·∂ζ/∂u` with `∂ζ/∂u = ½K(m)(−hA)` (see the module docs).
+    #[inline(always)]
+    fn newton(&self, p: &Mat2<T>, u0: &Vector2<T>) -> Result<Newton<T>, Error> {
         let (a, m) = (&self.frame.a, &self.m);
-        let [front, rear] = &self.frame.links;
-        let v1 = sym_mul_vec(&self.hw_inv, &front.bracket_mul(u0));
-        let v2 = sym_mul_vec(&self.hw_inv, &rear.bracket_mul(u0));
+        let hda = self
+            .frame
+            .e
+            .map(|c| c.map(|e| sym_mul_vec(&self.hw_inv, &e)));
+        let newton = Newton {
+            hda,
+            n: (T::one(), T::zero(), T::zero(), T::one()),
+        };
+        let [v1, v2] = newton.v(u0);
         let hh = -(T::half() * self.h);
         let (hx, hy) = (hh * m.x, hh * m.y);
         // ∂ζ/∂u by columns: (hy·a_z, −hx·a_z, hx·a_y − hy·a_x) for each column a of A.
@@ -274,34 +308,36 @@ impl<T: Real> Equation<T> {
             p.3 - v2.dot(&dz2),
         );
         let inv = inverse_det(j.0 * j.3 - j.1 * j.2)?;
-        Ok((j.3 * inv, -(j.1 * inv), -(j.2 * inv), j.0 * inv))
+        Ok(Newton {
+            n: (j.3 * inv, -(j.1 * inv), -(j.2 * inv), j.0 * inv),
+            ..newton
+        })
     }
 
-    /// A plain pass from `u`: `ζ(u)`, then `u' = (I − hB(ζ))⁻¹(ξ^{k−1} − Aᵀζ)`; returns `u'`
-    /// and the `hB(ζ)` it was solved with.
+    /// A quasi-Newton pass `u ← u − N·R(u)`; returns the new `u` and `ξ^{k−1} + hB(ζ)u`.
+    ///
+    /// `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ = (u − ξ^{k−1}) + (Aᵀ − V(u))ζ`, and
+    /// `ζ = dexp_Xᵀ m_k = a·m₁ + b·m₂ + ζ_z·e₃` with `m₁ = (m_x, m_y, 0)`, `m₂ = (m_y, −m_x, 0)`
+    /// (se2's `dexp`), so with `K = N(Aᵀ − V(u))`,
+    /// `u − N·R(u) = u − N(u − ξ^{k−1}) − a·Km₁ − b·Km₂ − ζ_z·Ke₃`: all but three scalars of
+    /// `ζ` are known before the `exp` coefficients of `X = −hAu` are.
     #[inline(always)]
-    fn plain_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Mat2<T>), Error> {
-        let z = self.zeta(u);
-        let hb = self.hb(&z);
-        let (b11, b12, b21, b22) = hb;
-        let p = (T::one() - b11, -b12, -b21, T::one() - b22);
-        let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
-        Ok((cramer(&p, inv, &self.rhs(&z)), hb))
-    }
-
-    /// A quasi-Newton pass `u ← u − N·R(u)`, `R(u) = (I − hB(ζ))u − (ξ^{k−1} − Aᵀζ)`;
-    /// returns the new `u` and the `hB(ζ)` of the pass.
-    #[inline(always)]
-    fn quasi_newton_pass(&self, n: &Mat2<T>, u: &Vector2<T>) -> (Vector2<T>, Mat2<T>) {
-        let z = self.zeta(u);
-        let hb = self.hb(&z);
-        let (b11, b12, b21, b22) = hb;
-        let r = self.rhs(&z);
-        let res = Vector2::new(
-            (u.x - (b11 * u.x + b12 * u.y)) - r.x,
-            (u.y - (b21 * u.x + b22 * u.y)) - r.y,
-        );
-        (u - mul(n, &res), hb)
+    fn quasi_newton_pass(&self, newton: &Newton<T>, u: &Vector2<T>) -> (Vector2<T>, Vector2<T>) {
+        let (a, m) = (&self.frame.a, &self.m);
+        let x = self.twist(u);
+        let k = ExpCoefficients::new(x.z);
+        let zeta_z = k.dexp_transpose_z(&x, m);
+        let [v1, v2] = newton.v(u);
+        let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
+        let (n11, n12, n21, n22) = newton.n;
+        let (k1, k2) = (g1 * n11 + g2 * n12, g1 * n21 + g2 * n22);
+        let km1 = Vector2::new(k1.x * m.x + k1.y * m.y, k2.x * m.x + k2.y * m.y);
+        let km2 = Vector2::new(k1.x * m.y - k1.y * m.x, k2.x * m.y - k2.y * m.x);
+        let w = u - mul(&newton.n, &(u - self.xi_prev));
+        let u = w - km1 * k.a - km2 * k.b - Vector2::new(k1.z, k2.z) * zeta_z;
+        let z = Vector3::new(k.a * m.x + k.b * m.y, k.a * m.y - k.b * m.x, zeta_z);
+        let [v1, v2] = newton.v(&u);
+        (u, self.xi_prev + Vector2::new(v1.dot(&z), v2.dot(&z)))
     }
 }
 

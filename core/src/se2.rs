@@ -129,15 +129,25 @@ impl<T: Real> ExpCoefficients<T> {
         }
     }
 
-    /// `dexp_Xᵀ·m` for the twist `X` these coefficients were made for (see the module docs).
+    /// `dexp_Xᵀ·m` for the twist `X` these coefficients were made for (see the module docs):
+    /// `(a·m_x + b·m_y, a·m_y − b·m_x, ζ_z)` with [`ExpCoefficients::dexp_transpose_z`].
     #[inline]
     pub fn dexp_transpose_mul(&self, x: &Tangent<T>, m: &Vector3<T>) -> Vector3<T> {
-        let (q1, q2) = self.dexp_column(x);
         Vector3::new(
             self.a * m.x + self.b * m.y,
             self.a * m.y - self.b * m.x,
-            q1 * m.x + q2 * m.y + m.z,
+            self.dexp_transpose_z(x, m),
         )
+    }
+
+    /// The last component of `dexp_Xᵀ·m`, `q·(m_x, m_y) + m_z`, as
+    /// `c₂·(v_y m_x − v_x m_y) + c₃·ω(v_x m_x + v_y m_y) + m_z`: the products of `X` and `m`
+    /// do not wait for the coefficients.
+    #[inline(always)]
+    pub fn dexp_transpose_z(&self, x: &Tangent<T>, m: &Vector3<T>) -> T {
+        let cross = x.y * m.x - x.x * m.y;
+        let dot = x.z * (x.x * m.x + x.y * m.y);
+        self.c2 * cross + self.c3 * dot + m.z
     }
 
     /// The translation column `q` of `dexp_X`.

@@ -30,14 +30,14 @@
 //!
 //! (the per-swimmer constants are computed once, in [`Swimmer::new`]), then `W_ξ⁻¹` by
 //! cofactors with one division. With the link's unit vectors `τ = (cᵢ, sᵢ, τ_z)`,
-//! `ν = (−sᵢ, cᵢ, ν_z)` (see `Link`), the derivative's bracket is a sum of three outer products,
+//! `ν = (−sᵢ, cᵢ, ν_z)` (see `Frame::new`), the derivative's bracket is a sum of three outer products,
 //!
 //! ```text
 //! ∂W_α/∂αᵢ − ∂W_ξ/∂αᵢ·A = ν⊗(κᵢ·τᵀA) + τ⊗qᵢ − e₃⊗(ηᵢ·τᵀA),   qᵢ = κᵢ·νᵀA − ηᵢ·e₃ᵀA + σᵢρᵢ·e_iᵀ
 //! ```
 //!
-//! (`σᵢ = −1` front, `+1` rear, `ηᵢ = σᵢLᵢ²/2`), so `ζᵀ∂A/∂αᵢ = λᵀ(…)` with `λ = W_ξ⁻¹ζ` takes
-//! two dot products per link ([`Frame::zeta_da`]), which is all the control law needs.
+//! (`σᵢ = −1` front, `+1` rear, `ηᵢ = σᵢLᵢ²/2`); `∂A/∂αᵢ = W_ξ⁻¹(…)`, and what the control law
+//! needs, `ζᵀ∂A/∂αᵢ e_j`, is `λ·(…)e_j` with `λ = W_ξ⁻¹ζ`: four dot products.
 
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
@@ -180,7 +180,9 @@ impl<T: Real> Swimmer<T> {
         let f = self.frame(alpha)?;
         let c = Connection {
             a: f.a,
-            da: f.links.map(|link| f.w_inv_mul(&link.bracket())),
+            da: f.e.map(|[e1, e2]| {
+                Matrix3x2::from_columns(&[sym_mul_vec(&f.w_inv, &e1), sym_mul_vec(&f.w_inv, &e2)])
+            }),
         };
         finite_or_singular(&c.a)?;
         finite_or_singular(&c.da[0])?;
@@ -239,65 +241,15 @@ pub(crate) fn sym_mul_vec<T: Real>(s: &Sym3<T>, v: &Vector3<T>) -> Vector3<T> {
     )
 }
 
-/// One outer link at its current angle: `τ = (c, s, τ_z)`, `ν = (−s, c, ν_z)` with
-/// `τ_z = −σh₀s`, `ν_z = −σ(h₀c + L/2)` (the front link's centre is `(h₀ + L1/2·c1,
-/// L1/2·s1)`, the rear's `(−h₀ − L2/2·c2, −L2/2·s2)`), and the factors of its derivative
-/// bracket (module docs): `t = τᵀA`, `q`, `κ`, `η`.
-#[derive(Clone, Copy)]
-pub(crate) struct Link<T> {
-    tau: Vector3<T>,
-    nu: Vector3<T>,
-    t: [T; 2],
-    q: [T; 2],
-    kappa: T,
-    eta: T,
-}
-
-impl<T: Real> Link<T> {
-    /// `λᵀ(∂W_α/∂α − ∂W_ξ/∂α·A)` (a 1×2 row), from two dot products.
-    #[inline(always)]
-    pub(crate) fn contract(&self, lam: &Vector3<T>) -> (T, T) {
-        let phi = self.kappa * self.nu.dot(lam) - self.eta * lam.z;
-        let psi = self.tau.dot(lam);
-        (
-            self.t[0] * phi + self.q[0] * psi,
-            self.t[1] * phi + self.q[1] * psi,
-        )
-    }
-
-    /// `(∂W_α/∂α − ∂W_ξ/∂α·A)·u`.
-    #[inline(always)]
-    pub(crate) fn bracket_mul(&self, u: &Vector2<T>) -> Vector3<T> {
-        let tu = self.t[0] * u.x + self.t[1] * u.y;
-        let qu = self.q[0] * u.x + self.q[1] * u.y;
-        let mut v = self.nu * (self.kappa * tu) + self.tau * qu;
-        v.z -= self.eta * tu;
-        v
-    }
-
-    /// `∂W_α/∂α − ∂W_ξ/∂α·A` by rows.
-    fn bracket(&self) -> [[T; 2]; 3] {
-        let p = [self.kappa * self.t[0], self.kappa * self.t[1]];
-        let row = |n: T, t: T| [n * p[0] + t * self.q[0], n * p[1] + t * self.q[1]];
-        let [e0, e1, mut e2] = [
-            row(self.nu.x, self.tau.x),
-            row(self.nu.y, self.tau.y),
-            row(self.nu.z, self.tau.z),
-        ];
-        e2[0] -= self.eta * self.t[0];
-        e2[1] -= self.eta * self.t[1];
-        [e0, e1, e2]
-    }
-}
-
 /// The per-shape quantities shared by `A` and its derivatives.
 pub(crate) struct Frame<T> {
     /// `W_ξ⁻¹` (symmetric).
     pub(crate) w_inv: Sym3<T>,
     /// `A`.
     pub(crate) a: Matrix3x2<T>,
-    /// Front and rear link.
-    pub(crate) links: [Link<T>; 2],
+    /// `E_i e_j`, the columns of the brackets `E_i = ∂W_α/∂α_i − ∂W_ξ/∂α_i·A`, so that
+    /// `∂A/∂α_i e_j = W_ξ⁻¹ E_i e_j` and `ζᵀ∂A/∂α_i e_j = λ·E_i e_j` with `λ = W_ξ⁻¹ζ`.
+    pub(crate) e: [[Vector3<T>; 2]; 2],
 }
 
 impl<T: Real> Frame<T> {
@@ -338,6 +290,9 @@ impl<T: Real> Frame<T> {
         let col2 = Vector3::new(f2, -e2, k.h0 * e2 + lr.w);
         let a = Matrix3x2::from_columns(&[sym_mul_vec(&w_inv, &col1), sym_mul_vec(&w_inv, &col2)]);
 
+        // Each link's bracket ν⊗(κ·τᵀA) + τ⊗q − e₃⊗(η·τᵀA), q = κ·νᵀA − η·e₃ᵀA + σρ·e_ownᵀ,
+        // with τ = (c, s, −σh₀s), ν = (−s, c, −σ(h₀c + L/2)) (σ = −1 front, +1 rear; the
+        // front link's centre is (h₀ + L1/2·c1, L1/2·s1), the rear's (−h₀ − L2/2·c2, −L2/2·s2)).
         let (hs1, hs2) = (k.h0 * s1, k.h0 * s2);
         let front = (
             Vector3::new(c1, s1, hs1),
@@ -347,39 +302,23 @@ impl<T: Real> Frame<T> {
             Vector3::new(c2, s2, -hs2),
             Vector3::new(-s2, c2, -(k.h0 * c2 + lr.half_l)),
         );
-        let link = |(tau, nu): (Vector3<T>, Vector3<T>), lc: &LinkConstants<T>, own: usize| {
-            let t = [tau.dot(&a.column(0)), tau.dot(&a.column(1))];
-            let n = [nu.dot(&a.column(0)), nu.dot(&a.column(1))];
-            let mut q = [
-                lc.kappa * n[0] - lc.eta * a.m31,
-                lc.kappa * n[1] - lc.eta * a.m32,
-            ];
-            // σρ = r·η.
-            if own == 0 {
-                q[0] -= lc.rho;
-            } else {
-                q[1] += lc.rho;
-            }
-            Link {
-                tau,
-                nu,
-                t,
-                q,
-                kappa: lc.kappa,
-                eta: lc.eta,
-            }
+        let bracket = |(tau, nu): (Vector3<T>, Vector3<T>), lc: &LinkConstants<T>, own: usize| {
+            let col = |j: usize| {
+                let aj = a.column(j);
+                let t = tau.dot(&aj);
+                let mut q = lc.kappa * nu.dot(&aj) - lc.eta * aj.z;
+                // σρ = −ρ front (own column 0), +ρ rear (own column 1).
+                if j == own {
+                    q = if own == 0 { q - lc.rho } else { q + lc.rho };
+                }
+                let mut v = nu * (lc.kappa * t) + tau * q;
+                v.z -= lc.eta * t;
+                v
+            };
+            [col(0), col(1)]
         };
-        let links = [link(front, lf, 0), link(rear, lr, 1)];
-        Ok(Frame { w_inv, a, links })
-    }
-
-    /// `W_ξ⁻¹·M` for a 3×2 `M` given by rows.
-    fn w_inv_mul(&self, m: &[[T; 2]; 3]) -> Matrix3x2<T> {
-        let col = |j: usize| {
-            let [r0, r1, r2] = m;
-            sym_mul_vec(&self.w_inv, &Vector3::new(r0[j], r1[j], r2[j]))
-        };
-        Matrix3x2::from_columns(&[col(0), col(1)])
+        let e = [bracket(front, lf, 0), bracket(rear, lr, 1)];
+        Ok(Frame { w_inv, a, e })
     }
 }
 
