@@ -44,8 +44,8 @@ use nalgebra::{Vector2, Vector3};
 pub enum PassKind {
     /// Fixed-point passes: `ζ` at the last `u`, then the 2×2 solve again.
     Plain,
-    /// Quasi-Newton passes `u ← u − M⁻¹R(u)` with the first iterate's matrix `M`.
-    QuasiNewton,
+    /// Newton passes `u ← u − J(u)⁻¹R(u)`.
+    Newton,
 }
 
 /// How many passes of which kind the law runs after its first iterate.
@@ -67,10 +67,10 @@ impl Passes {
         }
     }
 
-    /// `count` quasi-Newton passes.
-    pub const fn quasi_newton(count: usize) -> Self {
+    /// `count` Newton passes.
+    pub const fn newton(count: usize) -> Self {
         Passes {
-            kind: PassKind::QuasiNewton,
+            kind: PassKind::Newton,
             count,
         }
     }
@@ -134,15 +134,13 @@ impl<T: Real> Kinematics<T> {
     ) -> Result<LawStep<T>, Error> {
         let frame = self.swimmer().frame(&state.alpha)?;
         let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
-        let (u0, xi0, p) = eq.first_iterate()?;
+        let (u0, xi0) = eq.first_iterate()?;
         let (u, xi) = match passes.kind {
             PassKind::Plain => {
                 (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.plain_pass(&u))?
             }
-            PassKind::QuasiNewton => {
-                let newton = eq.newton(&p, &u0)?;
-                let pass = |(u, _), _| eq.quasi_newton_pass(&newton, &u);
-                (0..passes.count).fold((u0, xi0), pass)
+            PassKind::Newton => {
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.newton_pass(&u))?
             }
         };
         self.finish(state, &eq, u, xi)
@@ -178,20 +176,6 @@ struct Equation<T: Real> {
     h: T,
     m: Vector3<T>,
     xi_prev: Vector2<T>,
-}
-
-/// What the quasi-Newton passes share: `h·∂A/∂α_i` by columns and `N`.
-struct Newton<T> {
-    hda: [[Vector3<T>; 2]; 2],
-    n: Mat2<T>,
-}
-
-impl<T: Real> Newton<T> {
-    /// `V(u)` by rows, `(h∂A/∂α_i u)ᵀ`, so that `hB(ζ)u = V(u)ζ`.
-    #[inline(always)]
-    fn v(&self, u: &Vector2<T>) -> [Vector3<T>; 2] {
-        self.hda.map(|[d1, d2]| d1 * u.x + d2 * u.y)
-    }
 }
 
 impl<T: Real> Equation<T> {
@@ -249,20 +233,21 @@ impl<T: Real> Equation<T> {
         ExpCoefficients::new(x.z).dexp_transpose_mul(&x, &self.m)
     }
 
-    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`, its `ξ = ξ^{k−1} + hB(m)u⁰` and `M` (see
-    /// the module docs).
+    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)` and its `ξ = ξ^{k−1} + hB(m)u⁰` (see the
+    /// module docs).
     #[inline(always)]
-    fn first_iterate(&self) -> Result<(Vector2<T>, Vector2<T>, Mat2<T>), Error> {
+    fn first_iterate(&self) -> Result<(Vector2<T>, Vector2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
         let hb = self.hb(m);
         let (b11, b12, b21, b22) = hb;
         // κ = a₁ᵀK(m)a₂ = m_x (a₁z a₂y − a₁y a₂z) + m_y (a₁x a₂z − a₁z a₂x).
         let kappa = m.x * (a.m31 * a.m22 - a.m21 * a.m32) + m.y * (a.m11 * a.m32 - a.m31 * a.m12);
         let hk = T::half() * self.h * kappa;
-        let p = (T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22);
-        let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
-        let u = cramer(&p, inv, &self.rhs(m));
-        Ok((u, self.xi(&hb, &u), p))
+        let u = solve(
+            &(T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22),
+            &self.rhs(m),
+        )?;
+        Ok((u, self.xi(&hb, &u)))
     }
 
     /// A plain pass from `u`: `ζ(u)`, then `u' = (I − hB(ζ))⁻¹(ξ^{k−1} − Aᵀζ)`; returns `u'`
@@ -272,72 +257,42 @@ impl<T: Real> Equation<T> {
         let z = self.zeta(u);
         let hb = self.hb(&z);
         let (b11, b12, b21, b22) = hb;
-        let p = (T::one() - b11, -b12, -b21, T::one() - b22);
-        let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
-        let u = cramer(&p, inv, &self.rhs(&z));
+        let u = solve(&(T::one() - b11, -b12, -b21, T::one() - b22), &self.rhs(&z))?;
         Ok((u, self.xi(&hb, &u)))
     }
 
-    /// What the quasi-Newton passes share: `h∂A/∂α_i = h·W_ξ⁻¹E_i` and `N`, the inverse of
-    /// `∂R/∂u` at the first iterate `u⁰` with `dexp_X ≈ I + ½ad_X`, from the first iterate's
-    /// `M`: `∂R/∂u = M − V(u⁰)·∂ζ/∂u` with `∂ζ/∂u = ½K(m)(−hA)` (see the module docs).
+    /// A Newton pass from `u`: `u' = u − J⁻¹R(u)` with `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ`
+    /// and its Jacobian `J = I − hB(ζ) + (Aᵀ − V(u))·∂ζ/∂u`, `V(u) = [(h∂A/∂α_i u)ᵀ]_i` (so
+    /// that `hB(ζ)u = V(u)ζ`) and `∂ζ/∂u = ∂(dexp_Xᵀm)/∂X·(−hA)`; returns `u'` and
+    /// `ξ^{k−1} + hB(ζ(u'))u'`.
     #[inline(always)]
-    fn newton(&self, p: &Mat2<T>, u0: &Vector2<T>) -> Result<Newton<T>, Error> {
-        let (a, m) = (&self.frame.a, &self.m);
-        let hda = self
-            .frame
-            .e
-            .map(|c| c.map(|e| sym_mul_vec(&self.hw_inv, &e)));
-        let newton = Newton {
-            hda,
-            n: (T::one(), T::zero(), T::zero(), T::one()),
-        };
-        let [v1, v2] = newton.v(u0);
-        let hh = -(T::half() * self.h);
-        let (hx, hy) = (hh * m.x, hh * m.y);
-        // ∂ζ/∂u by columns: (hy·a_z, −hx·a_z, hx·a_y − hy·a_x) for each column a of A.
-        let dz = |j: usize| {
-            let (ax, ay, az) = (a[(0, j)], a[(1, j)], a[(2, j)]);
-            Vector3::new(hy * az, -(hx * az), hx * ay - hy * ax)
-        };
-        let (dz1, dz2) = (dz(0), dz(1));
-        let j = (
-            p.0 - v1.dot(&dz1),
-            p.1 - v1.dot(&dz2),
-            p.2 - v2.dot(&dz1),
-            p.3 - v2.dot(&dz2),
-        );
-        let inv = inverse_det(j.0 * j.3 - j.1 * j.2)?;
-        Ok(Newton {
-            n: (j.3 * inv, -(j.1 * inv), -(j.2 * inv), j.0 * inv),
-            ..newton
-        })
-    }
-
-    /// A quasi-Newton pass `u ← u − N·R(u)`; returns the new `u` and `ξ^{k−1} + hB(ζ)u`.
-    ///
-    /// `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ = (u − ξ^{k−1}) + (Aᵀ − V(u))ζ`, and
-    /// `ζ = dexp_Xᵀ m_k = a·m₁ + b·m₂ + ζ_z·e₃` with `m₁ = (m_x, m_y, 0)`, `m₂ = (m_y, −m_x, 0)`
-    /// (se2's `dexp`), so with `K = N(Aᵀ − V(u))`,
-    /// `u − N·R(u) = u − N(u − ξ^{k−1}) − a·Km₁ − b·Km₂ − ζ_z·Ke₃`: all but three scalars of
-    /// `ζ` are known before the `exp` coefficients of `X = −hAu` are.
-    #[inline(always)]
-    fn quasi_newton_pass(&self, newton: &Newton<T>, u: &Vector2<T>) -> (Vector2<T>, Vector2<T>) {
+    fn newton_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Vector2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
         let x = self.twist(u);
         let k = ExpCoefficients::new(x.z);
-        let zeta_z = k.dexp_transpose_z(&x, m);
-        let [v1, v2] = newton.v(u);
+        let z = k.dexp_transpose_mul(&x, m);
+        let dz_dx = k.dexp_transpose_mul_jacobian(&x, m);
+        let dz_du = dz_dx * (a * -self.h);
+        let hb = self.hb(&z);
+        let (b11, b12, b21, b22) = hb;
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
+        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
         let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
-        let (n11, n12, n21, n22) = newton.n;
-        let (k1, k2) = (g1 * n11 + g2 * n12, g1 * n21 + g2 * n22);
-        let km1 = Vector2::new(k1.x * m.x + k1.y * m.y, k2.x * m.x + k2.y * m.y);
-        let km2 = Vector2::new(k1.x * m.y - k1.y * m.x, k2.x * m.y - k2.y * m.x);
-        let w = u - mul(&newton.n, &(u - self.xi_prev));
-        let u = w - km1 * k.a - km2 * k.b - Vector2::new(k1.z, k2.z) * zeta_z;
-        let z = Vector3::new(k.a * m.x + k.b * m.y, k.a * m.y - k.b * m.x, zeta_z);
-        let [v1, v2] = newton.v(&u);
-        (u, self.xi_prev + Vector2::new(v1.dot(&z), v2.dot(&z)))
+        let (d1, d2) = (dz_du.column(0), dz_du.column(1));
+        let jac = (
+            T::one() - b11 + g1.dot(&d1),
+            g1.dot(&d2) - b12,
+            g2.dot(&d1) - b21,
+            T::one() - b22 + g2.dot(&d2),
+        );
+        let r = self.rhs(&z);
+        let res = Vector2::new(
+            (u.x - (b11 * u.x + b12 * u.y)) - r.x,
+            (u.y - (b21 * u.x + b22 * u.y)) - r.y,
+        );
+        let u = u - solve(&jac, &res)?;
+        Ok((u, self.xi(&self.hb(&self.zeta(&u)), &u)))
     }
 }
 
@@ -347,10 +302,14 @@ fn mul<T: Real>(p: &Mat2<T>, v: &Vector2<T>) -> Vector2<T> {
     Vector2::new(p.0 * v.x + p.1 * v.y, p.2 * v.x + p.3 * v.y)
 }
 
-/// `P⁻¹r` by Cramer's rule, given `inv = 1/det P`.
+/// `P⁻¹r` by Cramer's rule, or `Err(Singular)` (see [`inverse_det`]).
 #[inline(always)]
-fn cramer<T: Real>(p: &Mat2<T>, inv: T, r: &Vector2<T>) -> Vector2<T> {
-    Vector2::new((p.3 * r.x - p.1 * r.y) * inv, (p.0 * r.y - p.2 * r.x) * inv)
+fn solve<T: Real>(p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error> {
+    let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
+    Ok(Vector2::new(
+        (p.3 * r.x - p.1 * r.y) * inv,
+        (p.0 * r.y - p.2 * r.x) * inv,
+    ))
 }
 
 /// `1/det`, or `Err(Singular)` for a determinant that is not finite or below `1e-6` in size.

@@ -88,7 +88,7 @@ pub trait Real:
 impl Real for f64 {
     /// 2 quasi-Newton passes leave ≤ 1e-14 of `|u_k|` (against 25), 1 leaves 4e-11 (see
     /// `core/tests/law.rs`).
-    const PASSES: Passes = Passes::quasi_newton(2);
+    const PASSES: Passes = Passes::newton(1);
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {

@@ -130,24 +130,64 @@ impl<T: Real> ExpCoefficients<T> {
     }
 
     /// `dexp_Xᵀ·m` for the twist `X` these coefficients were made for (see the module docs):
-    /// `(a·m_x + b·m_y, a·m_y − b·m_x, ζ_z)` with [`ExpCoefficients::dexp_transpose_z`].
+    /// `(a·m_x + b·m_y, a·m_y − b·m_x, c₂·P + c₃·ωQ + m_z)` with `P = v_y m_x − v_x m_y`,
+    /// `Q = v_x m_x + v_y m_y` (the last component is `q·(m_x, m_y) + m_z`).
     #[inline]
     pub fn dexp_transpose_mul(&self, x: &Tangent<T>, m: &Vector3<T>) -> Vector3<T> {
+        let (p, q) = (x.y * m.x - x.x * m.y, x.x * m.x + x.y * m.y);
         Vector3::new(
             self.a * m.x + self.b * m.y,
             self.a * m.y - self.b * m.x,
-            self.dexp_transpose_z(x, m),
+            self.c2 * p + self.c3 * (x.z * q) + m.z,
         )
     }
 
-    /// The last component of `dexp_Xᵀ·m`, `q·(m_x, m_y) + m_z`, as
-    /// `c₂·(v_y m_x − v_x m_y) + c₃·ω(v_x m_x + v_y m_y) + m_z`: the products of `X` and `m`
-    /// do not wait for the coefficients.
+    /// `∂(dexp_Xᵀ·m)/∂X` (3×3, columns `v_x`, `v_y`, `ω`) for the twist these coefficients were
+    /// made for. Uses the coefficients' derivatives `a' = (cos ω − a)/ω`, `b' = a − c₂`,
+    /// `c₂' = (a − 2c₂)/ω`, `c₃' = (c₂ − 3c₃)/ω`, from their series below [`SMALL_ANGLE`]
+    /// (truncated as in [`ExpCoefficients::new`]).
     #[inline(always)]
-    pub fn dexp_transpose_z(&self, x: &Tangent<T>, m: &Vector3<T>) -> T {
-        let cross = x.y * m.x - x.x * m.y;
-        let dot = x.z * (x.x * m.x + x.y * m.y);
-        self.c2 * cross + self.c3 * dot + m.z
+    pub fn dexp_transpose_mul_jacobian(&self, x: &Tangent<T>, m: &Vector3<T>) -> Matrix3<T> {
+        let w = x.z;
+        let (da, dc2, dc3) = if w.abs() < T::from_f64(SMALL_ANGLE) {
+            // ω·Σ_{k≥1} (−1)ᵏ 2k z^{k−1}/(2k+d)! for d = 1, 2, 3.
+            let z = w * w;
+            let three = T::EPSILON < 1e-10;
+            let series = |c1: f64, c2: f64, c3: f64| {
+                let tail = if three {
+                    T::from_f64(c2) + z * T::from_f64(c3)
+                } else {
+                    T::from_f64(c2)
+                };
+                w * (T::from_f64(c1) + z * tail)
+            };
+            (
+                series(-1.0 / 3.0, 1.0 / 30.0, -1.0 / 840.0),
+                series(-1.0 / 12.0, 1.0 / 180.0, -1.0 / 6720.0),
+                series(-1.0 / 60.0, 1.0 / 1260.0, -1.0 / 60480.0),
+            )
+        } else {
+            let two = T::from_f64(2.0);
+            (
+                (self.cos - self.a) / w,
+                (self.a - two * self.c2) / w,
+                (self.c2 - T::from_f64(3.0) * self.c3) / w,
+            )
+        };
+        let db = self.a - self.c2;
+        let (p, q) = (x.y * m.x - x.x * m.y, x.x * m.x + x.y * m.y);
+        let (wc3, z) = (w * self.c3, T::zero());
+        Matrix3::new(
+            z,
+            z,
+            da * m.x + db * m.y,
+            z,
+            z,
+            da * m.y - db * m.x,
+            wc3 * m.x - self.c2 * m.y,
+            self.c2 * m.x + wc3 * m.y,
+            dc2 * p + (self.c3 + w * dc3) * q,
+        )
     }
 
     /// The translation column `q` of `dexp_X`.

@@ -369,7 +369,7 @@ fn exercise<T: Real>(
     }
     for p in [
         Passes::plain(passes),
-        Passes::quasi_newton(passes),
+        Passes::newton(passes),
         T::PASSES,
     ] {
         if let Ok(s) = kin.law_step_with_passes(&state, &xi, &mu, p) {

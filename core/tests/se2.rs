@@ -187,6 +187,24 @@ proptest! {
         prop_assert!((fd - jac).abs().max() <= 1e-3 * n * n, "{fd:?} vs {jac:?}");
     }
 
+    /// `ExpCoefficients::dexp_transpose_mul_jacobian` is the derivative of `dexp_Xᵀ m` in `X`:
+    /// against central differences with `t = 1e-6` (truncation `t²·|∂³|`, rounding `1e-16/t`),
+    /// for every kind of twist (`ω` zero, tiny, small-angle series and closed forms).
+    #[test]
+    fn dexp_transpose_mul_jacobian_matches_central_difference(x in tangent(), m in (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64)) {
+        let m = Vector3::new(m.0, m.1, m.2);
+        let jac = ExpCoefficients::new(x.z).dexp_transpose_mul_jacobian(&x, &m);
+        let t = 1e-6;
+        for c in 0..3 {
+            let mut d = Vector3::zeros();
+            d[c] = t;
+            let f = |y: Vector3<f64>| ExpCoefficients::new(y.z).dexp_transpose_mul(&y, &m);
+            let fd = (f(x + d) - f(x - d)) / (2.0 * t);
+            let err = (fd - jac.column(c)).abs().max();
+            prop_assert!(err <= 1e-8 * (1.0 + x.abs().max()) * (1.0 + m.abs().max()), "column {c}: {err:e}");
+        }
+    }
+
     /// `ExpCoefficients::dexp_transpose_mul` is `dexp_Xᵀ m`.
     #[test]
     fn dexp_transpose_mul_is_the_transpose(x in tangent(), m in (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64)) {
