@@ -142,12 +142,16 @@ impl<T: Real> ExpCoefficients<T> {
         )
     }
 
-    /// `∂(dexp_Xᵀ·m)/∂X` (3×3, columns `v_x`, `v_y`, `ω`) for the twist these coefficients were
-    /// made for. Uses the coefficients' derivatives `a' = (cos ω − a)/ω`, `b' = a − c₂`,
-    /// `c₂' = (a − 2c₂)/ω`, `c₃' = (c₂ − 3c₃)/ω`, from their series below [`SMALL_ANGLE`]
-    /// (truncated as in [`ExpCoefficients::new`]).
+    /// `∂(dexp_Xᵀ·m)/∂X` for the twist these coefficients were made for. Uses the
+    /// coefficients' derivatives `a' = (cos ω − a)/ω`, `b' = a − c₂`, `c₂' = (a − 2c₂)/ω`,
+    /// `c₃' = (c₂ − 3c₃)/ω`, from their series below [`SMALL_ANGLE`] (truncated as in
+    /// [`ExpCoefficients::new`]).
     #[inline(always)]
-    pub fn dexp_transpose_mul_jacobian(&self, x: &Tangent<T>, m: &Vector3<T>) -> Matrix3<T> {
+    pub fn dexp_transpose_mul_jacobian(
+        &self,
+        x: &Tangent<T>,
+        m: &Vector3<T>,
+    ) -> DexpTransposeJacobian<T> {
         let w = x.z;
         let (da, dc2, dc3) = if w.abs() < T::from_f64(SMALL_ANGLE) {
             // ω·Σ_{k≥1} (−1)ᵏ 2k z^{k−1}/(2k+d)! for d = 1, 2, 3.
@@ -176,18 +180,15 @@ impl<T: Real> ExpCoefficients<T> {
         };
         let db = self.a - self.c2;
         let (p, q) = (x.y * m.x - x.x * m.y, x.x * m.x + x.y * m.y);
-        let (wc3, z) = (w * self.c3, T::zero());
-        Matrix3::new(
-            z,
-            z,
-            da * m.x + db * m.y,
-            z,
-            z,
-            da * m.y - db * m.x,
-            wc3 * m.x - self.c2 * m.y,
-            self.c2 * m.x + wc3 * m.y,
-            dc2 * p + (self.c3 + w * dc3) * q,
-        )
+        let wc3 = w * self.c3;
+        DexpTransposeJacobian {
+            d_omega: Vector3::new(
+                da * m.x + db * m.y,
+                da * m.y - db * m.x,
+                dc2 * p + (self.c3 + w * dc3) * q,
+            ),
+            dz_dv: (wc3 * m.x - self.c2 * m.y, self.c2 * m.x + wc3 * m.y),
+        }
     }
 
     /// The translation column `q` of `dexp_X`.
@@ -195,6 +196,26 @@ impl<T: Real> ExpCoefficients<T> {
     fn dexp_column(&self, x: &Tangent<T>) -> (T, T) {
         let wc3 = x.z * self.c3;
         (self.c2 * x.y + wc3 * x.x, wc3 * x.y - self.c2 * x.x)
+    }
+}
+
+/// `∂(dexp_Xᵀ·m)/∂X` by its nonzero parts: only the last component of `dexp_Xᵀ·m` depends on
+/// `(v_x, v_y)`; all three depend on `ω`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DexpTransposeJacobian<T> {
+    /// `∂(dexp_Xᵀ·m)/∂ω`.
+    pub d_omega: Vector3<T>,
+    /// `∂(dexp_Xᵀ·m)_z/∂(v_x, v_y)`.
+    pub dz_dv: (T, T),
+}
+
+impl<T: Real> DexpTransposeJacobian<T> {
+    /// The derivative along `dX`: `∂(dexp_Xᵀ·m)/∂X · dX`.
+    #[inline(always)]
+    pub fn mul(&self, dx: &Tangent<T>) -> Vector3<T> {
+        let mut d = self.d_omega * dx.z;
+        d.z += self.dz_dv.0 * dx.x + self.dz_dv.1 * dx.y;
+        d
     }
 }
 

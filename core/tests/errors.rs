@@ -367,11 +367,7 @@ fn exercise<T: Real>(
     if let Ok(next) = kin.step(&state, &xi) {
         prop_assert!(sane(&next));
     }
-    for p in [
-        Passes::plain(passes),
-        Passes::newton(passes),
-        T::PASSES,
-    ] {
+    for p in [Passes::plain(passes), Passes::newton(passes), T::PASSES] {
         if let Ok(s) = kin.law_step_with_passes(&state, &xi, &mu, p) {
             prop_assert!(sane(&s.next));
             prop_assert!(s.u.iter().chain(s.xi.iter()).all(|v| v.is_finite()));

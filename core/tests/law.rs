@@ -65,10 +65,7 @@ fn table<T: Real>(cases: &[(&str, Costate<f64>)], cast: fn(f64) -> T) -> Table {
             })
             .collect();
         let mu = costate.mu.map(cast);
-        for (k, kind) in [PassKind::Plain, PassKind::Newton]
-            .into_iter()
-            .enumerate()
-        {
+        for (k, kind) in [PassKind::Plain, PassKind::Newton].into_iter().enumerate() {
             for count in 0..P {
                 t[c][k][count] = residual(&kin, &states, &mu, Passes { kind, count });
             }
@@ -143,7 +140,9 @@ fn passes_reach_rounding() {
     // (relative to |u|, up to a factor of order 1e-4 here), so one takes the first iterate's
     // 5e-6 to rounding.
     for p in 0..2 {
-        assert!(worst(&t64, Passes::plain(p + 1), by_u) < 1e-2 * worst(&t64, Passes::plain(p), by_u));
+        assert!(
+            worst(&t64, Passes::plain(p + 1), by_u) < 1e-2 * worst(&t64, Passes::plain(p), by_u)
+        );
     }
     let e0 = worst(&t64, Passes::newton(0), by_u);
     assert!(worst(&t64, Passes::newton(1), by_u) <= e0 * e0);
