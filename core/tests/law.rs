@@ -148,6 +148,43 @@ fn passes_reach_rounding() {
     assert!(worst(&t64, Passes::newton(1), by_u) <= e0 * e0);
 }
 
+/// On the paper's loops the type's passes satisfy the law's equations themselves (as
+/// `law_step_satisfies_the_discrete_maximum_principle` checks with 25 passes), `u_k` and
+/// `ξ^k = ξ^{k−1} + hB(ζ^k)u_k` alike: the Newton pass forms `ξ^k` from `ζ` at its start moved
+/// along `∂ζ/∂u` to the new `u` (see `law.rs`), which must agree with `ζ^k` evaluated anew.
+#[test]
+fn type_passes_satisfy_the_law_on_the_papers_loops() {
+    let kin = kinematics::<f64>();
+    let h = kin.h();
+    for costate in [costate_mu4(), costate_mu13()] {
+        let mu = costate.mu;
+        for (state, xi) in states_along(costate, 10_000, 250) {
+            let s = kin.law_step(&state, &xi, &mu).unwrap();
+            let c = kin
+                .swimmer()
+                .connection_with_derivatives(&state.alpha)
+                .unwrap();
+            let x = -(c.a * s.u) * h;
+            let zeta = se2::dexp(&x).transpose() * state.g.adjoint_transpose_mul(&mu);
+            let b = nalgebra::Matrix2::from_fn(|i, j| zeta.dot(&c.da[i].column(j)));
+            let terms = xi.abs().max() + (c.a.abs().transpose() * zeta.abs()).max();
+            let law = s.xi - c.a.transpose() * zeta;
+            assert!(
+                (s.u - law).abs().max() <= 1e-14 * terms,
+                "u {:?} vs {:?}",
+                s.u,
+                law
+            );
+            let xi_next = xi + b * s.u * h;
+            assert!(
+                (s.xi - xi_next).abs().max() <= 1e-15 * terms,
+                "ξ {:?} vs {xi_next:?}",
+                s.xi
+            );
+        }
+    }
+}
+
 /// A random law input: admissible shape, position, `ξ^{k−1}` and `μ` of the sizes met on
 /// the paper's problem (`|ξ| ≲ 3`, `|μ| ≲ 15`).
 fn law_input() -> impl Strategy<Value = (State<f64>, Vector2<f64>, Vector3<f64>)> {

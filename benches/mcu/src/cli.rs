@@ -5,8 +5,10 @@ use purcell_mcu::host::{Budget, CallGraph, CodeReport, FirmwareLog, Reference, c
 use std::process::ExitCode;
 
 const USAGE: &str = "\
-purcell-mcu (host build): the firmware itself only builds for thumbv7em-none-eabihf;
-run it with `cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release`.
+purcell-mcu (host build): the firmware itself only builds for thumbv7em-none-eabihf (M4F,
+M7) and thumbv7m-none-eabi (M3); run it with
+`cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release` (or `cargo mcu-m7`,
+`cargo mcu-m3`).
 
 usage:
   purcell-mcu reference [f32|f64]
@@ -15,10 +17,10 @@ usage:
       compare a decoded firmware log with the host replay of the same precision; fail on a
       digest or final-state mismatch, a mean or a largest step above M instructions
       (default 1000) or a step stack above B bytes (default 2048)
-  purcell-mcu disasm LISTING [--root SYMBOL]
+  purcell-mcu disasm LISTING [--root SYMBOL] [--soft-float]
       from `arm-none-eabi-objdump -d` output: code reachable from SYMBOL (default
       purcell_mcu_step), its size; fail if a soft-float helper or an indirect branch is
-      reachable";
+      reachable (with --soft-float, for a core without FPU: list the helpers, do not fail)";
 
 fn print_reference(r: &Reference) {
     println!(
@@ -119,6 +121,12 @@ fn run(args: &[String]) -> Result<(), String> {
             );
             for f in &report.functions {
                 println!("  reachable: {f}");
+            }
+            if args.iter().any(|a| a == "--soft-float") {
+                for f in &report.soft_float {
+                    println!("  soft-float: {f}");
+                }
+                return Ok(());
             }
             report.ensure_hard_float().map_err(|e| e.to_string())?;
             println!("step_code: ok, no soft-float helper reachable from {root}");
