@@ -131,8 +131,8 @@ impl Real for f64 {
 
 impl Real for f32 {
     /// 1 plain pass leaves ≤ 7e-9 of the terms `u_k` is computed from (f32 rounding is 1.2e-7
-    /// of them), the first iterate alone 1.8e-7; a Newton pass would cost more on the M4F
-    /// (see `core/tests/law.rs`).
+    /// of them), the first iterate alone 1.8e-7 (see `core/tests/law.rs`). A Newton pass
+    /// instead costs 844.4 instructions per step on the M4F against 660.4.
     const PASSES: Passes = Passes::plain(1);
     const EPSILON: f64 = f32::EPSILON as f64;
 

@@ -1,4 +1,4 @@
-//! The control law of MODEL.md §5: its fixed-point passes, the law's own equations at the
+//! The control law of MODEL.md §5: its first iterate and passes, the law's own equations at the
 //! returned step, and its equivariance under left translations.
 
 mod common;
@@ -66,8 +66,8 @@ fn table<T: Real>(cases: &[(&str, Costate<f64>)], cast: fn(f64) -> T) -> Table {
             .collect();
         let mu = costate.mu.map(cast);
         for (k, kind) in [PassKind::Plain, PassKind::Newton].into_iter().enumerate() {
-            for count in 0..P {
-                t[c][k][count] = residual(&kin, &states, &mu, Passes { kind, count });
+            for (count, cell) in t[c][k].iter_mut().enumerate() {
+                *cell = residual(&kin, &states, &mu, Passes { kind, count });
             }
         }
     }
@@ -213,9 +213,9 @@ proptest! {
     /// The returned step satisfies the law's equations themselves, each evaluated
     /// independently of the recursion: with `X = −hAu`, `ζ = dexp_Xᵀ Ad_gᵀ μ` and
     /// `B_ij = ζᵀ ∂A/∂α_i e_j`: `u = ξ^k − Aᵀζ`, `ξ^k = ξ^{k−1} + hBu`, `α' = α + hu`,
-    /// `g' = g exp(X)`. Run with 25 passes: these inputs reach `|u| ≈ 5`, where the
-    /// fixed point contracts more slowly than on the paper's loops (|u| ≈ 0.1–2), for which
-    /// `fixed_point_passes_reach_rounding` checks the constant.
+    /// `g' = g exp(X)`. Run with 25 Newton passes: these inputs reach `|u| ≈ 5`, where the
+    /// iteration converges more slowly than on the paper's loops (|u| ≈ 0.1–2), for which
+    /// `passes_reach_rounding` checks each type's passes.
     #[test]
     fn law_step_satisfies_the_discrete_maximum_principle((state, xi, mu) in law_input()) {
         let kin = kinematics::<f64>();
