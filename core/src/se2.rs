@@ -69,6 +69,20 @@ fn alternating_series<T: Real>(z: T, divisors: &[f64]) -> T {
     acc
 }
 
+/// `c₀ + c₁z + c₂z²` in `z = ω² < 1e-4` with as many terms as the type needs. For the series
+/// here (the coefficients' and their derivatives') the third term is below 1e-9 of the first
+/// and the first omitted one below 2e-16, so f32 ([`Real::EPSILON`] ≥ 1e-10) keeps two terms
+/// and f64 three.
+#[inline(always)]
+fn small_angle_series<T: Real>(z: T, [c0, c1, c2]: [f64; 3]) -> T {
+    let tail = if T::EPSILON < 1e-10 {
+        T::from_f64(c1) + z * T::from_f64(c2)
+    } else {
+        T::from_f64(c1)
+    };
+    T::from_f64(c0) + z * tail
+}
+
 impl<T: Real> ExpCoefficients<T> {
     /// Coefficients at angle `ω`, accurate to rounding for every `ω` (see the module docs).
     /// The small-angle series is inlined (it is what a control step takes); the rest is not.
@@ -78,21 +92,9 @@ impl<T: Real> ExpCoefficients<T> {
         if w.abs() >= T::from_f64(SMALL_ANGLE) {
             return Self::not_small(w, z);
         }
-        // Taylor series in z = ω² < 1e-4, as many terms as the type needs: the truncation
-        // z^n/(2n+1)! relative to the first term is ≤ 8e-11 after n = 2 terms (below f32's
-        // 1.2e-7), ≤ 2e-16 after 3 (f64).
-        let three = T::EPSILON < 1e-10;
-        let poly = |c0: f64, c1: f64, c2: f64| {
-            let tail = if three {
-                T::from_f64(c1) + z * T::from_f64(c2)
-            } else {
-                T::from_f64(c1)
-            };
-            T::from_f64(c0) + z * tail
-        };
-        let a = poly(1.0, -1.0 / 6.0, 1.0 / 120.0);
-        let c2 = poly(0.5, -1.0 / 24.0, 1.0 / 720.0);
-        let c3 = poly(1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0);
+        let a = small_angle_series(z, [1.0, -1.0 / 6.0, 1.0 / 120.0]);
+        let c2 = small_angle_series(z, [0.5, -1.0 / 24.0, 1.0 / 720.0]);
+        let c3 = small_angle_series(z, [1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0]);
         let b = w * c2;
         ExpCoefficients {
             sin: w * a,
@@ -156,19 +158,10 @@ impl<T: Real> ExpCoefficients<T> {
         let (da, dc2, dc3) = if w.abs() < T::from_f64(SMALL_ANGLE) {
             // ω·Σ_{k≥1} (−1)ᵏ 2k z^{k−1}/(2k+d)! for d = 1, 2, 3.
             let z = w * w;
-            let three = T::EPSILON < 1e-10;
-            let series = |c1: f64, c2: f64, c3: f64| {
-                let tail = if three {
-                    T::from_f64(c2) + z * T::from_f64(c3)
-                } else {
-                    T::from_f64(c2)
-                };
-                w * (T::from_f64(c1) + z * tail)
-            };
             (
-                series(-1.0 / 3.0, 1.0 / 30.0, -1.0 / 840.0),
-                series(-1.0 / 12.0, 1.0 / 180.0, -1.0 / 6720.0),
-                series(-1.0 / 60.0, 1.0 / 1260.0, -1.0 / 60480.0),
+                w * small_angle_series(z, [-1.0 / 3.0, 1.0 / 30.0, -1.0 / 840.0]),
+                w * small_angle_series(z, [-1.0 / 12.0, 1.0 / 180.0, -1.0 / 6720.0]),
+                w * small_angle_series(z, [-1.0 / 60.0, 1.0 / 1260.0, -1.0 / 60480.0]),
             )
         } else {
             let two = T::from_f64(2.0);
