@@ -1,4 +1,4 @@
-//! One step of the control law (MODEL.md §5, with `Real::FIXED_POINT_PASSES` passes) in f32
+//! One step of the control law (MODEL.md §5, with `Real::PASSES`) in f32
 //! and f64 on a realistic state, and for context its parts: the connection `A(α)` with
 //! `∂A/∂α`, and `exp` on SE(2).
 //!
@@ -12,7 +12,9 @@
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Vector2, Vector3};
-use purcell_core::{Checkpoint, Costate, Kinematics, Real, Replay, Se2, State, Swimmer, se2};
+use purcell_core::{
+    Checkpoint, Costate, Kinematics, Passes, Real, Replay, Se2, State, Swimmer, se2,
+};
 use purcell_tests::{STEPS, costate_f32, paper_kinematics};
 use std::hint::black_box;
 
@@ -37,12 +39,15 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str, cast: fn(f64) -> T) {
     };
     let (xi, mu) = (xi.map(cast), mu.map(cast));
     let kin = Kinematics::new(Swimmer::<T>::purcell(), cast(0.01)).expect("valid step");
-    let passes = T::FIXED_POINT_PASSES;
-    c.bench_function(&format!("law_step/{name} ({passes} passes)"), |b| {
+    let Passes { kind, count } = T::PASSES;
+    c.bench_function(&format!("law_step/{name} ({count} {kind:?} passes)"), |b| {
         b.iter(|| kin.law_step(black_box(&state), black_box(&xi), black_box(&mu)))
     });
-    c.bench_function(&format!("law_step/{name} (0 passes, no dexp)"), |b| {
-        b.iter(|| kin.law_step_with_passes(black_box(&state), black_box(&xi), black_box(&mu), 0))
+    c.bench_function(&format!("law_step/{name} (first iterate only)"), |b| {
+        b.iter(|| {
+            let first = Passes::plain(0);
+            kin.law_step_with_passes(black_box(&state), black_box(&xi), black_box(&mu), first)
+        })
     });
     let sw = *kin.swimmer();
     c.bench_function(&format!("connection_with_derivatives/{name}"), |b| {

@@ -28,4 +28,4 @@ ours=$(cargo run -q -p purcell-mcu --target thumbv7em-none-eabihf --release 2>/d
 echo "$ours"
 mean() { sed -n 's/.*insn_per_step: mean=\([0-9.]*\) .*/\1/p' <<<"$1"; }
 awk -v c="$(mean "$casadi")" -v o="$(mean "$ours")" \
-  'BEGIN { printf "ratio: casadi/purcell = %.2f (mean instructions per step %s / %s)\n", c / o, c, o }'
+  'BEGIN { printf "ratio: purcell/casadi = %.3f, casadi/purcell = %.2f (mean instructions per step %s / %s)\n", o / c, c / o, o, c }'

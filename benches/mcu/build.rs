@@ -7,7 +7,8 @@
 //! 2. puts `memory.x` on the linker path and links with cortex-m-rt's `link.x` and defmt's
 //!    `defmt.x`;
 //! 3. with the `m7` feature, refuses to build unless `-C target-cpu=cortex-m7` is in the
-//!    rustflags (without it every `f64` operation would be a soft-float call).
+//!    rustflags (without it every `f64` operation would be a soft-float call); with `m3`,
+//!    unless the target is `thumbv7m-none-eabi` (and `m7` is off).
 //!
 //! The gait itself is read at run time by `purcell_core::Gait::from_bytes`, as in any user's
 //! firmware: this script does not parse it.
@@ -41,6 +42,16 @@ fn main() -> Result<(), String> {
     println!("cargo:rustc-link-arg-bins=--nmagic");
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+    if env::var_os("CARGO_FEATURE_M3").is_some()
+        && (env::var("TARGET").as_deref() != Ok("thumbv7m-none-eabi")
+            || env::var_os("CARGO_FEATURE_M7").is_some())
+    {
+        return Err(
+            "feature `m3` is the Cortex-M3 board: build it alone for thumbv7m-none-eabi \
+             with `cargo mcu-m3` (see benches/mcu/README.md)"
+                .into(),
+        );
+    }
     if env::var_os("CARGO_FEATURE_M7").is_some() {
         let flags = env::var("CARGO_ENCODED_RUSTFLAGS").unwrap_or_default();
         if !flags

@@ -5,14 +5,20 @@
 #     f32` (same digest line) and passes `purcell-mcu check`;
 #  2. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
 #  3. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
-#     to the host f32 flight, mean and largest instructions per step <= PURCELL_MCU_MAX_INSN
-#     (default 1000), stack of a step <= 2048 B, no soft-float helper reachable from the step;
-#  4. M7 (mps2-an500), f64: bit-identical to the host f64 flight, mean <= PURCELL_M7_MAX_INSN
-#     (default 3000, a regression guard), no soft-float helper reachable from the step;
-#  5. the M7 build run on the M4F board must exit 1 through the HardFault handler.
+#     to the host f32 flight, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 685,
+#     issue 14's target), largest step <= PURCELL_MCU_MAX_STEP_INSN (default 750, a regression
+#     guard: a step that restores a checkpoint reads it from the gait's table), stack of a
+#     step <= 2048 B, no soft-float helper reachable from the step;
+#  4. M7 (mps2-an500), f64: bit-identical to the host f64 flight, mean and largest step
+#     <= PURCELL_M7_MAX_INSN (default 1200, a regression guard), no soft-float helper
+#     reachable from the step;
+#  5. M3 (mps2-an385, no FPU), f32 in software floating point: bit-identical to the host f32
+#     flight (and so to the M4F), mean and largest step <= PURCELL_M3_MAX_INSN (default
+#     36000, a regression guard);
+#  6. the M7 build run on the M4F board must exit 1 through the HardFault handler.
 # Needs qemu-system-arm, defmt-print, arm-none-eabi-objdump/-size (binutils-arm-none-eabi)
-# and the thumbv7em-none-eabihf target. Logs and listings go to $TARGET/mcu-check/. The M4F
-# release ELF left behind is the paper's gait (step 3).
+# and the thumbv7em-none-eabihf and thumbv7m-none-eabi targets. Logs and listings go to
+# $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 3).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -46,15 +52,22 @@ fails_with() {
   grep "$line" "$out/$name.log"
 }
 
-# $1 name, $2 ELF, $3 max mean insn/step; then the cargo command that runs the firmware.
+# The M4F's instruction budgets: mean per step, largest step.
+m4f_budget=(--max-insn "${PURCELL_MCU_MAX_INSN:-685}" --max-step-insn "${PURCELL_MCU_MAX_STEP_INSN:-750}")
+
+# $1 name, $2 ELF, $3 `check` budget flags, $4 extra `disasm` flags (the M3 has no FPU:
+# --soft-float lists the helpers instead of failing); then the cargo command that runs the
+# firmware.
 fly() {
-  local name=$1 elf=$2 max=$3
-  shift 3
+  local name=$1 elf=$2 budget=$3 disasm_flags=$4
+  shift 4
   echo "--- $name: $*"
   "$@" 2>"$out/$name.stderr" | tee "$out/$name.log"
-  tool check "$out/$name.log" --max-insn "$max" --max-stack 2048
+  # shellcheck disable=SC2086
+  tool check "$out/$name.log" $budget --max-stack 2048
   "$objdump" -d "$elf" >"$out/$name.dis"
-  tool disasm "$out/$name.dis" | grep -v '^  reachable:'
+  # shellcheck disable=SC2086
+  tool disasm "$out/$name.dis" $disasm_flags | grep -v '^  reachable:'
   echo "flash: $name $("$size" -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" {s[$1] = $2} END {printf ".text=%d .rodata=%d .vector_table=%d bytes", s[".text"], s[".rodata"], s[".vector_table"]}')"
 }
 
@@ -66,7 +79,7 @@ sim solve --target 0.05,0.02,0 --horizon 20 --no-plots --out "$gaits/solved" >/d
 sim export --costate "$gaits/solved/costate.json" --out "$gaits/solved.gait"
 sim replay --gait "$gaits/solved.gait" --precision f32 | tee "$gaits/host.txt"
 PURCELL_GAIT=$gaits/solved.gait m4f_run 2>"$out/gait.stderr" | tee "$out/gait.log"
-PURCELL_GAIT=$gaits/solved.gait tool check "$out/gait.log" --max-insn "${PURCELL_MCU_MAX_INSN:-1000}" --max-stack 2048
+PURCELL_GAIT=$gaits/solved.gait tool check "$out/gait.log" "${m4f_budget[@]}" --max-stack 2048
 host_digest=$(grep '^digest: ' "$gaits/host.txt")
 mcu_digest=$(grep '^digest: ' "$out/gait.log")
 if [[ $host_digest != "$mcu_digest" ]]; then
@@ -84,9 +97,11 @@ PURCELL_GAIT=$gaits/corrupt.gait fails_with corrupt '^gait refused: gait file ch
 
 m4f=$target_dir/thumbv7em-none-eabihf/release/purcell-mcu
 m7=$target_dir/thumbv7em-none-eabihf/mcu-m7/purcell-mcu
-fly m4f "$m4f" "${PURCELL_MCU_MAX_INSN:-1000}" m4f_run
-fly m7 "$m7" "${PURCELL_M7_MAX_INSN:-3000}" cargo -q mcu-m7
+m3=$target_dir/thumbv7m-none-eabi/release/purcell-mcu
+fly m4f "$m4f" "${m4f_budget[*]}" "" m4f_run
+fly m7 "$m7" "--max-insn ${PURCELL_M7_MAX_INSN:-1200}" "" cargo -q mcu-m7
+fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mcu-m3
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
 PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' benches/mcu/qemu-run.sh "$m7"
-echo "mcu: 5 passed, 0 failed"
+echo "mcu: 6 passed, 0 failed"

@@ -3,13 +3,19 @@
 # firmware's semihosting status (124 on timeout).
 #   qemu-run.sh ELF
 # Environment: PURCELL_QEMU_MACHINE (default: from the ELF's board tag; mps2-an386 = M4F,
-# mps2-an500 = M7), PURCELL_QEMU_TIMEOUT seconds (default 300), QEMU (default qemu-system-arm),
+# mps2-an500 = M7, mps2-an385 = M3), PURCELL_QEMU_TIMEOUT seconds (default 300), QEMU (default qemu-system-arm),
 # DEFMT_PRINT (default defmt-print).
 set -uo pipefail
 elf=${1:?usage: qemu-run.sh ELF}
 machine=${PURCELL_QEMU_MACHINE:-}
 if [[ -z $machine ]]; then
-  if grep -aq 'purcell-board:mps2-an500' "$elf"; then machine=mps2-an500; else machine=mps2-an386; fi
+  if grep -aq 'purcell-board:mps2-an500' "$elf"; then
+    machine=mps2-an500
+  elif grep -aq 'purcell-board:mps2-an385' "$elf"; then
+    machine=mps2-an385
+  else
+    machine=mps2-an386
+  fi
 fi
 # -icount shift=6: one instruction = 64 ns of virtual time (the firmware counts with SysTick).
 timeout "${PURCELL_QEMU_TIMEOUT:-300}" "${QEMU:-qemu-system-arm}" \

@@ -12,24 +12,73 @@
 //! α_{k+1} = α_k + h u_k,   g_{k+1} = g_k exp(X_k)
 //! ```
 //!
-//! `ζ^k` depends on `u_k` only through `dexp_{X_k}`, an `O(h|A u|) ≈ 1e-3` effect. Pass 0 takes
-//! `ζ = m_k` and solves the 2×2 system for `u⁰`. Then a fixed number of passes,
-//! [`Real::FIXED_POINT_PASSES`], of one of two kinds ([`Real::QUASI_NEWTON`]):
-//! - plain fixed-point passes (`f32`, 2 passes): `ζ ← dexp_Xᵀ m_k` for the last `u`, solve
-//!   again; each contracts by about `h|A||m|` (measured 6e-3 → 3e-5 → 2e-7);
-//! - quasi-Newton passes (`f64`, 3 passes) on `R(u) = (I − hB(ζ(u)))u − ξ^{k−1} + Aᵀζ(u) = 0`:
-//!   `u ← u − N·R(u)`, `N` the inverse of `∂R/∂u` at `u⁰` with `∂ζ/∂u` to first order in `X`
-//!   (`dexp_X ≈ I + ½ad_X`); each contracts by about `|X|` times more (measured
-//!   6e-3 → 3e-8 → 1.4e-13 → rounding). `ξ^k` then uses `ζ^k` of the final step.
+//! `u_k` is the root of `R(u) = (I − hB(ζ(u)))u − ξ^{k−1} + Aᵀζ(u)`, where `ζ` depends on `u`
+//! only through `dexp_X`, an `O(h|A u|) ≈ 1e-3` effect. The law solves it in three parts:
 //!
-//! Both converge to the same `u_k`, the root of the law's equations. The work per step is
-//! fixed: no loop runs to a tolerance.
+//! 1. **First iterate** `u⁰`: the root of `R` linearised at `u = 0`, i.e. one Newton step from
+//!    `u = 0`. To first order in `X`, `ζ = m + ½ ad_Xᵀ m = m + ½K(m)X` with
+//!    `K(m) = [[0, 0, m_y], [0, 0, −m_x], [−m_y, m_x, 0]]`, so `∂R/∂u(0) = M = I − hB(m) −
+//!    (h/2)·AᵀK(m)A`, and `AᵀK(m)A = κ·[[0, 1], [−1, 0]]` with `κ = a₁ᵀK(m)a₂` (`a_j` the
+//!    columns of `A`): `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`. Its error is second order in `X` (measured
+//!    ≤ 5e-6 of `|u|` on the paper's loops, against 6e-3 for the explicit law with `ζ = m`).
+//! 2. **Passes**, a fixed number of one kind per scalar type ([`Real::PASSES`]):
+//!    - [`PassKind::Plain`] (`f32`, 1 pass): `ζ ← dexp_Xᵀ m` at the last `u`, solve
+//!      `(I − hB(ζ))u = ξ^{k−1} − Aᵀζ` again; contracts by about `h|A||m|` (≈ 4e-3: 5e-6 →
+//!      2e-8, below f32 rounding);
+//!    - [`PassKind::Newton`] (`f64`, 1 pass): `u ← u − J(u)⁻¹R(u)` with the exact Jacobian
+//!      `J = I − hB(ζ) + (Aᵀ − V(u))·∂ζ/∂u`; squares the error (5e-6 → 7e-15, rounding).
+//!
+//!    Each pass also returns `ξ^k = ξ^{k−1} + hB(ζ)u` for its new `u`: a plain pass with the `ζ`
+//!    it solved with (so the paper's `u = ξ^k − Aᵀζ` holds for it), a Newton pass
+//!    with `ζ` carried to the new `u` along `∂ζ/∂u`.
+//! 3. **Finish**: `X = −hAu`, `α_{k+1}`, `g_{k+1} = g_k exp(X)`, and the output checks.
+//!
+//! Both kinds converge to the same `u_k`, the root of the law's equations. The work per step
+//! is fixed: no loop runs to a tolerance.
 
 use crate::kinematics::{Kinematics, State};
 use crate::se2::{self, ExpCoefficients, Tangent};
-use crate::swimmer::Connection;
+use crate::swimmer::{Frame, Sym3, sym_mul_vec};
 use crate::{Error, Real};
-use nalgebra::{Matrix3x2, Vector2, Vector3};
+use nalgebra::{Vector2, Vector3};
+
+/// The kind of the passes that follow the first iterate (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PassKind {
+    /// Fixed-point passes: `ζ` at the last `u`, then the 2×2 solve again.
+    Plain,
+    /// Newton passes `u ← u − J(u)⁻¹R(u)`.
+    Newton,
+}
+
+/// How many passes of which kind the law runs after its first iterate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Passes {
+    /// Their kind.
+    pub kind: PassKind,
+    /// Their number (0: the first iterate is the step's `u_k`).
+    pub count: usize,
+}
+
+impl Passes {
+    /// `count` plain fixed-point passes.
+    pub const fn plain(count: usize) -> Self {
+        Passes {
+            kind: PassKind::Plain,
+            count,
+        }
+    }
+
+    /// `count` Newton passes.
+    pub const fn newton(count: usize) -> Self {
+        Passes {
+            kind: PassKind::Newton,
+            count,
+        }
+    }
+}
 
 /// One step of the control law.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,12 +93,12 @@ pub struct LawStep<T> {
 }
 
 impl<T: Real> Kinematics<T> {
-    /// One step of the law with the type's fixed number of passes,
-    /// [`Real::FIXED_POINT_PASSES`].
+    /// One step of the law with the type's passes, [`Real::PASSES`].
     ///
     /// Errors: [`Error::NonFinite`] for non-finite input or result, [`Error::ShapeLimit`]
-    /// if `α_k` or `α_{k+1}` is at or past `|α_i| = π`, [`Error::Singular`] if
-    /// `I − h B_k` is singular, [`Error::NotRotation`] as [`State::check`].
+    /// if `α_k` or `α_{k+1}` is at or past `|α_i| = π`, [`Error::Singular`] if the first
+    /// iterate's matrix `M` or a plain pass's `I − h B` is singular, [`Error::NotRotation`]
+    /// as [`State::check`].
     #[inline]
     pub fn law_step(
         &self,
@@ -57,18 +106,17 @@ impl<T: Real> Kinematics<T> {
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
     ) -> Result<LawStep<T>, Error> {
-        self.law_step_with_passes(state, xi_prev, mu, T::FIXED_POINT_PASSES)
+        self.law_step_with_passes(state, xi_prev, mu, T::PASSES)
     }
 
-    /// One step of the law with `passes` passes of the type's kind ([`Real::QUASI_NEWTON`];
-    /// 0: `ζ = m_k`, no `dexp`). For measuring the residual the passes leave; use
-    /// [`Kinematics::law_step`] otherwise.
+    /// One step of the law with the given passes after the first iterate. For measuring the
+    /// residual the passes leave; use [`Kinematics::law_step`] otherwise.
     pub fn law_step_with_passes(
         &self,
         state: &State<T>,
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
-        passes: usize,
+        passes: Passes,
     ) -> Result<LawStep<T>, Error> {
         if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
             return Err(Error::NonFinite);
@@ -87,148 +135,190 @@ impl<T: Real> Kinematics<T> {
         state: &State<T>,
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
-        passes: usize,
+        passes: Passes,
     ) -> Result<LawStep<T>, Error> {
-        let conn = self.swimmer().connection_unchecked(&state.alpha)?;
-        let sc = Scaled::new(&conn, self.h());
-        let m = state.g.adjoint_transpose_mul(mu);
+        let frame = self.swimmer().frame(&state.alpha)?;
+        let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
+        let (u0, xi0) = eq.first_iterate()?;
+        let (u, xi) = match passes.kind {
+            PassKind::Plain => {
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.plain_pass(&u))?
+            }
+            PassKind::Newton => {
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.newton_pass(&u))?
+            }
+        };
+        self.finish(state, &eq, u, xi)
+    }
 
-        let mut zeta = m;
-        let mut pass = 0;
-        loop {
-            // Pass `pass` (0: ζ = m_k): u = (I − hB)⁻¹ (ξ^{k−1} − Aᵀζ) by Cramer's rule.
-            let (mut b11, mut b12, mut b21, mut b22) = sc.hb(&zeta);
-            let (p11, p22) = (T::one() - b11, T::one() - b22);
-            let inv = inverse_det(p11 * p22 - b12 * b21)?;
-            let r = xi_prev - sc.at(&zeta);
-            let mut u = Vector2::new((p22 * r.x + b12 * r.y) * inv, (p11 * r.y + b21 * r.x) * inv);
-            let quasi_newton = T::QUASI_NEWTON && passes > 0;
-            if quasi_newton {
-                // From u⁰, all `passes` passes as quasi-Newton steps on R(u) = 0.
-                u = sc.quasi_newton(&m, xi_prev, (p11, p22, b12, b21), u, passes)?;
-                pass = passes;
-            }
-            let x = sc.twist(&u);
-            let k = ExpCoefficients::new(x.z);
-            if pass == passes {
-                // ξ^k = ξ^{k−1} + hB u: for plain passes with the ζ that u was solved with,
-                // for quasi-Newton with ζ^k = dexp_Xᵀ m_k of the final step.
-                if quasi_newton {
-                    (b11, b12, b21, b22) = sc.hb(&k.dexp_transpose_mul(&x, &m));
-                }
-                let xi = Vector2::new(
-                    xi_prev.x + (b11 * u.x + b12 * u.y),
-                    xi_prev.y + (b21 * u.x + b22 * u.y),
-                );
-                if !T::all_finite([u.x, u.y, xi.x, xi.y]) {
-                    return Err(Error::NonFinite);
-                }
-                let next = self.advance(state, &u, &se2::exp_with(&k, &x))?;
-                return Ok(LawStep { u, next, xi });
-            }
-            zeta = k.dexp_transpose_mul(&x, &m);
-            pass += 1;
+    /// The end of a step from its `u_k` and `ξ^k`: `X = −hAu`, `(α_{k+1}, g_{k+1})`, all
+    /// checked.
+    #[inline(always)]
+    fn finish(
+        &self,
+        state: &State<T>,
+        eq: &Equation<T>,
+        u: Vector2<T>,
+        xi: Vector2<T>,
+    ) -> Result<LawStep<T>, Error> {
+        if !T::all_finite([u.x, u.y, xi.x, xi.y]) {
+            return Err(Error::NonFinite);
         }
+        let next = self.advance(state, &u, &se2::exp(&eq.twist(&u)))?;
+        Ok(LawStep { u, next, xi })
     }
 }
 
-/// The connection scaled once per step: `h·∂A/∂α_i` (so the passes form `h·B` directly) and
-/// `−h·A` (the twist).
-struct Scaled<'a, T: Real> {
-    a: &'a Matrix3x2<T>,
-    d1: Matrix3x2<T>,
-    d2: Matrix3x2<T>,
-    nha: Matrix3x2<T>,
+/// A 2×2 matrix `(m11, m12, m21, m22)`.
+type Mat2<T> = (T, T, T, T);
+
+/// The law's equation `R(u) = 0` at one step: the connection's [`Frame`] at `α_k`, with
+/// `h·W_ξ⁻¹` so that `hB(ζ)` comes from `λ = h·W_ξ⁻¹ζ` against the brackets' columns (see
+/// [`crate::swimmer`]), `m_k` and `ξ^{k−1}`.
+struct Equation<T: Real> {
+    frame: Frame<T>,
+    hw_inv: Sym3<T>,
+    h: T,
+    m: Vector3<T>,
+    xi_prev: Vector2<T>,
 }
 
-impl<'a, T: Real> Scaled<'a, T> {
+impl<T: Real> Equation<T> {
     #[inline(always)]
-    fn new(conn: &'a Connection<T>, h: T) -> Self {
-        let [d1, d2] = conn.da.map(|d| d * h);
-        Scaled {
-            a: &conn.a,
-            d1,
-            d2,
-            nha: conn.a * -h,
+    fn new(frame: Frame<T>, h: T, m: Vector3<T>, xi_prev: Vector2<T>) -> Self {
+        Equation {
+            hw_inv: frame.w_inv.map(|v| v * h),
+            frame,
+            h,
+            m,
+            xi_prev,
         }
     }
 
-    /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j`, as `(b11, b12, b21, b22)`.
+    /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j = λ·E_i e_j` with `λ = h·W_ξ⁻¹ζ`.
     #[inline(always)]
-    fn hb(&self, z: &Vector3<T>) -> (T, T, T, T) {
-        let (d1, d2) = (&self.d1, &self.d2);
-        (
-            z.x * d1.m11 + z.y * d1.m21 + z.z * d1.m31,
-            z.x * d1.m12 + z.y * d1.m22 + z.z * d1.m32,
-            z.x * d2.m11 + z.y * d2.m21 + z.z * d2.m31,
-            z.x * d2.m12 + z.y * d2.m22 + z.z * d2.m32,
-        )
+    fn hb(&self, z: &Vector3<T>) -> Mat2<T> {
+        let lam = sym_mul_vec(&self.hw_inv, z);
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        (lam.dot(e11), lam.dot(e12), lam.dot(e21), lam.dot(e22))
+    }
+
+    /// `ξ^{k−1} + hB·u`.
+    #[inline(always)]
+    fn xi(&self, hb: &Mat2<T>, u: &Vector2<T>) -> Vector2<T> {
+        self.xi_prev + mul(hb, u)
     }
 
     /// `X = −hAu`.
     #[inline(always)]
     fn twist(&self, u: &Vector2<T>) -> Tangent<T> {
-        let n = &self.nha;
+        let a = &self.frame.a;
+        let (u1, u2) = (-(self.h * u.x), -(self.h * u.y));
         Tangent::new(
-            n.m11 * u.x + n.m12 * u.y,
-            n.m21 * u.x + n.m22 * u.y,
-            n.m31 * u.x + n.m32 * u.y,
+            a.m11 * u1 + a.m12 * u2,
+            a.m21 * u1 + a.m22 * u2,
+            a.m31 * u1 + a.m32 * u2,
         )
     }
 
-    /// `Aᵀζ`.
+    /// `ξ^{k−1} − Aᵀζ`.
     #[inline(always)]
-    fn at(&self, z: &Vector3<T>) -> Vector2<T> {
-        let a = self.a;
+    fn rhs(&self, z: &Vector3<T>) -> Vector2<T> {
+        let a = &self.frame.a;
         Vector2::new(
-            a.m11 * z.x + a.m21 * z.y + a.m31 * z.z,
-            a.m12 * z.x + a.m22 * z.y + a.m32 * z.z,
+            self.xi_prev.x - (a.m11 * z.x + a.m21 * z.y + a.m31 * z.z),
+            self.xi_prev.y - (a.m12 * z.x + a.m22 * z.y + a.m32 * z.z),
         )
     }
 
-    /// `passes` quasi-Newton steps `u ← u − N·R(u)` from `u⁰` (see the module docs), given
-    /// `m_k`, `ξ^{k−1}` and pass 0's `(1 − hB₁₁, 1 − hB₂₂, hB₁₂, hB₂₁)`.
-    ///
-    /// `N = (∂R/∂u)⁻¹` at `u⁰`: `∂R/∂u = I − hB + (Aᵀ − V)·∂ζ/∂u` with `V = [(h∂A/∂α_i u)ᵀ]_i`,
-    /// and to first order in `X`, `ζ = m + ½ ad_Xᵀ m`, so `∂ζ/∂u ≈ ½ K(m)(−hA)` with
-    /// `K(m) = [[0, 0, m_y], [0, 0, −m_x], [−m_y, m_x, 0]]`.
+    /// `ζ(u) = dexp_Xᵀ m_k` at `X = −hAu`.
     #[inline(always)]
-    fn quasi_newton(
-        &self,
-        m: &Vector3<T>,
-        xi_prev: &Vector2<T>,
-        (p11, p22, b12, b21): (T, T, T, T),
-        u0: Vector2<T>,
-        passes: usize,
-    ) -> Result<Vector2<T>, Error> {
-        let (a, d1, d2, nha) = (self.a, &self.d1, &self.d2, &self.nha);
-        let (v1, v2) = (d1 * u0, d2 * u0);
-        let (hx, hy) = (T::half() * m.x, T::half() * m.y);
-        // ∂ζ/∂u by columns: (hy·n₃, −hx·n₃, hx·n₂ − hy·n₁), nᵢ the rows of −hA.
-        let dz = |j: usize| {
-            let (n1, n2, n3) = (nha[(0, j)], nha[(1, j)], nha[(2, j)]);
-            Vector3::new(hy * n3, -(hx * n3), hx * n2 - hy * n1)
-        };
-        let (dz1, dz2) = (dz(0), dz(1));
-        let g1 = Vector3::new(a.m11 - v1.x, a.m21 - v1.y, a.m31 - v1.z);
-        let g2 = Vector3::new(a.m12 - v2.x, a.m22 - v2.y, a.m32 - v2.z);
-        let (j11, j12) = (p11 + g1.dot(&dz1), g1.dot(&dz2) - b12);
-        let (j21, j22) = (g2.dot(&dz1) - b21, p22 + g2.dot(&dz2));
-        let inv = inverse_det(j11 * j22 - j12 * j21)?;
-        let (n11, n12, n21, n22) = (j22 * inv, -(j12 * inv), -(j21 * inv), j11 * inv);
-        let mut u = u0;
-        for _ in 0..passes {
-            let x = self.twist(&u);
-            let z = ExpCoefficients::new(x.z).dexp_transpose_mul(&x, m);
-            // R = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ.
-            let (b11, b12, b21, b22) = self.hb(&z);
-            let atz = self.at(&z);
-            let r1 = (u.x - (b11 * u.x + b12 * u.y)) - xi_prev.x + atz.x;
-            let r2 = (u.y - (b21 * u.x + b22 * u.y)) - xi_prev.y + atz.y;
-            u = Vector2::new(u.x - (n11 * r1 + n12 * r2), u.y - (n21 * r1 + n22 * r2));
-        }
-        Ok(u)
+    fn zeta(&self, u: &Vector2<T>) -> Vector3<T> {
+        let x = self.twist(u);
+        ExpCoefficients::new(x.z).dexp_transpose_mul(&x, &self.m)
     }
+
+    /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)` and its `ξ = ξ^{k−1} + hB(m)u⁰` (see the
+    /// module docs).
+    #[inline(always)]
+    fn first_iterate(&self) -> Result<(Vector2<T>, Vector2<T>), Error> {
+        let (a, m) = (&self.frame.a, &self.m);
+        let hb = self.hb(m);
+        let (b11, b12, b21, b22) = hb;
+        // κ = a₁ᵀK(m)a₂ = m_x (a₁z a₂y − a₁y a₂z) + m_y (a₁x a₂z − a₁z a₂x).
+        let kappa = m.x * (a.m31 * a.m22 - a.m21 * a.m32) + m.y * (a.m11 * a.m32 - a.m31 * a.m12);
+        let hk = T::half() * self.h * kappa;
+        let u = solve(
+            &(T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22),
+            &self.rhs(m),
+        )?;
+        Ok((u, self.xi(&hb, &u)))
+    }
+
+    /// A plain pass from `u`: `ζ(u)`, then `u' = (I − hB(ζ))⁻¹(ξ^{k−1} − Aᵀζ)`; returns `u'`
+    /// and `ξ^{k−1} + hB(ζ)u'`.
+    #[inline(always)]
+    fn plain_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Vector2<T>), Error> {
+        let z = self.zeta(u);
+        let hb = self.hb(&z);
+        let (b11, b12, b21, b22) = hb;
+        let u = solve(&(T::one() - b11, -b12, -b21, T::one() - b22), &self.rhs(&z))?;
+        Ok((u, self.xi(&hb, &u)))
+    }
+
+    /// A Newton pass from `u`: `u' = u − J⁻¹R(u)` with `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ`
+    /// and its Jacobian `J = I − hB(ζ) + (Aᵀ − V(u))·∂ζ/∂u`, where `V(u) = [(h∂A/∂α_i u)ᵀ]_i`
+    /// (so that `hB(ζ)u = V(u)ζ`) and `∂ζ/∂u = ∂(dexp_Xᵀm)/∂X·(−hA)`. Returns `u'` and
+    /// `ξ^{k−1} + hB(ζ')u'` at `ζ' = ζ(u')`, which is `ξ^{k−1} + V(u)ζ' + hB(ζ)δu` with
+    /// `δu = u' − u` and `ζ' = ζ + ∂ζ/∂u·δu` up to `O(|δu|²)`, below rounding after a Newton
+    /// step from the first iterate (`|δu| ≈ 5e-6·|u|`).
+    #[inline(always)]
+    fn newton_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Vector2<T>), Error> {
+        let (a, m) = (&self.frame.a, &self.m);
+        let x = self.twist(u);
+        let k = ExpCoefficients::new(x.z);
+        let z = k.dexp_transpose_mul(&x, m);
+        let dz = k.dexp_transpose_mul_jacobian(&x, m);
+        let mh = -self.h;
+        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let hb = self.hb(&z);
+        let (b11, b12, b21, b22) = hb;
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
+        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
+        let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
+        let jac = (
+            T::one() - b11 + g1.dot(&d1),
+            g1.dot(&d2) - b12,
+            g2.dot(&d1) - b21,
+            T::one() - b22 + g2.dot(&d2),
+        );
+        // R(u) = (u − ξ^{k−1}) + (Aᵀ − V(u))ζ.
+        let res = Vector2::new(
+            (u.x - self.xi_prev.x) + g1.dot(&z),
+            (u.y - self.xi_prev.y) + g2.dot(&z),
+        );
+        let du = -solve(&jac, &res)?;
+        let z1 = z + d1 * du.x + d2 * du.y;
+        let xi = self.xi_prev + Vector2::new(v1.dot(&z1), v2.dot(&z1)) + mul(&hb, &du);
+        Ok((u + du, xi))
+    }
+}
+
+/// `P·v` for a 2×2 `P`.
+#[inline(always)]
+fn mul<T: Real>(p: &Mat2<T>, v: &Vector2<T>) -> Vector2<T> {
+    Vector2::new(p.0 * v.x + p.1 * v.y, p.2 * v.x + p.3 * v.y)
+}
+
+/// `P⁻¹r` by Cramer's rule, or `Err(Singular)` (see [`inverse_det`]).
+#[inline(always)]
+fn solve<T: Real>(p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error> {
+    let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
+    Ok(Vector2::new(
+        (p.3 * r.x - p.1 * r.y) * inv,
+        (p.0 * r.y - p.2 * r.x) * inv,
+    ))
 }
 
 /// `1/det`, or `Err(Singular)` for a determinant that is not finite or below `1e-6` in size.

@@ -26,7 +26,7 @@ pub use digest::TrajectoryDigest;
 pub use error::Error;
 pub use gait::Gait;
 pub use kinematics::{Kinematics, State};
-pub use law::LawStep;
+pub use law::{LawStep, PassKind, Passes};
 pub use real::Real;
 pub use replay::{Checkpoint, Checkpoints, Costate, Flight, Replay, Sample, TerminalError};
 pub use se2::{Se2, Tangent};

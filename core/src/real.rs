@@ -16,6 +16,8 @@ use core::ops::Neg;
 use nalgebra::{ClosedAddAssign, ClosedDivAssign, ClosedMulAssign, ClosedSubAssign};
 use num_traits::{One, Zero};
 
+use crate::law::Passes;
+
 /// A real scalar for the swimmer's kinematics and control law.
 pub trait Real:
     nalgebra::Scalar
@@ -30,18 +32,15 @@ pub trait Real:
     + ClosedDivAssign
     + Neg<Output = Self>
 {
-    /// Quasi-Newton passes on the implicit `dexp` in the control law (see [`crate::law`]).
-    ///
-    /// Chosen so the pass after the last changes `u_k` by less than this type's rounding on
-    /// the paper's problem (measured by `core/tests/law.rs::fixed_point_passes_reach_rounding`).
-    const FIXED_POINT_PASSES: usize;
+    /// The passes the control law runs after its first iterate: their kind and number (see
+    /// [`crate::law`]). Chosen per type by measurement as the fewest that bring `u_k` to this
+    /// type's rounding on the paper's problem, of the kind that costs least
+    /// (`core/tests/law.rs::passes_reach_rounding` checks both).
+    const PASSES: Passes;
 
-    /// Whether those passes are quasi-Newton steps (fewer, each dearer) or plain fixed-point
-    /// passes (see [`crate::law`]). Chosen per type by measurement: quasi-Newton in `f64`
-    /// (3 passes instead of 5: 1 313 instead of 1 482 instructions per step on the M7, 20 %
-    /// less time on x86-64), plain in `f32` (on the M4F 2 plain passes take 866 instructions
-    /// per step, 1 quasi-Newton pass 923).
-    const QUASI_NEWTON: bool;
+    /// The spacing of this type's numbers at 1 (for a compound type, of its value), as an
+    /// `f64`: series are cut where their truncation falls below it. Defaults to `f64`'s.
+    const EPSILON: f64 = f64::EPSILON;
 
     /// Converts a constant. Exact for the values the core uses (small rationals, π).
     fn from_f64(x: f64) -> Self;
@@ -94,10 +93,9 @@ pub trait Real:
 }
 
 impl Real for f64 {
-    /// Relative change of `u_k` left by 3 quasi-Newton passes (against 25): ≤ 5e-15 for
-    /// `|μ| ≈ 13`, ≤ 1e-15 for `|μ| ≈ 4`; 2 passes leave 1.4e-13 (see `core/tests/law.rs`).
-    const FIXED_POINT_PASSES: usize = 3;
-    const QUASI_NEWTON: bool = true;
+    /// 1 Newton pass leaves ≤ 7e-15 of `|u_k|` (against 25), the first iterate alone 5e-6 and
+    /// 1 plain pass 2e-8 (see `core/tests/law.rs`).
+    const PASSES: Passes = Passes::newton(1);
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {
@@ -143,10 +141,11 @@ impl Real for f64 {
 }
 
 impl Real for f32 {
-    /// Relative change of `u_k` left by 2 passes (against 25): ≤ 2e-7 (≈ 2 ulp) for
-    /// `|μ| ≈ 13`, ≤ 1e-8 for `|μ| ≈ 4`; 1 pass leaves 4e-5 (see `core/tests/law.rs`).
-    const FIXED_POINT_PASSES: usize = 2;
-    const QUASI_NEWTON: bool = false;
+    /// 1 plain pass leaves ≤ 7e-9 of the terms `u_k` is computed from (f32 rounding is 1.2e-7
+    /// of them), the first iterate alone 1.8e-7 (see `core/tests/law.rs`). A Newton pass
+    /// instead costs 844.4 instructions per step on the M4F against 660.4.
+    const PASSES: Passes = Passes::plain(1);
+    const EPSILON: f64 = f32::EPSILON as f64;
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {

@@ -232,12 +232,10 @@ impl<'a, T: Real> Replay<'a, T> {
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
-        match self.kinematics.law_step_trusted(
-            &self.state,
-            &self.xi,
-            &self.mu,
-            T::FIXED_POINT_PASSES,
-        ) {
+        match self
+            .kinematics
+            .law_step_trusted(&self.state, &self.xi, &self.mu, T::PASSES)
+        {
             Ok(step) => {
                 self.sample = Sample {
                     k: self.k,

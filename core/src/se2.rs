@@ -16,9 +16,9 @@
 //! `dexp_X` is the left Jacobian of `exp`: `exp(X + δ) = exp(dexp_X·δ)·exp(X) + O(|δ|²)`.
 //!
 //! Small angles: per-step twists here have `|ω| ≈ 1e-3…1e-2`, where `1 − cos ω` loses every
-//! digit in f32. Below `|ω| = 0.01` ([`SMALL_ANGLE`]) all coefficients come from three terms
-//! of their Taylor series in `ω²` (truncation ≤ 2e-16, so exact in f64; no trigonometry and
-//! no division on the MCU); above, from the half angle (`1 − cos ω = 2 sin²(ω/2)`), which has
+//! digit in f32. Below `|ω| = 0.01` ([`SMALL_ANGLE`]) all coefficients come from their Taylor
+//! series in `ω²`, three terms in f64 (truncation ≤ 2e-16), two in f32 (≤ 8e-11; chosen by
+//! [`Real::EPSILON`]), so no trigonometry and no division on the MCU; above, from the half angle (`1 − cos ω = 2 sin²(ω/2)`), which has
 //! no cancellation. `c₃` keeps a longer series up to `|ω| = 0.5` ([`C3_SERIES_LIMIT`]).
 
 use crate::Real;
@@ -69,30 +69,47 @@ fn alternating_series<T: Real>(z: T, divisors: &[f64]) -> T {
     acc
 }
 
+/// `c₀ + c₁z + c₂z²` in `z = ω² < 1e-4` with as many terms as the type needs. For the series
+/// here (the coefficients' and their derivatives') the third term is below 1e-9 of the first
+/// and the first omitted one below 2e-16, so f32 ([`Real::EPSILON`] ≥ 1e-10) keeps two terms
+/// and f64 three.
+#[inline(always)]
+fn small_angle_series<T: Real>(z: T, [c0, c1, c2]: [f64; 3]) -> T {
+    let tail = if T::EPSILON < 1e-10 {
+        T::from_f64(c1) + z * T::from_f64(c2)
+    } else {
+        T::from_f64(c1)
+    };
+    T::from_f64(c0) + z * tail
+}
+
 impl<T: Real> ExpCoefficients<T> {
     /// Coefficients at angle `ω`, accurate to rounding for every `ω` (see the module docs).
-    #[inline]
+    /// The small-angle series is inlined (it is what a control step takes); the rest is not.
+    #[inline(always)]
     pub fn new(w: T) -> Self {
         let z = w * w;
-        let aw = w.abs();
-        if aw < T::from_f64(SMALL_ANGLE) {
-            // Three terms of each series; truncation ≤ z³/5040 ≤ 2e-16 for |ω| < 0.01.
-            let poly = |c0: f64, c1: f64, c2: f64| {
-                T::from_f64(c0) + z * (T::from_f64(c1) + z * T::from_f64(c2))
-            };
-            let a = poly(1.0, -1.0 / 6.0, 1.0 / 120.0);
-            let c2 = poly(0.5, -1.0 / 24.0, 1.0 / 720.0);
-            let c3 = poly(1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0);
-            let b = w * c2;
-            return ExpCoefficients {
-                sin: w * a,
-                cos: T::one() - w * b,
-                a,
-                b,
-                c2,
-                c3,
-            };
+        if w.abs() >= T::from_f64(SMALL_ANGLE) {
+            return Self::not_small(w, z);
         }
+        let a = small_angle_series(z, [1.0, -1.0 / 6.0, 1.0 / 120.0]);
+        let c2 = small_angle_series(z, [0.5, -1.0 / 24.0, 1.0 / 720.0]);
+        let c3 = small_angle_series(z, [1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0]);
+        let b = w * c2;
+        ExpCoefficients {
+            sin: w * a,
+            cos: T::one() - w * b,
+            a,
+            b,
+            c2,
+            c3,
+        }
+    }
+
+    /// [`ExpCoefficients::new`] for `|ω| ≥ SMALL_ANGLE`.
+    #[inline(never)]
+    fn not_small(w: T, z: T) -> Self {
+        let aw = w.abs();
         let half_w = T::half() * w;
         let (sh, ch) = half_w.sin_cos();
         let sinc_h = sh / half_w;
@@ -114,15 +131,57 @@ impl<T: Real> ExpCoefficients<T> {
         }
     }
 
-    /// `dexp_Xᵀ·m` for the twist `X` these coefficients were made for (see the module docs).
+    /// `dexp_Xᵀ·m` for the twist `X` these coefficients were made for (see the module docs):
+    /// `(a·m_x + b·m_y, a·m_y − b·m_x, c₂·P + c₃·ωQ + m_z)` with `P = v_y m_x − v_x m_y`,
+    /// `Q = v_x m_x + v_y m_y` (the last component is `q·(m_x, m_y) + m_z`).
     #[inline]
     pub fn dexp_transpose_mul(&self, x: &Tangent<T>, m: &Vector3<T>) -> Vector3<T> {
-        let (q1, q2) = self.dexp_column(x);
+        let (p, q) = (x.y * m.x - x.x * m.y, x.x * m.x + x.y * m.y);
         Vector3::new(
             self.a * m.x + self.b * m.y,
             self.a * m.y - self.b * m.x,
-            q1 * m.x + q2 * m.y + m.z,
+            self.c2 * p + self.c3 * (x.z * q) + m.z,
         )
+    }
+
+    /// `∂(dexp_Xᵀ·m)/∂X` for the twist these coefficients were made for. Uses the
+    /// coefficients' derivatives `a' = (cos ω − a)/ω`, `b' = a − c₂`, `c₂' = (a − 2c₂)/ω`,
+    /// `c₃' = (c₂ − 3c₃)/ω`, from their series below [`SMALL_ANGLE`] (truncated as in
+    /// [`ExpCoefficients::new`]).
+    #[inline(always)]
+    pub fn dexp_transpose_mul_jacobian(
+        &self,
+        x: &Tangent<T>,
+        m: &Vector3<T>,
+    ) -> DexpTransposeJacobian<T> {
+        let w = x.z;
+        let (da, dc2, dc3) = if w.abs() < T::from_f64(SMALL_ANGLE) {
+            // ω·Σ_{k≥1} (−1)ᵏ 2k z^{k−1}/(2k+d)! for d = 1, 2, 3.
+            let z = w * w;
+            (
+                w * small_angle_series(z, [-1.0 / 3.0, 1.0 / 30.0, -1.0 / 840.0]),
+                w * small_angle_series(z, [-1.0 / 12.0, 1.0 / 180.0, -1.0 / 6720.0]),
+                w * small_angle_series(z, [-1.0 / 60.0, 1.0 / 1260.0, -1.0 / 60480.0]),
+            )
+        } else {
+            let two = T::from_f64(2.0);
+            (
+                (self.cos - self.a) / w,
+                (self.a - two * self.c2) / w,
+                (self.c2 - T::from_f64(3.0) * self.c3) / w,
+            )
+        };
+        let db = self.a - self.c2;
+        let (p, q) = (x.y * m.x - x.x * m.y, x.x * m.x + x.y * m.y);
+        let wc3 = w * self.c3;
+        DexpTransposeJacobian {
+            d_omega: Vector3::new(
+                da * m.x + db * m.y,
+                da * m.y - db * m.x,
+                dc2 * p + (self.c3 + w * dc3) * q,
+            ),
+            dz_dv: (wc3 * m.x - self.c2 * m.y, self.c2 * m.x + wc3 * m.y),
+        }
     }
 
     /// The translation column `q` of `dexp_X`.
@@ -130,6 +189,26 @@ impl<T: Real> ExpCoefficients<T> {
     fn dexp_column(&self, x: &Tangent<T>) -> (T, T) {
         let wc3 = x.z * self.c3;
         (self.c2 * x.y + wc3 * x.x, wc3 * x.y - self.c2 * x.x)
+    }
+}
+
+/// `∂(dexp_Xᵀ·m)/∂X` by its nonzero parts: only the last component of `dexp_Xᵀ·m` depends on
+/// `(v_x, v_y)`; all three depend on `ω`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DexpTransposeJacobian<T> {
+    /// `∂(dexp_Xᵀ·m)/∂ω`.
+    pub d_omega: Vector3<T>,
+    /// `∂(dexp_Xᵀ·m)_z/∂(v_x, v_y)`.
+    pub dz_dv: (T, T),
+}
+
+impl<T: Real> DexpTransposeJacobian<T> {
+    /// The derivative along `dX`: `∂(dexp_Xᵀ·m)/∂X · dX`.
+    #[inline(always)]
+    pub fn mul(&self, dx: &Tangent<T>) -> Vector3<T> {
+        let mut d = self.d_omega * dx.z;
+        d.z += self.dz_dv.0 * dx.x + self.dz_dv.1 * dx.y;
+        d
     }
 }
 

@@ -15,9 +15,32 @@
 //! (the common factor `k` cancels), so that `ξ = g⁻¹ġ = −A(α)·α̇` with `A = W_ξ⁻¹ W_α` and
 //! `∂A/∂αᵢ = W_ξ⁻¹ (∂W_α/∂αᵢ − ∂W_ξ/∂αᵢ · A)`: closed form, no numerical differentiation.
 //! Rows of `A` are x, y, θ; columns α1, α2.
+//!
+//! **Closed forms.** With `cᵢ = cos αᵢ`, `sᵢ = sin αᵢ`, `h₀ = L0/2` and per outer link
+//! `κᵢ = (r − 1)·Lᵢ`, `ρᵢ = r·Lᵢ²/2`, `wᵢ = r·Lᵢ³/3`, everything per shape comes from six
+//! products, `Qᵢ = κᵢcᵢ²`, `Pᵢ = κᵢcᵢsᵢ`, `eᵢ = ρᵢcᵢ`, `fᵢ = ρᵢsᵢ` (`Q = Q₁ + Q₂`, `P = P₁ + P₂`):
+//!
+//! ```text
+//! W_ξ = [[X₀ − Q,  −P,                       h₀(P₂ − P₁) + f₂ − f₁        ],
+//!        [ ·,      Y₀ + Q,                   h₀(L1 − L2 + Q₁ − Q₂) + e₁ − e₂],
+//!        [ ·,      ·,                        Z₀ + h₀²Q + 2h₀(e₁ + e₂)      ]]
+//! W_α = [[−f₁, f₂], [e₁, −e₂], [h₀e₁ + w₁, h₀e₂ + w₂]]
+//! X₀ = L0 + L1 + L2 + κ₁ + κ₂,   Y₀ = r·L0 + L1 + L2,   Z₀ = r·L0³/12 + h₀²(L1 + L2) + w₁ + w₂
+//! ```
+//!
+//! (the per-swimmer constants are computed once, in [`Swimmer::new`]), then `W_ξ⁻¹` by
+//! cofactors with one division. With the link's unit vectors `τ = (cᵢ, sᵢ, τ_z)`,
+//! `ν = (−sᵢ, cᵢ, ν_z)` (see `Frame::new`), the derivative's bracket is a sum of three outer products,
+//!
+//! ```text
+//! ∂W_α/∂αᵢ − ∂W_ξ/∂αᵢ·A = ν⊗(κᵢ·τᵀA) + τ⊗qᵢ − e₃⊗(ηᵢ·τᵀA),   qᵢ = κᵢ·νᵀA − ηᵢ·e₃ᵀA + σᵢρᵢ·e_iᵀ
+//! ```
+//!
+//! (`σᵢ = −1` front, `+1` rear, `ηᵢ = σᵢLᵢ²/2`); `∂A/∂αᵢ = W_ξ⁻¹(…)`, and what the control law
+//! needs, `ζᵀ∂A/∂αᵢ e_j`, is `λ·(…)e_j` with `λ = W_ξ⁻¹ζ`: four dot products.
 
 use crate::{Error, Real};
-use nalgebra::{Matrix3x2, Vector2};
+use nalgebra::{Matrix3x2, Vector2, Vector3};
 
 /// Geometry and drag of a three-link swimmer, validated on construction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +49,65 @@ pub struct Swimmer<T> {
     lengths: [T; 3],
     drag: T,
     ratio: T,
+    /// The constants of the closed forms (see the module docs), from the three above.
+    consts: Constants<T>,
+}
+
+/// Per-swimmer constants of the closed forms (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct Constants<T> {
+    h0: T,
+    h0_sq: T,
+    two_h0: T,
+    x0: T,
+    y0: T,
+    /// `h₀(L1 − L2)`.
+    yz0: T,
+    z0: T,
+    /// Front and rear link.
+    links: [LinkConstants<T>; 2],
+}
+
+/// The constants of one outer link (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct LinkConstants<T> {
+    /// `κ = (r − 1)·L`.
+    kappa: T,
+    /// `ρ = r·L²/2`.
+    rho: T,
+    /// `w = r·L³/3`.
+    w: T,
+    /// `η = σ·L²/2`.
+    eta: T,
+    /// `L/2`.
+    half_l: T,
+}
+
+impl<T: Real> Constants<T> {
+    fn new([l0, l1, l2]: [T; 3], r: T) -> Self {
+        let half = T::half();
+        let h0 = half * l0;
+        let link = |l: T, sigma: T| LinkConstants {
+            kappa: (r - T::one()) * l,
+            rho: half * r * l * l,
+            w: r * l * l * l / T::from_f64(3.0),
+            eta: sigma * half * l * l,
+            half_l: half * l,
+        };
+        let (front, rear) = (link(l1, -T::one()), link(l2, T::one()));
+        Constants {
+            h0,
+            h0_sq: h0 * h0,
+            two_h0: h0 + h0,
+            x0: l0 + l1 + l2 + front.kappa + rear.kappa,
+            y0: r * l0 + l1 + l2,
+            yz0: h0 * (l1 - l2),
+            z0: r * l0 * l0 * l0 / T::from_f64(12.0) + h0 * h0 * (l1 + l2) + front.w + rear.w,
+            links: [front, rear],
+        }
+    }
 }
 
 /// `A(α)` with its partial derivatives `∂A/∂α1`, `∂A/∂α2` (all 3×2, rows x, y, θ).
@@ -47,6 +129,7 @@ impl<T: Real> Swimmer<T> {
                 lengths,
                 drag,
                 ratio,
+                consts: Constants::new(lengths, ratio),
             })
         } else {
             Err(Error::InvalidParameters)
@@ -55,10 +138,12 @@ impl<T: Real> Swimmer<T> {
 
     /// The paper's swimmer: unit links, `k = 1`, `r = 2`.
     pub fn purcell() -> Self {
+        let (lengths, ratio) = ([T::one(); 3], T::from_f64(2.0));
         Swimmer {
-            lengths: [T::one(); 3],
+            lengths,
             drag: T::one(),
-            ratio: T::from_f64(2.0),
+            ratio,
+            consts: Constants::new(lengths, ratio),
         }
     }
 
@@ -84,7 +169,7 @@ impl<T: Real> Swimmer<T> {
     /// is not finite is then [`Error::Singular`], never an `Ok` holding NaN.
     pub fn connection(&self, alpha: &Vector2<T>) -> Result<Matrix3x2<T>, Error> {
         check_shape(alpha)?;
-        let a = Frame::new(self, alpha)?.a().0;
+        let a = self.frame(alpha)?.a;
         finite_or_singular(&a)?;
         Ok(a)
     }
@@ -92,20 +177,24 @@ impl<T: Real> Swimmer<T> {
     /// `A(α)` and `∂A/∂α1`, `∂A/∂α2`; errors as [`Swimmer::connection`].
     pub fn connection_with_derivatives(&self, alpha: &Vector2<T>) -> Result<Connection<T>, Error> {
         check_shape(alpha)?;
-        let c = self.connection_unchecked(alpha)?;
+        let f = self.frame(alpha)?;
+        let c = Connection {
+            a: f.a,
+            da: f.e.map(|[e1, e2]| {
+                Matrix3x2::from_columns(&[sym_mul_vec(&f.w_inv, &e1), sym_mul_vec(&f.w_inv, &e2)])
+            }),
+        };
         finite_or_singular(&c.a)?;
         finite_or_singular(&c.da[0])?;
         finite_or_singular(&c.da[1])?;
         Ok(c)
     }
 
-    /// [`Swimmer::connection_with_derivatives`] for a shape already checked by [`check_shape`].
+    /// The per-shape quantities behind `A(α)` and its derivatives, for a shape already
+    /// checked by [`check_shape`]. Errors: [`Error::Singular`] if `W_ξ` is degenerate.
     #[inline(always)]
-    pub(crate) fn connection_unchecked(&self, alpha: &Vector2<T>) -> Result<Connection<T>, Error> {
-        let f = Frame::new(self, alpha)?;
-        let a = f.a();
-        let da = f.da(&a);
-        Ok(Connection { a: a.0, da })
+    pub(crate) fn frame(&self, alpha: &Vector2<T>) -> Result<Frame<T>, Error> {
+        Frame::new(&self.consts, alpha)
     }
 }
 
@@ -140,155 +229,47 @@ pub(crate) fn within_limit<T: Real>(a1: T, a2: T) -> Result<(), Error> {
 }
 
 /// A symmetric 3×3 matrix by its upper triangle `[xx, xy, xz, yy, yz, zz]`.
-type Sym3<T> = [T; 6];
+pub(crate) type Sym3<T> = [T; 6];
 
-/// `S·M` for symmetric `S` and a 3×2 `M` given by rows.
+/// `S·v` for symmetric `S`.
 #[inline(always)]
-fn sym_mul<T: Real>(s: &Sym3<T>, m: &[[T; 2]; 3]) -> [[T; 2]; 3] {
-    let row = |a: T, b: T, c: T| {
-        [
-            a * m[0][0] + b * m[1][0] + c * m[2][0],
-            a * m[0][1] + b * m[1][1] + c * m[2][1],
-        ]
-    };
-    [
-        row(s[0], s[1], s[2]),
-        row(s[1], s[3], s[4]),
-        row(s[2], s[4], s[5]),
-    ]
-}
-
-fn to_matrix<T: Real>(m: &[[T; 2]; 3]) -> Matrix3x2<T> {
-    Matrix3x2::new(m[0][0], m[0][1], m[1][0], m[1][1], m[2][0], m[2][1])
-}
-
-/// One outer link (front or rear) at its current angle.
-///
-/// `τ = (cos α, sin α, τ_z)`, `ν = (−sin α, cos α, ν_z)`. Both links satisfy
-/// `∂τ/∂α = ν + σ·(l/2)·e₃` and `∂ν/∂α = −τ`, with `σ = −1` (front) or `+1` (rear), so
-///
-/// ```text
-/// ∂W_ξ/∂α = l·(1 − r)·(ν τᵀ + τ νᵀ) + σ·l²/2·(e₃τᵀ + τ e₃ᵀ),    ∂W_α/∂α (own column) = σ·r·l²/2·τ
-/// ```
-struct Link<T> {
-    l: T,
-    sigma: T,
-    tau: [T; 3],
-    nu: [T; 3],
-}
-
-impl<T: Real> Link<T> {
-    /// `w += l·(τ τᵀ + r·ν νᵀ)`, using `cos² + sin² = 1`.
-    #[inline(always)]
-    fn add_drag(&self, w: &mut Sym3<T>, r: T) {
-        let [c, s, tz] = self.tau;
-        let nz = self.nu[2];
-        let l = self.l;
-        let rl = r * l;
-        let kl = rl - l; // (r − 1)·l
-        let (ss, cc, cs) = (s * s, c * c, c * s);
-        w[0] += l + kl * ss;
-        w[1] -= kl * cs;
-        w[2] += l * c * tz - rl * s * nz;
-        w[3] += l + kl * cc;
-        w[4] += l * s * tz + rl * c * nz;
-        w[5] += l * tz * tz + rl * nz * nz;
-    }
-
-    /// `E = ∂W_α/∂α − ∂W_ξ/∂α · A` for this link's angle, by rows; `own` selects this
-    /// link's column of `W_α` (0 front, 1 rear).
-    #[inline(always)]
-    fn de(&self, a: &[[T; 2]; 3], r: T, own: Own) -> [[T; 2]; 3] {
-        let [t0, t1, t2] = self.tau;
-        let [n0, n1, n2] = self.nu;
-        let [a0, a1, a2] = a;
-        // τᵀA and νᵀA (1×2 each).
-        let ta = [
-            t0 * a0[0] + t1 * a1[0] + t2 * a2[0],
-            t0 * a0[1] + t1 * a1[1] + t2 * a2[1],
-        ];
-        let na = [
-            n0 * a0[0] + n1 * a1[0] + n2 * a2[0],
-            n0 * a0[1] + n1 * a1[1] + n2 * a2[1],
-        ];
-        let l = self.l;
-        let kl = l - r * l; // (1 − r)·l
-        let hl2 = self.sigma * T::half() * l * l; // σ·l²/2
-        // E = −(ν⊗p + τ⊗q + e₃⊗s), with ∂W_α/∂α folded into q.
-        let p = [kl * ta[0], kl * ta[1]];
-        let mut q = [kl * na[0] + hl2 * a2[0], kl * na[1] + hl2 * a2[1]];
-        match own {
-            Own::Front => q[0] -= r * hl2,
-            Own::Rear => q[1] -= r * hl2,
-        }
-        let s = [hl2 * ta[0], hl2 * ta[1]];
-        let row = |n: T, t: T| [-(n * p[0] + t * q[0]), -(n * p[1] + t * q[1])];
-        let [e0, e1, mut e2] = [row(n0, t0), row(n1, t1), row(n2, t2)];
-        e2[0] -= s[0];
-        e2[1] -= s[1];
-        [e0, e1, e2]
-    }
-}
-
-/// Which column of `W_α` belongs to a link.
-#[derive(Clone, Copy)]
-enum Own {
-    Front,
-    Rear,
+pub(crate) fn sym_mul_vec<T: Real>(s: &Sym3<T>, v: &Vector3<T>) -> Vector3<T> {
+    Vector3::new(
+        s[0] * v.x + s[1] * v.y + s[2] * v.z,
+        s[1] * v.x + s[3] * v.y + s[4] * v.z,
+        s[2] * v.x + s[4] * v.y + s[5] * v.z,
+    )
 }
 
 /// The per-shape quantities shared by `A` and its derivatives.
-struct Frame<T> {
-    r: T,
-    links: [Link<T>; 2],
-    /// `W_ξ⁻¹` (symmetric) and `W_α` (by rows).
-    w_inv: Sym3<T>,
-    w_alpha: [[T; 2]; 3],
+pub(crate) struct Frame<T> {
+    /// `W_ξ⁻¹` (symmetric).
+    pub(crate) w_inv: Sym3<T>,
+    /// `A`.
+    pub(crate) a: Matrix3x2<T>,
+    /// `E_i e_j`, the columns of the brackets `E_i = ∂W_α/∂α_i − ∂W_ξ/∂α_i·A`, so that
+    /// `∂A/∂α_i e_j = W_ξ⁻¹ E_i e_j` and `ζᵀ∂A/∂α_i e_j = λ·E_i e_j` with `λ = W_ξ⁻¹ζ`.
+    pub(crate) e: [[Vector3<T>; 2]; 2],
 }
 
-/// `A` as a matrix and by rows.
-struct ARows<T>(Matrix3x2<T>, [[T; 2]; 3]);
-
 impl<T: Real> Frame<T> {
-    /// Assumes `α` was checked by [`check_shape`].
+    /// The closed forms of the module docs. Assumes `α` was checked by [`check_shape`].
     #[inline(always)]
-    fn new(sw: &Swimmer<T>, alpha: &Vector2<T>) -> Result<Self, Error> {
-        let [l0, l1, l2] = sw.lengths;
-        let r = sw.ratio;
-        let half = T::half();
+    fn new(k: &Constants<T>, alpha: &Vector2<T>) -> Result<Self, Error> {
         let (s1, c1) = alpha.x.sin_cos();
         let (s2, c2) = alpha.y.sin_cos();
-        let h0 = half * l0;
-        // Front link: centre (L0/2 + L1/2·c1, L1/2·s1); rear: (−L0/2 − L2/2·c2, −L2/2·s2).
-        let front = Link {
-            l: l1,
-            sigma: -T::one(),
-            tau: [c1, s1, h0 * s1],
-            nu: [-s1, c1, h0 * c1 + half * l1],
-        };
-        let rear = Link {
-            l: l2,
-            sigma: T::one(),
-            tau: [c2, s2, -(h0 * s2)],
-            nu: [-s2, c2, -(h0 * c2) - half * l2],
-        };
-
-        let twelfth = T::from_f64(1.0 / 12.0);
-        let z = T::zero();
-        // Middle link: τ = e1, ν = e2; every link's own rotation adds r·l³/12 to W_zz.
-        let mut w: Sym3<T> = [
-            l0,
-            z,
-            z,
-            r * l0,
-            z,
-            r * twelfth * (l0 * l0 * l0 + l1 * l1 * l1 + l2 * l2 * l2),
-        ];
-        front.add_drag(&mut w, r);
-        rear.add_drag(&mut w, r);
+        let [lf, lr] = &k.links;
+        let (q1, q2) = (lf.kappa * c1 * c1, lr.kappa * c2 * c2);
+        let (p1, p2) = (lf.kappa * c1 * s1, lr.kappa * c2 * s2);
+        let (e1, e2) = (lf.rho * c1, lr.rho * c2);
+        let (f1, f2) = (lf.rho * s1, lr.rho * s2);
+        let (q, p) = (q1 + q2, p1 + p2);
+        let (xx, xy, yy) = (k.x0 - q, -p, k.y0 + q);
+        let xz = k.h0 * (p2 - p1) + (f2 - f1);
+        let yz = k.yz0 + k.h0 * (q1 - q2) + (e1 - e2);
+        let zz = k.z0 + k.h0_sq * q + k.two_h0 * (e1 + e2);
 
         // Inverse by cofactors: one division.
-        let [xx, xy, xz, yy, yz, zz] = w;
         let cof = [
             yy * zz - yz * yz,
             xz * yz - xy * zz,
@@ -305,38 +286,39 @@ impl<T: Real> Frame<T> {
         let inv_det = T::one() / det;
         let w_inv = cof.map(|v| v * inv_det);
 
-        let (a1, a2) = (r * l1 * l1, r * l2 * l2);
-        let (n1, n2) = (&front.nu, &rear.nu);
-        let w_alpha = [
-            [a1 * half * n1[0], -(a2 * half * n2[0])],
-            [a1 * half * n1[1], -(a2 * half * n2[1])],
-            [
-                a1 * (half * n1[2] + twelfth * l1),
-                a2 * (twelfth * l2 - half * n2[2]),
-            ],
-        ];
-        Ok(Frame {
-            r,
-            links: [front, rear],
-            w_inv,
-            w_alpha,
-        })
-    }
+        let col1 = Vector3::new(-f1, e1, k.h0 * e1 + lf.w);
+        let col2 = Vector3::new(f2, -e2, k.h0 * e2 + lr.w);
+        let a = Matrix3x2::from_columns(&[sym_mul_vec(&w_inv, &col1), sym_mul_vec(&w_inv, &col2)]);
 
-    #[inline(always)]
-    fn a(&self) -> ARows<T> {
-        let rows = sym_mul(&self.w_inv, &self.w_alpha);
-        ARows(to_matrix(&rows), rows)
-    }
-
-    /// `∂A/∂α_i = W_ξ⁻¹ (∂W_α/∂α_i − ∂W_ξ/∂α_i · A)`.
-    #[inline(always)]
-    fn da(&self, a: &ARows<T>) -> [Matrix3x2<T>; 2] {
-        let [front, rear] = &self.links;
-        [
-            to_matrix(&sym_mul(&self.w_inv, &front.de(&a.1, self.r, Own::Front))),
-            to_matrix(&sym_mul(&self.w_inv, &rear.de(&a.1, self.r, Own::Rear))),
-        ]
+        // Each link's bracket ν⊗(κ·τᵀA) + τ⊗q − e₃⊗(η·τᵀA), q = κ·νᵀA − η·e₃ᵀA + σρ·e_ownᵀ,
+        // with τ = (c, s, −σh₀s), ν = (−s, c, −σ(h₀c + L/2)) (σ = −1 front, +1 rear; the
+        // front link's centre is (h₀ + L1/2·c1, L1/2·s1), the rear's (−h₀ − L2/2·c2, −L2/2·s2)).
+        let (hs1, hs2) = (k.h0 * s1, k.h0 * s2);
+        let front = (
+            Vector3::new(c1, s1, hs1),
+            Vector3::new(-s1, c1, k.h0 * c1 + lf.half_l),
+        );
+        let rear = (
+            Vector3::new(c2, s2, -hs2),
+            Vector3::new(-s2, c2, -(k.h0 * c2 + lr.half_l)),
+        );
+        let bracket = |(tau, nu): (Vector3<T>, Vector3<T>), lc: &LinkConstants<T>, own: usize| {
+            let col = |j: usize| {
+                let aj = a.column(j);
+                let t = tau.dot(&aj);
+                let mut q = lc.kappa * nu.dot(&aj) - lc.eta * aj.z;
+                // σρ = −ρ front (own column 0), +ρ rear (own column 1).
+                if j == own {
+                    q = if own == 0 { q - lc.rho } else { q + lc.rho };
+                }
+                let mut v = nu * (lc.kappa * t) + tau * q;
+                v.z -= lc.eta * t;
+                v
+            };
+            [col(0), col(1)]
+        };
+        let e = [bracket(front, lf, 0), bracket(rear, lr, 1)];
+        Ok(Frame { w_inv, a, e })
     }
 }
 

@@ -9,7 +9,8 @@ use core::f64::consts::PI;
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::{
-    Checkpoint, Checkpoints, Costate, Error, Kinematics, Real, Replay, Se2, State, Swimmer, se2,
+    Checkpoint, Checkpoints, Costate, Error, Kinematics, Passes, Real, Replay, Se2, State, Swimmer,
+    se2,
 };
 
 fn kin() -> Kinematics<f64> {
@@ -170,13 +171,14 @@ fn invalid_time_steps_are_refused() {
     );
 }
 
-/// `I − hB` is singular when `|μ|` makes `h|B|` reach 1. At `α = 0`, `g = e`, `μ = (s, 0, 0)`
-/// the first pass has `hB = s·h·[[−4, 2], [−2, 4]]/27` (MODEL §7's `∂A/∂α`), whose
-/// `det(I − hB) = 1 − 12·(sh/27)²` vanishes at `s = 27/(h√12)`.
+/// The first iterate's matrix `M = I − hB(m) − (h/2)κ·[[0, 1], [−1, 0]]` (see `law.rs`) is
+/// singular when `|μ|` is large enough. At `α = 0`, `g = e`, `μ = (s, 0, 0)`: `hB = t·[[−4, 2],
+/// [−2, 4]]` with `t = sh/27` (MODEL §7's `∂A/∂α`) and `(h/2)κ = −(7/6)t` (`A` of MODEL §7), so
+/// `det M = (1 + 4t)(1 − 4t) + (5t/6)² = 1 − (551/36)t²` vanishes at `s = 162/(h√551)`.
 #[test]
 fn singular_control_law_matrix_is_refused() {
     let h = 0.01;
-    let s = 27.0 / (h * 12f64.sqrt());
+    let s = 162.0 / (h * 551f64.sqrt());
     let state = State::at_origin(Vector2::zeros());
     let mu = Vector3::new(s, 0.0, 0.0);
     assert_eq!(
@@ -184,14 +186,14 @@ fn singular_control_law_matrix_is_refused() {
         Err(Error::Singular)
     );
     assert_eq!(
-        kin().law_step_with_passes(&state, &Vector2::zeros(), &mu, 0),
+        kin().law_step_with_passes(&state, &Vector2::zeros(), &mu, Passes::plain(0)),
         Err(Error::Singular)
     );
     // 10% away from the root the step goes through.
     let mu = Vector3::new(0.9 * s, 0.0, 0.0);
     assert!(
         kin()
-            .law_step_with_passes(&state, &Vector2::zeros(), &mu, 0)
+            .law_step_with_passes(&state, &Vector2::zeros(), &mu, Passes::plain(0))
             .is_ok()
     );
     // f32 as well (the root rounded to f32 leaves |det| ≈ 1e-7 < the 1e-6 threshold).
@@ -422,7 +424,7 @@ fn exercise<T: Real>(
     if let Ok(next) = kin.step(&state, &xi) {
         prop_assert!(sane(&next));
     }
-    for p in [passes, T::FIXED_POINT_PASSES] {
+    for p in [Passes::plain(passes), Passes::newton(passes), T::PASSES] {
         if let Ok(s) = kin.law_step_with_passes(&state, &xi, &mu, p) {
             prop_assert!(sane(&s.next));
             prop_assert!(s.u.iter().chain(s.xi.iter()).all(|v| v.is_finite()));

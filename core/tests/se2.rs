@@ -87,11 +87,25 @@ proptest! {
         for (got, want) in [(k.a, a_ref), (k.b, b_ref), (k.c2, c2_ref), (k.c3, c3_ref)] {
             prop_assert!((got - want).abs() <= 7e-16 * want.abs(), "ω = {w:e}: {got:e} vs {want:e}");
         }
-        // f32: b keeps full single precision (the naive form has no digit left below 1e-4).
+        // f32 (two terms of each series below |ω| = 0.01): every coefficient keeps full single
+        // precision against the series at the rounded ω (the naive b has no digit left below
+        // 1e-4), a few roundings each.
+        let w32 = f64::from(w as f32);
         let k32 = ExpCoefficients::new(w as f32);
-        let b32_ref = b_ref * f64::from(w as f32) / w; // b is ≈ ω/2: rescale to the rounded ω
-        prop_assert!((f64::from(k32.b) - b32_ref).abs() <= 2.0 * f64::from(f32::EPSILON) * b32_ref.abs());
-        prop_assert!((f64::from(k32.a) - 1.0).abs() <= w * w / 6.0 + f64::from(f32::EPSILON));
+        let series32 = |shift: i32, odd: i32| -> f64 {
+            (0..10).map(|k| (-1f64).powi(k) * w32.powi(2 * k + odd) / fact(2 * k + shift)).sum()
+        };
+        // Worst measured: 0.69·ε in [1e-9, 0.01) (the series; every 997th f32), 1.72·ε in
+        // [0.01, 0.1) (the closed forms: sin_cos_f32 of ω/2, a division, a square; every f32).
+        let tol = f64::from(f32::EPSILON) * if w32.abs() < 0.01 { 1.0 } else { 2.0 };
+        for (got, want) in [
+            (k32.a, series32(1, 0)),
+            (k32.b, series32(2, 1)),
+            (k32.c2, series32(2, 0)),
+            (k32.c3, series32(3, 0)),
+        ] {
+            prop_assert!((f64::from(got) - want).abs() <= tol * want.abs(), "ω = {w32:e}: {got:e} vs {want:e}");
+        }
     }
 
     /// Group axioms: `g·g⁻¹ = g⁻¹·g = e`, `e·g = g·e = g`, associativity,
@@ -173,6 +187,24 @@ proptest! {
         let jac = se2::dexp(&x) * d;
         let n = 1.0 + x.abs().max();
         prop_assert!((fd - jac).abs().max() <= 1e-3 * n * n, "{fd:?} vs {jac:?}");
+    }
+
+    /// `ExpCoefficients::dexp_transpose_mul_jacobian` is the derivative of `dexp_Xᵀ m` in `X`:
+    /// against central differences with `t = 1e-6` (truncation `t²·|∂³|`, rounding `1e-16/t`),
+    /// for every kind of twist (`ω` zero, tiny, small-angle series and closed forms).
+    #[test]
+    fn dexp_transpose_mul_jacobian_matches_central_difference(x in tangent(), m in (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64)) {
+        let m = Vector3::new(m.0, m.1, m.2);
+        let jac = ExpCoefficients::new(x.z).dexp_transpose_mul_jacobian(&x, &m);
+        let t = 1e-6;
+        for c in 0..3 {
+            let mut d = Vector3::zeros();
+            d[c] = t;
+            let f = |y: Vector3<f64>| ExpCoefficients::new(y.z).dexp_transpose_mul(&y, &m);
+            let fd = (f(x + d) - f(x - d)) / (2.0 * t);
+            let err = (fd - jac.mul(&(d / t))).abs().max();
+            prop_assert!(err <= 1e-8 * (1.0 + x.abs().max()) * (1.0 + m.abs().max()), "column {c}: {err:e}");
+        }
     }
 
     /// `ExpCoefficients::dexp_transpose_mul` is `dexp_Xᵀ m`.

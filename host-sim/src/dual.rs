@@ -166,8 +166,7 @@ impl<const N: usize> One for Dual<N> {
 
 impl<const N: usize> Real for Dual<N> {
     /// Same as `f64`: the derivative of the truncated fixed point is what we differentiate.
-    const FIXED_POINT_PASSES: usize = <f64 as Real>::FIXED_POINT_PASSES;
-    const QUASI_NEWTON: bool = <f64 as Real>::QUASI_NEWTON;
+    const PASSES: purcell_core::Passes = <f64 as Real>::PASSES;
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {

@@ -9,21 +9,25 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "\
-purcell-mcu (host build): the firmware itself only builds for thumbv7em-none-eabihf;
-run it with `cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release`.
+purcell-mcu (host build): the firmware itself only builds for thumbv7em-none-eabihf (M4F,
+M7) and thumbv7m-none-eabi (M3); run it with
+`cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release` (or `cargo mcu-m7`,
+`cargo mcu-m3`).
 
 usage:
   purcell-mcu reference [--gait FILE] [f32|f64]
       fly the gait on the host; print digest, final state and terminal error
-  purcell-mcu check LOG [--gait FILE] [--max-insn M] [--max-cycles C] [--max-stack B]
+  purcell-mcu check LOG [--gait FILE] [--max-insn M] [--max-step-insn S] [--max-cycles C]
+                      [--max-stack B]
       compare a decoded firmware log (QEMU's, or a board's with cycles_per_step) with the
       host's flight of the same gait in the same precision; fail on another gait, a digest
-      or final-state mismatch, a mean or a largest step above M instructions (default 1000)
-      or C cycles (default: no limit), or a step stack above B bytes (default 2048)
-  purcell-mcu disasm LISTING [--root SYMBOL]
+      or final-state mismatch, a mean above M instructions (default 1000) or a largest step
+      above S (default M), a mean or a largest step above C cycles (default: no limit), or a
+      step stack above B bytes (default 2048)
+  purcell-mcu disasm LISTING [--root SYMBOL] [--soft-float]
       from `arm-none-eabi-objdump -d` output: code reachable from SYMBOL (default
       purcell_mcu_step), its size; fail if a soft-float helper or an indirect branch is
-      reachable
+      reachable (with --soft-float, for a core without FPU: list the helpers, do not fail)
 
 FILE: the gait the firmware embedded (default: $PURCELL_GAIT, else the committed paper's
 gait core/examples/paper.gait).";
@@ -110,8 +114,10 @@ fn run(args: &[String]) -> Result<(), String> {
         }
         Some("check") => {
             let text = read(pos.get(1).ok_or("check needs a log file")?)?;
+            let insn = flag(args, "--max-insn", 1000.0)?;
             let budget = Budget {
-                insn: flag(args, "--max-insn", 1000.0)?,
+                insn,
+                insn_step: flag(args, "--max-step-insn", insn)?,
                 cycles: flag(args, "--max-cycles", f64::NAN).map(|c| (!c.is_nan()).then_some(c))?,
                 stack_bytes: flag(args, "--max-stack", 2048)?,
             };
@@ -122,10 +128,15 @@ fn run(args: &[String]) -> Result<(), String> {
             print_reference(&r);
             check(&log, &r, &budget).map_err(|e| e.to_string())?;
             let (unit, limit) = match log.unit {
-                Unit::Instructions => ("insn_per_step", Some(budget.insn)),
-                Unit::Cycles => ("cycles_per_step", budget.cycles),
+                Unit::Instructions => (
+                    "insn_per_step",
+                    format!("{} mean, {} a step", budget.insn, budget.insn_step),
+                ),
+                Unit::Cycles => (
+                    "cycles_per_step",
+                    budget.cycles.map_or("none".to_string(), |l| l.to_string()),
+                ),
             };
-            let limit = limit.map_or("none".to_string(), |l| l.to_string());
             let stack = log.stack_bytes.map_or("not measured".to_string(), |s| {
                 format!("{s} B (budget {} B)", budget.stack_bytes)
             });
@@ -150,6 +161,12 @@ fn run(args: &[String]) -> Result<(), String> {
             );
             for f in &report.functions {
                 println!("  reachable: {f}");
+            }
+            if args.iter().any(|a| a == "--soft-float") {
+                for f in &report.soft_float {
+                    println!("  soft-float: {f}");
+                }
+                return Ok(());
             }
             report.ensure_hard_float().map_err(|e| e.to_string())?;
             println!("step_code: ok, no soft-float helper reachable from {root}");

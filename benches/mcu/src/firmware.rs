@@ -5,6 +5,8 @@
 //!
 //! Default build (Cortex-M4F, QEMU `mps2-an386`): `f32`. Feature `m7` (Cortex-M7 with a
 //! double-precision FPU, QEMU `mps2-an500`, built with `-C target-cpu=cortex-m7`): `f64`.
+//! Feature `m3` (Cortex-M3 without FPU, QEMU `mps2-an385`, `thumbv7m-none-eabi`): `f32` in
+//! software floating point.
 //!
 //! Counting: QEMU runs with `-icount shift=6`, so one instruction is 64 ns of virtual time, and
 //! the SysTick, clocked at 25 MHz, advances exactly 8/5 ticks per instruction. The counter is
@@ -32,17 +34,23 @@ type S = f32;
 type S = f64;
 
 /// The QEMU machine this build is for; the cargo runner looks for this tag in the ELF.
-#[cfg(not(feature = "m7"))]
+#[cfg(not(any(feature = "m7", feature = "m3")))]
 #[used]
 #[unsafe(no_mangle)]
 static PURCELL_BOARD: [u8; 24] = *b"purcell-board:mps2-an386";
+#[cfg(feature = "m3")]
+#[used]
+#[unsafe(no_mangle)]
+static PURCELL_BOARD: [u8; 24] = *b"purcell-board:mps2-an385";
 #[cfg(feature = "m7")]
 #[used]
 #[unsafe(no_mangle)]
 static PURCELL_BOARD: [u8; 24] = *b"purcell-board:mps2-an500";
 
-#[cfg(not(feature = "m7"))]
+#[cfg(not(any(feature = "m7", feature = "m3")))]
 const BOARD: &str = "mps2-an386";
+#[cfg(feature = "m3")]
+const BOARD: &str = "mps2-an385";
 #[cfg(feature = "m7")]
 const BOARD: &str = "mps2-an500";
 

@@ -117,7 +117,7 @@ where
         board,
         scalar,
         gait.params().steps,
-        S::FIXED_POINT_PASSES,
+        S::PASSES.count,
         gait.checkpoint_count(),
         gait.crc()
     );
