@@ -227,28 +227,20 @@ fn k_ok(n: usize, arcs: &[Arc]) -> bool {
 }
 
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
-/// through finer grids with the barrier at the coarse path's last weight, then the fine
-/// path's weights, then [`polish`]. `Err` holds the terminal defect where it stopped.
+/// through finer grids ([`super::finer_grid`]), each running the barrier path [`FINE_TAUS`]
+/// (the problem's own grid only its last weight), then [`polish`]. `Err` holds the terminal
+/// defect where it stopped.
 pub fn refine(
     problem: &Problem,
     alpha_max: f64,
     u: &[Vector2<f64>],
     nu: &nalgebra::Vector5<f64>,
 ) -> Result<(Grid, Run), f64> {
-    let n_fine = problem.steps as usize;
     let mut u = u.to_vec();
     let mut nu = *nu;
     loop {
-        let n = u.len();
-        let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
-        let last = next == n_fine;
-        let h = problem.horizon() / next as f64;
-        let rule = if last {
-            super::stage::Rule::LEFT_POINT
-        } else {
-            super::stage::Rule::matching(h, problem.h)
-        };
-        let grid = Grid::new(problem, next, rule).map_err(|_| f64::INFINITY)?;
+        let (grid, last) = super::finer_grid(problem, u.len()).map_err(|_| f64::INFINITY)?;
+        let next = grid.steps;
         let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(|_| f64::INFINITY)?;
         // The barrier's Hessian grows like τ/d² near the limit, so its stationarity is
         // asked only to 1e-6 at the small weights: the path is there to find the arcs,

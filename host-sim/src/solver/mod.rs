@@ -192,22 +192,12 @@ pub fn refine_free(
     u: &[Vector2<f64>],
     nu: &Vector5<f64>,
 ) -> Result<(Grid, Run), f64> {
-    let n_fine = problem.steps as usize;
-    let h_fine = problem.h;
     let mut u = u.to_vec();
     let mut nu = *nu;
     loop {
-        let n = u.len();
-        let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
-        let last = next == n_fine;
-        let h = problem.horizon() / next as f64;
-        let rule = if last {
-            Rule::LEFT_POINT
-        } else {
-            Rule::matching(h, h_fine)
-        };
         let inf = |_| f64::INFINITY;
-        let grid = Grid::new(problem, next, rule).map_err(inf)?;
+        let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
+        let next = grid.steps;
         let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
         let settings = if last {
             fine_settings(problem, &start.u)
@@ -228,6 +218,21 @@ pub fn refine_free(
         u = run.point.u;
         nu = run.point.nu;
     }
+}
+
+/// The next grid of a refinement from `n` steps: at most 16 times finer, with the rule that
+/// mimics the problem's discretisation ([`Rule::matching`]), or the problem's own grid
+/// (`true`) once that is near enough.
+pub fn finer_grid(problem: &Problem, n: usize) -> Result<(Grid, bool), purcell_core::Error> {
+    let n_fine = problem.steps as usize;
+    let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
+    let last = next == n_fine;
+    let rule = if last {
+        Rule::LEFT_POINT
+    } else {
+        Rule::matching(problem.horizon() / next as f64, problem.h)
+    };
+    Ok((Grid::new(problem, next, rule)?, last))
 }
 
 /// The extremal of a converged fine run, with its certificates.
