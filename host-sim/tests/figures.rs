@@ -369,11 +369,10 @@ fn read_dir(dir: &std::path::Path) -> BTreeMap<String, Vec<u8>> {
         .collect()
 }
 
-#[test]
-fn solve_and_field_commands_write_every_figure() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("small");
-    let o = sim(&[
+/// `solve --degrees` of a small problem (10 s) with `extra` arguments into `out`: exit 0, every
+/// figure written; what it wrote.
+fn solve_small(out: &std::path::Path, extra: &[&str]) -> BTreeMap<String, Vec<u8>> {
+    let mut args = vec![
         "solve",
         "--target",
         "0.02,0.02,0",
@@ -384,12 +383,22 @@ fn solve_and_field_commands_write_every_figure() {
         "--degrees",
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let o = sim(&args);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    let files = read_dir(&out);
+    assert_eq!(o.status.code(), Some(0), "{extra:?}: {err}");
+    let files = read_dir(out);
     check_figures(&files, &ALL);
     check_field_csv(&files["field.csv"]);
+    files
+}
+
+#[test]
+fn solve_and_field_commands_write_every_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("small");
+    let files = solve_small(&out, &[]);
     for name in ["trajectory.csv", "costate.json", "report.json"] {
         assert!(files.contains_key(name), "{name}");
     }
@@ -399,29 +408,7 @@ fn solve_and_field_commands_write_every_figure() {
 
     // The same problem under a joint limit it reaches: the gait slides along it on arcs
     // (two, on the lower limit, found by the solver), which the figures mark.
-    let limited = dir.path().join("limited");
-    let o = sim(&[
-        "solve",
-        "--target",
-        "0.02,0.02,0",
-        "--horizon",
-        "10",
-        "--starts",
-        "2",
-        "--alpha-max",
-        "1.2",
-        "--degrees",
-        "--out",
-        limited.to_str().unwrap(),
-    ]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let files = read_dir(&limited);
-    check_figures(&files, &ALL);
+    let files = solve_small(&dir.path().join("limited"), &["--alpha-max", "1.2"]);
     let report: serde_json::Value = serde_json::from_slice(&files["report.json"]).unwrap();
     let arcs = report["arcs"].as_array().unwrap().len();
     assert!(arcs > 0);
