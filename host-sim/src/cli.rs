@@ -443,8 +443,15 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     if !a.no_plots {
         let options = plots::Options { degrees: a.degrees };
         files.extend(
-            plots::figures(&problem, &best.trajectory, &best.mu, &file, &options)
-                .map_err(|e| fail(1, format!("plotting: {e}")))?,
+            plots::figures(
+                &problem,
+                &best.trajectory,
+                &best.arcs,
+                &best.mu,
+                &file,
+                &options,
+            )
+            .map_err(|e| fail(1, format!("plotting: {e}")))?,
         );
     }
     out.commit(&files).map_err(output_failure(false))?;
@@ -484,7 +491,12 @@ fn run_field(a: FieldArgs) -> Result<String, Failure> {
     };
     let out = output::OutputDir::prepare(&a.out, "field", a.force).map_err(output_failure(true))?;
     let options = plots::Options { degrees: a.degrees };
-    let gait = states.as_deref().map(|s| (&problem, s));
+    // The costate file holds no arcs (yet): the gait is drawn without them.
+    let gait = states.as_deref().map(|states| plots::FieldGait {
+        problem: &problem,
+        states,
+        arcs: &[],
+    });
     let files = plots::field_files(&problem.swimmer, gait, &components, &options)
         .map_err(|e| fail(1, format!("plotting: {e}")))?;
     out.commit(&files).map_err(output_failure(false))?;

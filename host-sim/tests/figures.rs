@@ -1,13 +1,17 @@
 //! The figures are written and well-formed, by the library and by `solve --degrees` and
 //! `field`: every SVG parses as XML with the figure's size, every PNG decodes at that size (at
-//! least 1 200 pixels wide), the field's CSV has a row per cell. (How they look is checked by
-//! looking at them.)
+//! least 1 200 pixels wide), the field's CSV has a row per cell; a joint limit and its arcs
+//! are drawn (dashed bound, shaded spans, highlighted stretches, legend entries) exactly when
+//! the gait has them. (How they look is checked by looking at them.)
 
 use host_sim::costate_file::{CheckpointRecord, CostateFile, GaitParams, Model};
 use host_sim::plots::field::Component;
-use host_sim::plots::{Options, PlotError, field_files, figures};
+use host_sim::plots::style::{
+    JOINT_LIMIT, LINE, ON_LIMIT, ON_LIMIT_LABEL, ON_LIMIT_LINE, ON_LIMIT_SHADE,
+};
+use host_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
 use host_sim::problem::Problem;
-use host_sim::solver::Trajectory;
+use host_sim::solver::{Arc, Trajectory};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{Costate, Kinematics, Replay, State, Swimmer};
 use std::collections::BTreeMap;
@@ -125,11 +129,182 @@ const ALL: [&str; 9] = [
     "field",
 ];
 
+/// What an SVG draws of a joint limit and its arcs: the legend entries, the dashes of the
+/// limit (lines in [`JOINT_LIMIT`] as wide as the limit's dashes), the shaded spans and the
+/// highlighted stretches (legend samples included).
+#[derive(Debug, PartialEq)]
+struct LimitMarks {
+    limit_label: bool,
+    arc_label: bool,
+    dashes: usize,
+    shaded: usize,
+    stretches: usize,
+}
+
+fn limit_marks(svg: &[u8]) -> LimitMarks {
+    let text = std::str::from_utf8(svg).unwrap();
+    let doc = roxmltree::Document::parse(text).unwrap();
+    let hex = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+    let width = |w: f64| format!("{}", w.round());
+    let count = |tag: &str, attrs: &[(&str, String)]| {
+        doc.descendants()
+            .filter(|n| n.has_tag_name(tag))
+            .filter(|n| attrs.iter().all(|(a, v)| n.attribute(*a) == Some(v)))
+            .count()
+    };
+    let texts: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text().map(str::trim))
+        .collect();
+    LimitMarks {
+        limit_label: texts.iter().any(|t| t.starts_with("joint limit ±")),
+        arc_label: texts.contains(&ON_LIMIT_LABEL),
+        dashes: count(
+            "polyline",
+            &[
+                ("stroke", hex(JOINT_LIMIT)),
+                ("stroke-width", width(LINE - 1.0)),
+            ],
+        ),
+        shaded: count("rect", &[("fill", hex(ON_LIMIT_SHADE))]),
+        stretches: count(
+            "polyline",
+            &[
+                ("stroke", hex(ON_LIMIT)),
+                ("stroke-width", width(ON_LIMIT_LINE)),
+            ],
+        ),
+    }
+}
+
+const NONE: LimitMarks = LimitMarks {
+    limit_label: false,
+    arc_label: false,
+    dashes: 0,
+    shaded: 0,
+    stretches: 0,
+};
+
+/// The test gait under a joint limit at its largest `|α_i|`, with an arc of 11 states of that
+/// joint ending there (or before the last state, where arcs end) and one of a single state
+/// (drawn as a dot): the figures do not need the arcs to be an extremal's.
+fn limited() -> (Problem, Vec<Arc>) {
+    let (mut problem, t, _, _) = gait();
+    let (k, joint) = (0..t.states.len())
+        .flat_map(|k| [(k, 0), (k, 1)])
+        .max_by(|a, b| {
+            let v = |(k, i): (usize, usize)| t.states[k].alpha[i].abs();
+            v(*a).total_cmp(&v(*b))
+        })
+        .unwrap();
+    let peak = t.states[k].alpha[joint];
+    problem.alpha_max = peak.abs();
+    assert!(problem.joint_limit().is_some());
+    let last = k.min(t.controls.len() - 1).max(10);
+    let arcs = vec![
+        Arc {
+            joint,
+            upper: peak > 0.0,
+            first: last - 10,
+            last,
+        },
+        Arc {
+            joint: 1 - joint,
+            upper: true,
+            first: 3,
+            last: 3,
+        },
+    ];
+    (problem, arcs)
+}
+
+#[test]
+fn a_joint_limit_and_its_arcs_are_drawn_only_when_the_gait_has_them() {
+    let (free, t, mu, file) = gait();
+    let (problem, arcs) = limited();
+    let options = Options { degrees: true };
+    let render = |p: &Problem, arcs: &[Arc]| -> BTreeMap<String, Vec<u8>> {
+        figures(p, &t, arcs, &mu, &file, &options)
+            .unwrap()
+            .into_iter()
+            .collect()
+    };
+    let with = render(&problem, &arcs);
+    check_figures(&with, &ALL);
+    let marks = |name: &str| limit_marks(&with[&format!("{name}.svg")]);
+    // The square (sides inside the view) and the α(t) levels, dashed.
+    for (name, panels) in [("shape_loop", 1), ("field", 3)] {
+        let m = marks(name);
+        assert!(
+            m.limit_label && m.arc_label && m.dashes >= 40,
+            "{name}: {m:?}"
+        );
+        // Per panel one stretch of 11 states (the single state is a dot); the legend sample.
+        assert_eq!((m.stretches, m.shaded), (panels + 1, 0), "{name}");
+    }
+    let m = marks("alpha");
+    assert!(m.limit_label && m.arc_label && m.dashes >= 40, "{m:?}");
+    // Two spans and the legend sample.
+    assert_eq!((m.shaded, m.stretches), (3, 0));
+    // The same spans, without the bound.
+    for name in ["controls", "costate"] {
+        let m = marks(name);
+        assert!(
+            m.arc_label && !m.limit_label && m.dashes == 0,
+            "{name}: {m:?}"
+        );
+        assert_eq!(m.shaded, 3, "{name}");
+    }
+    for name in ["swimmer", "position", "theta", "replay_error"] {
+        assert_eq!(marks(name), NONE, "{name}");
+    }
+
+    // A joint limit without arcs: the bound alone.
+    let bare = render(&problem, &[]);
+    let m = limit_marks(&bare["shape_loop.svg"]);
+    assert!(m.limit_label && !m.arc_label && m.dashes >= 40 && m.stretches == 0);
+    assert_eq!(limit_marks(&bare["controls.svg"]), NONE);
+    // No joint limit: neither.
+    let free = render(&free, &[]);
+    for name in ALL {
+        assert_eq!(limit_marks(&free[&format!("{name}.svg")]), NONE, "{name}");
+    }
+}
+
+#[test]
+fn arcs_outside_the_gait_are_refused() {
+    let (problem, t, mu, file) = gait();
+    let n = t.states.len();
+    for (joint, first, last) in [(2, 1, 2), (0, 5, 4), (1, n - 2, n)] {
+        let arc = Arc {
+            joint,
+            upper: true,
+            first,
+            last,
+        };
+        let e = figures(&problem, &t, &[arc], &mu, &file, &Options::default()).unwrap_err();
+        assert!(matches!(e, PlotError::Arc { .. }), "{e}");
+        let e = field_files(
+            &problem.swimmer,
+            Some(FieldGait {
+                problem: &problem,
+                states: &t.states,
+                arcs: &[arc],
+            }),
+            &[Component::X],
+            &Options::default(),
+        )
+        .unwrap_err();
+        assert!(matches!(e, PlotError::Arc { .. }), "{e}");
+    }
+}
+
 #[test]
 fn every_figure_is_written_as_svg_and_png_in_both_units() {
     let (problem, t, mu, file) = gait();
     for degrees in [false, true] {
-        let files: BTreeMap<_, _> = figures(&problem, &t, &mu, &file, &Options { degrees })
+        let files: BTreeMap<_, _> = figures(&problem, &t, &[], &mu, &file, &Options { degrees })
             .unwrap()
             .into_iter()
             .collect();
@@ -149,7 +324,11 @@ fn field_alone_with_and_without_a_gait() {
     let bare = field_files(&problem.swimmer, None, &[Component::Theta], &options).unwrap();
     let with = field_files(
         &problem.swimmer,
-        Some((&problem, &t.states)),
+        Some(FieldGait {
+            problem: &problem,
+            states: &t.states,
+            arcs: &[],
+        }),
         &Component::ALL,
         &options,
     )
@@ -166,7 +345,7 @@ fn field_alone_with_and_without_a_gait() {
 fn a_trajectory_that_is_not_a_gait_is_refused() {
     let (problem, mut t, mu, file) = gait();
     t.controls.clear();
-    let e = figures(&problem, &t, &mu, &file, &Options::default()).unwrap_err();
+    let e = figures(&problem, &t, &[], &mu, &file, &Options::default()).unwrap_err();
     assert!(matches!(e, PlotError::Trajectory { .. }), "{e}");
 }
 
@@ -190,11 +369,10 @@ fn read_dir(dir: &std::path::Path) -> BTreeMap<String, Vec<u8>> {
         .collect()
 }
 
-#[test]
-fn solve_and_field_commands_write_every_figure() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("small");
-    let o = sim(&[
+/// `solve --degrees` of a small problem (10 s) with `extra` arguments into `out`: exit 0, every
+/// figure written; what it wrote.
+fn solve_small(out: &std::path::Path, extra: &[&str]) -> BTreeMap<String, Vec<u8>> {
+    let mut args = vec![
         "solve",
         "--target",
         "0.02,0.02,0",
@@ -205,14 +383,50 @@ fn solve_and_field_commands_write_every_figure() {
         "--degrees",
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let o = sim(&args);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    let files = read_dir(&out);
+    assert_eq!(o.status.code(), Some(0), "{extra:?}: {err}");
+    let files = read_dir(out);
     check_figures(&files, &ALL);
     check_field_csv(&files["field.csv"]);
+    files
+}
+
+#[test]
+fn solve_and_field_commands_write_every_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("small");
+    let files = solve_small(&out, &[]);
     for name in ["trajectory.csv", "costate.json", "report.json"] {
         assert!(files.contains_key(name), "{name}");
+    }
+    for name in ALL {
+        assert_eq!(limit_marks(&files[&format!("{name}.svg")]), NONE, "{name}");
+    }
+
+    // The same problem under a joint limit it reaches: the gait slides along it on arcs
+    // (two, on the lower limit, found by the solver), which the figures mark.
+    let files = solve_small(&dir.path().join("limited"), &["--alpha-max", "1.2"]);
+    let report: serde_json::Value = serde_json::from_slice(&files["report.json"]).unwrap();
+    let arcs = report["arcs"].as_array().unwrap().len();
+    assert!(arcs > 0);
+    let marks = |name: &str| limit_marks(&files[&format!("{name}.svg")]);
+    for name in ["shape_loop", "field"] {
+        let m = marks(name);
+        assert!(
+            m.limit_label && m.arc_label && m.dashes >= 40,
+            "{name}: {m:?}"
+        );
+        assert!(m.stretches >= 2, "{name}: {m:?}");
+    }
+    for name in ["alpha", "controls", "costate"] {
+        let m = marks(name);
+        assert!(
+            m.arc_label && m.shaded == arcs + 1,
+            "{name}: {m:?} for {arcs} arcs"
+        );
     }
 
     // The field of that gait, one row, and the field of a swimmer given by its parameters.

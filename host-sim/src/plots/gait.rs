@@ -1,12 +1,14 @@
 //! The figures of a gait: the shape loop, the swimmer time-lapse, `α(t)`, `u(t)`, `x(t)`,
-//! `y(t)`, `θ(t)` and the costates `ξ^k`, `ζ^k`.
+//! `y(t)`, `θ(t)` and the costates `ξ^k`, `ζ^k`; the bound on the joint angles ([`bound`])
+//! and the arcs on the joint limit ([`arc_spans`], [`shape_overlay`]) as every figure draws
+//! them.
 
-use super::plane::{Drawing, Overlay, Path, PlaneFigure};
+use super::plane::{Drawing, Overlay, Path, PlaneFigure, Square, Stretches};
 use super::style::*;
-use super::time::{Level, Mark, Panel, Series, TimeFigure};
+use super::time::{Level, Mark, Panel, Series, Spans, TimeFigure};
 use super::{PlotError, Units};
 use crate::problem::Problem;
-use crate::solver::Trajectory;
+use crate::solver::{Arc, Trajectory};
 use nalgebra::{Vector2, Vector3};
 use plotters::style::RGBColor;
 use purcell_core::se2::ExpCoefficients;
@@ -30,6 +32,8 @@ pub struct Gait<'a> {
     pub problem: &'a Problem,
     /// States, controls, costates `ξ`.
     pub trajectory: &'a Trajectory,
+    /// Its arcs on the joint limit.
+    pub arcs: &'a [Arc],
     /// Angle units of the figures.
     pub units: Units,
 }
@@ -80,7 +84,7 @@ impl Gait<'_> {
                 format!("α₂ ({})", u.angle_unit),
             ),
             Drawing::default(),
-            shape_overlay(self.problem, &self.alphas(), u, BLUE),
+            shape_overlay(self.problem, &self.alphas(), self.arcs, u, BLUE, POINTS),
         )
     }
 
@@ -137,6 +141,7 @@ impl Gait<'_> {
                 arrows: 5,
             }],
             limit: None,
+            stretches: None,
             marks: vec![
                 Mark {
                     at: start,
@@ -168,7 +173,8 @@ impl Gait<'_> {
         )
     }
 
-    /// `α1(t)`, `α2(t)` with the joint limit when the gait comes near it.
+    /// `α1(t)`, `α2(t)` with the bound ([`bound`]: a joint limit always, the overlap limit
+    /// when the gait comes near it) and the arcs shaded.
     pub fn alpha(&self) -> TimeFigure {
         let (s, u) = (&self.trajectory.states, self.units);
         let last = s.len() - 1;
@@ -180,35 +186,38 @@ impl Gait<'_> {
             ],
         );
         let peak = s.iter().fold(0.0f64, |m, x| m.max(x.alpha.amax()));
-        if peak > 0.75 * self.problem.alpha_max {
-            let (l, label) = limit(self.problem, u);
+        let square = bound(self.problem, u);
+        if square.whole || u.angle(peak) > 0.75 * square.value {
             panel.levels = vec![
                 Level {
-                    y: l,
-                    label: Some(label),
-                    color: LIMIT,
+                    y: square.value,
+                    label: Some(square.label),
+                    color: square.color,
                 },
                 Level {
-                    y: -l,
+                    y: -square.value,
                     label: None,
-                    color: LIMIT,
+                    color: square.color,
                 },
             ];
         }
+        panel.spans = arc_spans(self.arcs, self.problem.h);
         self.figure("Joint angles", vec![panel])
     }
 
-    /// `u1(t)`, `u2(t)` for `k < N` (the last CSV row's zero is padding, not a control).
+    /// `u1(t)`, `u2(t)` for `k < N` (the last CSV row's zero is padding, not a control),
+    /// with the arcs shaded (`u_i = 0` there).
     pub fn controls(&self) -> TimeFigure {
         let (c, u) = (&self.trajectory.controls, self.units);
         let last = c.len() - 1;
-        let panel = Panel::new(
+        let mut panel = Panel::new(
             format!("u ({})", u.rate_unit),
             vec![
                 self.series("u₁", BLUE, last, |k| u.angle(c[k].x)),
                 self.series("u₂", VERMILLION, last, |k| u.angle(c[k].y)),
             ],
         );
+        panel.spans = arc_spans(self.arcs, self.problem.h);
         self.figure("Controls (joint rates)", vec![panel])
     }
 
@@ -259,7 +268,8 @@ impl Gait<'_> {
         self.figure("Orientation of the body", vec![panel])
     }
 
-    /// The costates of the law `u_k = ξ^k − A(α_k)ᵀ ζ^k` over `k < N`: `ξ^k` and
+    /// The costates of the law `u_k = ξ^k − A(α_k)ᵀ ζ^k` over `k < N`: `ξ^k` (with the arcs
+    /// shaded: there the joint's `ξ^k_i` takes the value `(Aᵀζ^k)_i`, MODEL.md §9) and
     /// `ζ^k = dexp_{X_k}ᵀ Ad_{g_k}ᵀ μ` (SI units whatever the angle units).
     pub fn costate(&self, mu: &Vector3<f64>) -> Result<TimeFigure, PlotError> {
         let t = self.trajectory;
@@ -276,16 +286,18 @@ impl Gait<'_> {
         let last = n - 1;
         // `xis[k]` is ξ^{k−1}: ξ^k is `xis[k + 1]`.
         let xi = |k: usize, i: usize| t.xis[k + 1][i];
+        let mut xi_panel = Panel::new(
+            "ξᵏ (rad/s)",
+            vec![
+                self.series("ξ₁", BLUE, last, |k| xi(k, 0)),
+                self.series("ξ₂", VERMILLION, last, |k| xi(k, 1)),
+            ],
+        );
+        xi_panel.spans = arc_spans(self.arcs, self.problem.h);
         Ok(self.figure(
             "Costates of the control law u = ξ − Aᵀζ",
             vec![
-                Panel::new(
-                    "ξᵏ (rad/s)",
-                    vec![
-                        self.series("ξ₁", BLUE, last, |k| xi(k, 0)),
-                        self.series("ξ₂", VERMILLION, last, |k| xi(k, 1)),
-                    ],
-                ),
+                xi_panel,
                 Panel::new(
                     "ζᵏ (rad²/(m·s))",
                     vec![
@@ -302,41 +314,86 @@ impl Gait<'_> {
     }
 }
 
-/// The joint limit `±α_max` in display units, and its label.
-fn limit(problem: &Problem, units: Units) -> (f64, String) {
-    let what = if problem.alpha_max >= std::f64::consts::PI {
-        "links overlap"
-    } else {
-        "joint limit"
-    };
-    let at = units.format_angle(problem.alpha_max);
-    (
-        units.angle(problem.alpha_max),
-        format!("{what}, |αᵢ| = {at}"),
-    )
+/// The bound on the joint angles in display units: the problem's joint limit `±α_max`
+/// (dashed in [`JOINT_LIMIT`], always shown), or else where the links overlap (`|α_i| = π`,
+/// dashed in [`LIMIT`], shown where the gait comes near it).
+pub fn bound(problem: &Problem, units: Units) -> Square {
+    match problem.joint_limit() {
+        Some(a) => Square {
+            value: units.angle(a),
+            label: format!("joint limit ±{}", units.format_angle(a)),
+            color: JOINT_LIMIT,
+            whole: true,
+        },
+        None => {
+            let pi = std::f64::consts::PI;
+            Square {
+                value: units.angle(pi),
+                label: format!("links overlap, |αᵢ| = {}", units.format_angle(pi)),
+                color: LIMIT,
+                whole: false,
+            }
+        }
+    }
 }
 
-/// A gait over the shape plane: the loop `alphas` with arrows, the joint limit, the start.
+/// The arcs as time spans `[t_first, t_last]` (the states on the limit; the controls
+/// `u_first … u_{last−1}` of that joint are zero), shaded in [`ON_LIMIT_SHADE`]; `None`
+/// without arcs.
+pub fn arc_spans(arcs: &[Arc], h: f64) -> Option<Spans> {
+    (!arcs.is_empty()).then(|| Spans {
+        label: ON_LIMIT_LABEL.into(),
+        color: ON_LIMIT_SHADE,
+        spans: arcs
+            .iter()
+            .map(|a| (h * a.first as f64, h * a.last as f64))
+            .collect(),
+    })
+}
+
+/// A gait over the shape plane: the loop `alphas` (states `k = 0..=N`, drawn with about
+/// `points` of them) with arrows, its `arcs` on the joint limit drawn over it
+/// ([`ON_LIMIT`]), the bound ([`bound`]), the start.
 pub fn shape_overlay(
     problem: &Problem,
     alphas: &[Vector2<f64>],
+    arcs: &[Arc],
     units: Units,
     color: RGBColor,
+    points: usize,
 ) -> Overlay {
-    let points = thin(alphas.len().saturating_sub(1), POINTS)
+    let at = |a: &Vector2<f64>| (units.angle(a.x), units.angle(a.y));
+    let path = thin(alphas.len().saturating_sub(1), points)
         .into_iter()
         .filter_map(|k| alphas.get(k))
-        .map(|a| (units.angle(a.x), units.angle(a.y)))
+        .map(at)
+        .collect();
+    let lines: Vec<Vec<(f64, f64)>> = arcs
+        .iter()
+        .map(|a| {
+            let len = a.last.saturating_sub(a.first);
+            thin(len, points)
+                .into_iter()
+                .filter_map(|i| alphas.get(a.first + i))
+                .map(at)
+                .collect()
+        })
         .collect();
     let a0 = problem.alpha0;
     Overlay {
         paths: vec![Path {
             label: "gait".into(),
             color,
-            points,
+            points: path,
             arrows: 6,
         }],
-        limit: Some(limit(problem, units)),
+        limit: Some(bound(problem, units)),
+        stretches: (!lines.is_empty()).then(|| Stretches {
+            label: ON_LIMIT_LABEL.into(),
+            color: ON_LIMIT,
+            width: ON_LIMIT_LINE,
+            lines,
+        }),
         marks: vec![Mark {
             at: (units.angle(a0.x), units.angle(a0.y)),
             marker: Marker::Circle,

@@ -10,8 +10,10 @@
 //! seconds; costates and the curvature always in SI (per radian).
 //!
 //! Figures are data ([`time::Panel`], [`plane::Overlay`]) drawn by one routine per kind, so
-//! a new mark is a field and a loop: steps spent on the joint limit, say, would be shaded
-//! time spans of a `Panel` and highlighted stretches of an `Overlay`'s paths.
+//! a new mark is a field and a loop: the arcs on the joint limit are shaded time spans of a
+//! `Panel` and highlighted stretches of an `Overlay`'s paths, in the style
+//! [`style::ON_LIMIT`] sets, built in [`gait`] with the bound ([`gait::bound`]: a joint
+//! limit, dashed dark, always shown; else where the links overlap, dashed grey).
 
 pub mod field;
 pub mod gait;
@@ -25,8 +27,8 @@ pub mod time;
 use crate::costate_file::CostateFile;
 use crate::curvature::Field;
 use crate::problem::Problem;
-use crate::solver::Trajectory;
 use crate::solver::continuation::{Lattice, SweepPoint};
+use crate::solver::{Arc, Trajectory};
 use field::{Component, FieldFigure};
 use gait::Gait;
 use nalgebra::{Vector2, Vector3};
@@ -59,6 +61,34 @@ pub enum PlotError {
         /// Controls.
         controls: usize,
     },
+    /// An arc is not a run of states of the gait.
+    #[error("arc of joint {joint} over states {first}..={last} in a gait of {states} states")]
+    Arc {
+        /// Its joint.
+        joint: usize,
+        /// First state.
+        first: usize,
+        /// Last state.
+        last: usize,
+        /// States of the gait.
+        states: usize,
+    },
+}
+
+/// `arcs` are runs `first..=last` of a gait's `states` states, on joint 0 or 1.
+fn check_arcs(arcs: &[Arc], states: usize) -> Result<(), PlotError> {
+    match arcs
+        .iter()
+        .find(|a| a.joint > 1 || a.first > a.last || a.last >= states)
+    {
+        Some(a) => Err(PlotError::Arc {
+            joint: a.joint,
+            first: a.first,
+            last: a.last,
+            states,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Choices for the figures.
@@ -117,11 +147,13 @@ impl Units {
 /// and a PNG, and `field.csv`.
 ///
 /// `trajectory` holds `k = 0..=N` states, `k < N` controls and `ξ^{k−1}` for `k = 0..=N`;
-/// `mu` is its `μ`; `file` is its costate file (replayed in `f32` and `f64` for the
-/// replay-error figure).
+/// `arcs` are its arcs on the problem's joint limit (marked in `shape_loop`, `alpha`,
+/// `controls`, `costate` and `field`); `mu` is its `μ`; `file` is its costate file (replayed in `f32`
+/// and `f64` for the replay-error figure).
 pub fn figures(
     problem: &Problem,
     trajectory: &Trajectory,
+    arcs: &[Arc],
     mu: &Vector3<f64>,
     file: &CostateFile,
     options: &Options,
@@ -130,10 +162,12 @@ pub fn figures(
     if controls == 0 || states != controls + 1 || trajectory.xis.len() != states {
         return Err(PlotError::Trajectory { states, controls });
     }
+    check_arcs(arcs, states)?;
     let units = Units::new(options);
     let gait = Gait {
         problem,
         trajectory,
+        arcs,
         units,
     };
     let field = Field::sample(&problem.swimmer, Field::CELLS)?;
@@ -150,7 +184,11 @@ pub fn figures(
             "field",
             Any::Field(field_figure(
                 &field,
-                Some((problem, &trajectory.states)),
+                Some(FieldGait {
+                    problem,
+                    states: &trajectory.states,
+                    arcs,
+                }),
                 &Component::ALL,
                 units,
             )),
@@ -161,16 +199,32 @@ pub fn figures(
     Ok(files)
 }
 
+/// A gait drawn over the field: its problem (the joint limit, the start), its states
+/// `k = 0..=N` and its arcs on the joint limit.
+#[derive(Clone, Copy, Debug)]
+pub struct FieldGait<'a> {
+    /// The problem it solves.
+    pub problem: &'a Problem,
+    /// States `k = 0..=N`.
+    pub states: &'a [State<f64>],
+    /// Arcs on the joint limit.
+    pub arcs: &'a [Arc],
+}
+
 /// The curvature of the connection of `swimmer` over the shape plane: `field.svg`,
 /// `field.png` (the `components` as panels) and `field.csv` (all three rows, SI units); with
-/// a gait (its problem and states `k = 0..=N`), the gait drawn on top and, per row, the
-/// integral of `F` over the area it encloses beside the motion it makes.
+/// a gait (its problem, states `k = 0..=N` and arcs on the joint limit), the gait, its arcs
+/// and its joint limit drawn on top and, per row, the integral of `F` over the area it
+/// encloses beside the motion it makes.
 pub fn field_files(
     swimmer: &Swimmer<f64>,
-    gait: Option<(&Problem, &[State<f64>])>,
+    gait: Option<FieldGait<'_>>,
     components: &[Component],
     options: &Options,
 ) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
+    if let Some(g) = gait {
+        check_arcs(g.arcs, g.states.len())?;
+    }
     let field = Field::sample(swimmer, Field::CELLS)?;
     let figure = field_figure(&field, gait, components, Units::new(options));
     let mut files = render_all(&[("field", Any::Field(figure))])?;
@@ -180,23 +234,23 @@ pub fn field_files(
 
 fn field_figure<'a>(
     field: &'a Field,
-    gait: Option<(&Problem, &[State<f64>])>,
+    gait: Option<FieldGait<'_>>,
     components: &[Component],
     units: Units,
 ) -> FieldFigure<'a> {
     let (overlay, motion) = match gait {
-        Some((problem, states)) if !states.is_empty() => {
+        Some(FieldGait {
+            problem,
+            states,
+            arcs,
+        }) if !states.is_empty() => {
             let alphas: Vec<Vector2<f64>> = states.iter().map(|s| s.alpha).collect();
             let estimate = field.integral_over(&alphas);
             let actual = states[0].g.between(&states[states.len() - 1].g).log();
             let motion = [0, 1, 2].map(|i| (estimate[i], actual[i]));
             // Drawn with fewer points than the other figures: the field's SVG is large.
-            let drawn: Vec<Vector2<f64>> = gait::thin(alphas.len() - 1, 600)
-                .into_iter()
-                .map(|k| alphas[k])
-                .collect();
-            let mut overlay = gait::shape_overlay(problem, &drawn, units, style::INK);
-            if problem.alpha_max >= std::f64::consts::PI {
+            let mut overlay = gait::shape_overlay(problem, &alphas, arcs, units, style::INK, 600);
+            if problem.joint_limit().is_none() {
                 // The overlap limit is the edge of the field.
                 overlay.limit = None;
             }

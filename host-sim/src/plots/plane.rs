@@ -1,6 +1,6 @@
 //! Figures in a plane whose axes share units, drawn with equal aspect: the shape loop
-//! `(α1, α2)` and the swimmer in `(x, y)`. [`Overlay`] (paths with arrows, the joint limit,
-//! marks) is also what the field figure draws over its colours.
+//! `(α1, α2)` and the swimmer in `(x, y)`. [`Overlay`] (paths with arrows, a square bound,
+//! highlighted stretches, marks) is also what the field figure draws over its colours.
 
 use super::render::{DrawResult, Figure};
 use super::style::*;
@@ -20,13 +20,40 @@ pub struct Path {
     pub arrows: usize,
 }
 
+/// A square bound `|x|, |y| ≤ value`, dashed (a joint limit, or where the links overlap).
+pub struct Square {
+    /// Half its side, in data coordinates.
+    pub value: f64,
+    /// Legend label.
+    pub label: String,
+    /// Colour of the dashes.
+    pub color: RGBColor,
+    /// Always in view (else only the sides the data comes near).
+    pub whole: bool,
+}
+
+/// Stretches of the paths drawn over them, wider and in another colour (steps on the joint
+/// limit), with one legend entry.
+pub struct Stretches {
+    /// Legend label.
+    pub label: String,
+    /// Colour.
+    pub color: RGBColor,
+    /// Line width (unscaled pixels).
+    pub width: f64,
+    /// Polylines in data coordinates (a single point is drawn as a dot).
+    pub lines: Vec<Vec<(f64, f64)>>,
+}
+
 /// What is drawn over the data area of a plane figure.
 #[derive(Default)]
 pub struct Overlay {
     /// Paths.
     pub paths: Vec<Path>,
-    /// A square limit `|x|, |y| ≤ value` (the joint limit in the shape plane), and its label.
-    pub limit: Option<(f64, String)>,
+    /// A square bound.
+    pub limit: Option<Square>,
+    /// Highlighted stretches of the paths (none if empty).
+    pub stretches: Option<Stretches>,
     /// Marks (start, end).
     pub marks: Vec<Mark>,
 }
@@ -39,8 +66,11 @@ impl Overlay {
             .iter()
             .map(|p| (Key::Line(p.color), p.label.clone()))
             .collect();
-        if let Some((_, label)) = &self.limit {
-            out.push((Key::Dashed(LIMIT), label.clone()));
+        if let Some(s) = self.stretches.as_ref().filter(|s| !s.lines.is_empty()) {
+            out.push((Key::Wide(s.color, s.width), s.label.clone()));
+        }
+        if let Some(l) = &self.limit {
+            out.push((Key::Dashed(l.color), l.label.clone()));
         }
         for m in &self.marks {
             if let Some(label) = &m.label {
@@ -59,8 +89,9 @@ impl Overlay {
         [bounds(xs.chain(mx), 0.0), bounds(ys.chain(my), 0.0)]
     }
 
-    /// Draws the limit and the paths with their arrows on `chart` (`halo`: a white line
-    /// under each path, for contrast on colours); [`Overlay::draw_marks`] draws the marks.
+    /// Draws the limit, the paths with their arrows and the stretches on `chart` (`halo`: a
+    /// white line under each path and the limit's dashes, for contrast on colours); [`Overlay::draw_marks`] draws
+    /// the marks.
     pub fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
@@ -72,20 +103,28 @@ impl Overlay {
         DB::ErrorType: 'static,
     {
         let (xr, yr) = (chart.x_range(), chart.y_range());
-        if let Some((l, _)) = &self.limit {
-            // Dashed lines at ±l where they fall inside the view.
+        if let Some(square) = &self.limit {
+            // The sides of the square that fall inside the view, dashed.
+            let l = square.value;
             let dash = (xr.end - xr.start).max(yr.end - yr.start) / 90.0;
+            let (x0, x1) = (xr.start.max(-l), xr.end.min(l));
+            let (y0, y1) = (yr.start.max(-l), yr.end.min(l));
             let mut lines = Vec::new();
             for s in [-1.0, 1.0] {
                 let v = s * l;
-                if xr.contains(&v) {
-                    lines.push(((v, yr.start), (v, yr.end)));
+                if xr.contains(&v) && y0 < y1 {
+                    lines.push(((v, y0), (v, y1)));
                 }
-                if yr.contains(&v) {
-                    lines.push(((xr.start, v), (xr.end, v)));
+                if yr.contains(&v) && x0 < x1 {
+                    lines.push(((x0, v), (x1, v)));
                 }
             }
             for (a, b) in lines {
+                if halo {
+                    chart
+                        .plotting_area()
+                        .draw(&PathElement::new(vec![a, b], k.line(WHITE, LINE + 1.0)))?;
+                }
                 let len = (b.0 - a.0).hypot(b.1 - a.1);
                 let n = (len / dash).ceil() as usize;
                 for i in (0..n).step_by(2) {
@@ -94,7 +133,7 @@ impl Overlay {
                     let at = |f: f64| (a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1));
                     chart.plotting_area().draw(&PathElement::new(
                         vec![at(f0), at(f1)],
-                        k.line(LIMIT, LINE - 1.0),
+                        k.line(square.color, LINE - 1.0),
                     ))?;
                 }
             }
@@ -110,6 +149,18 @@ impl Overlay {
                 .plotting_area()
                 .draw(&PathElement::new(p.points.clone(), k.line(p.color, LINE)))?;
             draw_arrows(root, chart, k, &p.points, p.arrows, p.color)?;
+        }
+        if let Some(s) = &self.stretches {
+            for line in &s.lines {
+                if let [p] = line[..] {
+                    let r = k.px(s.width / 2.0);
+                    root.draw(&Circle::new(chart.backend_coord(&p), r, s.color.filled()))?;
+                } else {
+                    chart
+                        .plotting_area()
+                        .draw(&PathElement::new(line.clone(), k.line(s.color, s.width)))?;
+                }
+            }
         }
         Ok(())
     }
@@ -165,7 +216,8 @@ const PLOT_WIDTH: f64 = WIDTH as f64 - Y_LABELS - RIGHT;
 
 impl PlaneFigure {
     /// A figure of `drawing` and `overlay`, viewing their data padded by 6 %, and the limit
-    /// square's sides that the data comes within a quarter of its span of.
+    /// square: whole if [`Square::whole`], else the sides that the data comes within a
+    /// quarter of its span of.
     pub fn new(
         title: String,
         (x_desc, y_desc): (String, String),
@@ -180,9 +232,14 @@ impl PlaneFigure {
             x = (x.0.min(bx.0), x.1.max(bx.1));
             y = (y.0.min(by.0), y.1.max(by.1));
         }
-        if let Some((l, _)) = overlay.limit {
+        if let Some(square) = &overlay.limit {
+            let l = square.value;
             for r in [&mut x, &mut y] {
-                let near = 0.25 * (r.1 - r.0);
+                let near = if square.whole {
+                    f64::INFINITY
+                } else {
+                    0.25 * (r.1 - r.0)
+                };
                 if r.1 + near >= l {
                     r.1 = r.1.max(l);
                 }

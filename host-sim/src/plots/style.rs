@@ -57,8 +57,23 @@ pub const SKY: RGBColor = RGBColor(86, 180, 233);
 pub const INK: RGBColor = RGBColor(25, 25, 25);
 /// Grid lines.
 pub const GRID: RGBColor = RGBColor(225, 225, 225);
-/// Joint limits and other bounds.
+/// Where the links overlap (`|α_i| = π`), and other reference bounds.
 pub const LIMIT: RGBColor = RGBColor(120, 120, 120);
+/// A joint limit `|α_i| ≤ α_max` (dashed like [`LIMIT`], darker, so the two never look alike).
+pub const JOINT_LIMIT: RGBColor = INK;
+
+/// How the arcs (states on the joint limit) are marked in every figure: stretches of a path
+/// drawn [`ON_LIMIT_LINE`] wide in [`ON_LIMIT`] in the planes, time spans shaded in
+/// [`ON_LIMIT_SHADE`] over time, both labelled [`ON_LIMIT_LABEL`].
+pub const ON_LIMIT: RGBColor = PURPLE;
+/// See [`ON_LIMIT`].
+pub const ON_LIMIT_SHADE: RGBColor = RGBColor(237, 208, 224);
+/// See [`ON_LIMIT`].
+pub const ON_LIMIT_LINE: f64 = 3.0 * LINE;
+/// See [`ON_LIMIT`].
+pub const ON_LIMIT_LABEL: &str = "on the limit";
+/// Narrowest shaded span (pixels, unscaled): an arc of a few steps stays visible.
+pub const ON_LIMIT_MIN_SPAN: f64 = 6.0;
 
 /// A plotting chart in data coordinates.
 pub type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
@@ -96,6 +111,10 @@ pub enum Key {
     Line(RGBColor),
     /// A dashed line sample.
     Dashed(RGBColor),
+    /// A line sample of a given width (unscaled pixels).
+    Wide(RGBColor, f64),
+    /// A filled box: a shaded span.
+    Band(RGBColor),
     /// A marker.
     Mark(Marker, RGBColor),
 }
@@ -216,6 +235,15 @@ where
                     let seg = vec![(cx + i * dash, cy), (cx + (i + 1) * dash, cy)];
                     root.draw(&PathElement::new(seg, k.line(c, LINE - 1.0)))?;
                 }
+            }
+            Key::Wide(c, width) => {
+                let seg = vec![(cx, cy), (cx + sample, cy)];
+                root.draw(&PathElement::new(seg, k.line(c, width)))?;
+            }
+            Key::Band(c) => {
+                let h = k.px(14.0);
+                let rect = [(cx, cy - h), (cx + sample, cy + h)];
+                root.draw(&Rectangle::new(rect, c.filled()))?;
             }
             Key::Mark(m, c) => draw_marker(root, k, (cx + sample / 2, cy), m, c, 12.0)?,
         }

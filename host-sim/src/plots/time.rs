@@ -1,5 +1,6 @@
 //! Quantities over time: one or more panels stacked over a shared time axis, each with its
-//! legend above it, reference levels (joint limits, targets) and marks.
+//! legend above it, reference levels (joint limits, targets), shaded time spans (steps on the
+//! joint limit) and marks.
 
 use super::render::{DrawResult, Figure};
 use super::style::*;
@@ -38,6 +39,16 @@ pub struct Mark {
     pub label: Option<String>,
 }
 
+/// Time spans shaded behind the curves, with one legend entry.
+pub struct Spans {
+    /// Legend label.
+    pub label: String,
+    /// Fill colour.
+    pub color: RGBColor,
+    /// `(t0, t1)` of each span, seconds; each drawn at least [`ON_LIMIT_MIN_SPAN`] wide.
+    pub spans: Vec<(f64, f64)>,
+}
+
 /// One panel.
 pub struct Panel {
     /// y-axis description, with units.
@@ -48,6 +59,8 @@ pub struct Panel {
     pub levels: Vec<Level>,
     /// Marked points.
     pub marks: Vec<Mark>,
+    /// Shaded time spans (none if empty).
+    pub spans: Option<Spans>,
     /// Values are `log10` of the quantity (ticks labelled `10ⁿ`).
     pub log10: bool,
 }
@@ -60,6 +73,7 @@ impl Panel {
             series,
             levels: Vec::new(),
             marks: Vec::new(),
+            spans: None,
             log10: false,
         }
     }
@@ -74,6 +88,9 @@ impl Panel {
             if let Some(label) = &l.label {
                 out.push((Key::Dashed(l.color), label.clone()));
             }
+        }
+        if let Some(s) = self.spans.as_ref().filter(|s| !s.spans.is_empty()) {
+            out.push((Key::Band(s.color), s.label.clone()));
         }
         for m in &self.marks {
             if let Some(label) = &m.label {
@@ -153,7 +170,24 @@ impl Figure for TimeFigure {
             if p.log10 {
                 axes.y_ticks = Some(&power);
             }
-            let chart = axes.draw(&area, k)?;
+            let mut chart = axes.build(&area, k)?;
+            if let Some(s) = &p.spans {
+                // Behind the grid and the curves.
+                let (y0, y1) = axes.y;
+                let left = chart.backend_coord(&(self.t.0, y1)).0;
+                let right = chart.backend_coord(&(self.t.1, y1)).0;
+                for &(t0, t1) in &s.spans {
+                    let (a, b) = (
+                        chart.backend_coord(&(t0, y1)),
+                        chart.backend_coord(&(t1, y0)),
+                    );
+                    let widen = (k.px(ON_LIMIT_MIN_SPAN) - (b.0 - a.0)).max(0);
+                    let x0 = (a.0 - widen / 2).max(left);
+                    let x1 = (b.0 + widen - widen / 2).min(right);
+                    root.draw(&Rectangle::new([(x0, a.1), (x1, b.1)], s.color.filled()))?;
+                }
+            }
+            axes.decorate(&area, &mut chart, k)?;
             for l in &p.levels {
                 let (t0, t1) = self.t;
                 let mut t = t0;
