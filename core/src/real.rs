@@ -9,7 +9,9 @@
 //! - only `+ − × ÷`, `sqrt` (all correctly rounded in IEEE 754) and the functions below;
 //! - no fused multiply-add (`mul_add`), which the M4F and x86-64 would round differently;
 //! - `f32` trigonometry is our own single-precision polynomial ([`sin_cos_f32`]): libm's
-//!   `sinf`/`cosf` compute in `f64`, which is soft-float (≈2 000 instructions) on the M4F.
+//!   `sinf`/`cosf` compute in `f64`, which is soft-float (≈2 000 instructions) on the M4F;
+//! - the two joints' `f64` trigonometry is our own branch-free polynomial
+//!   ([`sin_cos_pair_f64`]), the same operations on every target.
 
 use core::fmt::Debug;
 use core::ops::Neg;
@@ -48,6 +50,13 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// `(sin x, cos x)`.
     fn sin_cos(self) -> (Self, Self);
+    /// `[(sin a, cos a), (sin b, cos b)]` for two angles of at most a turn, `|a|, |b| ≤ 2π`
+    /// (the two joints': `|αᵢ| < π`). Defaults to two [`Real::sin_cos`]; `f64` evaluates
+    /// both in the same operations ([`sin_cos_pair_f64`]), which a host vectorises.
+    #[inline(always)]
+    fn sin_cos_pair(a: Self, b: Self) -> [(Self, Self); 2] {
+        [a.sin_cos(), b.sin_cos()]
+    }
     /// Four-quadrant arctangent of `self / x`, in `]−π, π]`.
     fn atan2(self, x: Self) -> Self;
     /// Square root.
@@ -108,6 +117,11 @@ impl Real for f64 {
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
         libm::sincos(self)
+    }
+    #[inline(always)]
+    fn sin_cos_pair(a: Self, b: Self) -> [(Self, Self); 2] {
+        let ([s1, s2], [c1, c2]) = sin_cos_pair_f64([a, b]);
+        [(s1, c1), (s2, c2)]
     }
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
@@ -235,6 +249,89 @@ pub fn sin_cos_f32(x: f32) -> (f32, f32) {
     }
 }
 
+/// Largest `|x|` [`sin_cos_pair_f64`] accepts: `2π` rounded up.
+pub const SIN_COS_PAIR_F64_MAX: f64 = 2.0 * core::f64::consts::PI;
+
+/// `([sin x₁, sin x₂], [cos x₁, cos x₂])` in double precision for `|xᵢ| ≤`
+/// [`SIN_COS_PAIR_F64_MAX`], each within 1 ulp of libm's `sin`/`cos` (tested, see below);
+/// NaN outside (and for NaN).
+///
+/// The same operations on both lanes and no branch, so a host computes the pair in SIMD
+/// registers (x86-64's SSE2 holds two `f64`), with a short dependency chain (the step is
+/// latency-bound on the host). Reduce `xᵢ = q·π/2 + r` with `q = round(2xᵢ/π)` (by adding
+/// and subtracting `1.5·2^52`) and `π/2 = P1 + P2 + P3` (fdlibm's 33 + 33 + 53 bits: `q·P1`,
+/// `q·P2` are exact, `xᵢ − q·P1` is exact by Sterbenz's lemma, and so is `− q·P2` wherever
+/// `|r| < 2^−13`, where cancellation would otherwise cost digits); evaluate
+/// fdlibm's minimax polynomials of degree 13 (sin) and 14 (cos) on `|r| ≤ π/4` by Estrin's
+/// scheme; rotate by the quadrant `q mod 4` with bit operations (swap, sign flips) read from
+/// the low bits of the rounded `2xᵢ/π`.
+#[inline(always)]
+pub fn sin_cos_pair_f64(x: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+    const FRAC_2_PI: f64 = core::f64::consts::FRAC_2_PI;
+    // 1.5·2^52: adding it rounds |t| < 2^51 to an integer, held in the low mantissa bits.
+    const TO_INT: f64 = 6_755_399_441_055_744.0;
+    const P1: f64 = f64::from_bits(0x3FF9_21FB_5440_0000);
+    const P2: f64 = f64::from_bits(0x3DD0_B461_1A60_0000);
+    const P3: f64 = f64::from_bits(0x3BA3_198A_2E03_7073);
+    // fdlibm's __kernel_sin (S) and __kernel_cos (C) minimax coefficients on [−π/4, π/4].
+    const S: [f64; 6] = [
+        f64::from_bits(0xBFC5_5555_5555_5549),
+        f64::from_bits(0x3F81_1111_1110_F8A6),
+        f64::from_bits(0xBF2A_01A0_19C1_61D5),
+        f64::from_bits(0x3EC7_1DE3_57B1_FE7D),
+        f64::from_bits(0xBE5A_E5E6_8A2B_9CEB),
+        f64::from_bits(0x3DE5_D93A_5ACF_D57C),
+    ];
+    const C: [f64; 6] = [
+        f64::from_bits(0x3FA5_5555_5555_554C),
+        f64::from_bits(0xBF56_C16C_16C1_5177),
+        f64::from_bits(0x3EFA_01A0_19CB_1590),
+        f64::from_bits(0xBE92_7E4F_809C_52AD),
+        f64::from_bits(0x3E21_EE9E_BDB4_B1C4),
+        f64::from_bits(0xBDA8_FAE9_BE88_38D4),
+    ];
+    // One lane; the two calls below are the same operations on independent data, which the
+    // compiler packs into SIMD registers.
+    #[inline(always)]
+    fn lane(x: f64) -> (f64, f64) {
+        let n = x * FRAC_2_PI + TO_INT;
+        let q = n - TO_INT;
+        // The domain by a select on a constant, off the dependency chain: NaN outside (a NaN
+        // x stays NaN).
+        let p2 = if x.abs() <= SIN_COS_PAIR_F64_MAX {
+            P2
+        } else {
+            f64::NAN
+        };
+        // (x − q·P1) − q·P2 is exact where r is small (both are multiples of 2^−66), so only
+        // the last subtraction rounds there.
+        let r2 = (x - q * P1) - q * p2;
+        let r = r2 - q * P3;
+        // z = r² from r2 = r + q·P3 (|q·P3| < 2^−66), which starts the polynomials one
+        // subtraction earlier: z is then off by 2^−65·|r| at most, which moves z·r·P(z) by
+        // under 10⁻⁴ ulp of the result and 1 − z/2 by under 2^−65.
+        let z = r2 * r2;
+        let z2 = z * z;
+        // Σ K[k]·z^k by Estrin's scheme (a short dependency chain).
+        let estrin = |[k0, k1, k2, k3, k4, k5]: [f64; 6]| {
+            ((k0 + z * k1) + z2 * (k2 + z * k3)) + (z2 * z2) * (k4 + z * k5)
+        };
+        let s = r + (z * r) * estrin(S);
+        // 1 − z/2 + z²·Σ C[k]z^k, with the rounding error of 1 − z/2 added back.
+        let (hz, one_hz) = (0.5 * z, 1.0 - 0.5 * z);
+        let c = one_hz + (((1.0 - one_hz) - hz) + z2 * estrin(C));
+        // Quadrant q mod 4 = 0: (s, c), 1: (c, −s), 2: (−s, −c), 3: (−c, s).
+        let (n, s, c) = (n.to_bits(), s.to_bits(), c.to_bits());
+        let swap = (n & 1).wrapping_neg();
+        (
+            f64::from_bits(((s & !swap) | (c & swap)) ^ ((n & 2) << 62)),
+            f64::from_bits(((c & !swap) | (s & swap)) ^ ((n.wrapping_add(1) & 2) << 62)),
+        )
+    }
+    let [(s1, c1), (s2, c2)] = x.map(lane);
+    ([s1, s2], [c1, c2])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -288,6 +385,58 @@ mod tests {
             }
         }
         assert_eq!(SIN_COS_F32_MAX.to_bits(), 0x4600_01f3);
+    }
+
+    /// Largest distance from libm's `sin`/`cos` of [`sin_cos_pair_f64`] on the `f64` in
+    /// `xs` (each `x` in one lane, `−x` in the other), in ulp of libm's result; checks
+    /// `sin_cos_pair_f64([x, −x]) = ([s, −s], [c, c])` bit for bit on the way.
+    fn worst_error_f64(xs: impl Iterator<Item = f64>) -> f64 {
+        let ulp = |v: f64| f64::EPSILON * f64::from_bits(v.abs().to_bits() & (0x7ff << 52));
+        let mut worst = 0.0f64;
+        for x in xs {
+            let ([s, sn], [c, cn]) = sin_cos_pair_f64([x, -x]);
+            let (sr, cr) = libm::sincos(x);
+            for (v, r) in [(s, sr), (c, cr)] {
+                if v != r {
+                    worst = worst.max((v - r).abs() / ulp(r).max(f64::MIN_POSITIVE));
+                }
+            }
+            assert!(sn == -s && cn.to_bits() == c.to_bits(), "{x}");
+        }
+        worst
+    }
+
+    /// Within 1 ulp of libm on the whole domain `[0, 2π]` (and by the symmetry checked, on
+    /// `[−2π, 0]`): 10⁷ uniform samples, and where the reduction cancels or the
+    /// quadrant changes, the 10⁶ `f64` on either side of every multiple of `π/4`.
+    #[test]
+    fn sin_cos_pair_f64_is_within_1_ulp_of_libm() {
+        let max = SIN_COS_PAIR_F64_MAX;
+        let n = 10_000_000;
+        let uniform = (0..=n).map(|k| max * (k as f64 / n as f64));
+        assert!(worst_error_f64(uniform) <= 1.0);
+        for k in 0..=8 {
+            let at = (k as f64 * core::f64::consts::FRAC_PI_4).to_bits();
+            let near = (0..1_000_000u64)
+                .flat_map(|d| [at.wrapping_add(d), at.wrapping_sub(d)])
+                .map(f64::from_bits)
+                .filter(|x| (0.0..=max).contains(x));
+            assert!(worst_error_f64(near) <= 1.0, "near {k}π/4");
+        }
+        // Tiny and subnormal angles: sin x = x, cos x = 1.
+        let tiny = [1e-300, f64::MIN_POSITIVE, 5e-324, 1e-10, 0.0];
+        assert!(worst_error_f64(tiny.into_iter()) <= 1.0);
+    }
+
+    #[test]
+    fn sin_cos_pair_f64_is_nan_outside_its_domain() {
+        let above = f64::from_bits(SIN_COS_PAIR_F64_MAX.to_bits() + 1);
+        for x in [f64::NAN, f64::INFINITY, above, 1e5, f64::MAX] {
+            let (s, c) = sin_cos_pair_f64([x, -x]);
+            assert!(s.iter().chain(&c).all(|v| v.is_nan()), "{x}");
+        }
+        let (s, c) = sin_cos_pair_f64([SIN_COS_PAIR_F64_MAX, 1.0]);
+        assert!(s.iter().chain(&c).all(|v| v.is_finite()));
     }
 
     #[test]

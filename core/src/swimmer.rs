@@ -256,8 +256,7 @@ impl<T: Real> Frame<T> {
     /// The closed forms of the module docs. Assumes `α` was checked by [`check_shape`].
     #[inline(always)]
     fn new(k: &Constants<T>, alpha: &Vector2<T>) -> Result<Self, Error> {
-        let (s1, c1) = alpha.x.sin_cos();
-        let (s2, c2) = alpha.y.sin_cos();
+        let [(s1, c1), (s2, c2)] = T::sin_cos_pair(alpha.x, alpha.y);
         let [lf, lr] = &k.links;
         let (q1, q2) = (lf.kappa * c1 * c1, lr.kappa * c2 * c2);
         let (p1, p2) = (lf.kappa * c1 * s1, lr.kappa * c2 * s2);
