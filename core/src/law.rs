@@ -192,9 +192,9 @@ impl<T: Real> Kinematics<T> {
     }
 
     /// [`Kinematics::law_step_on_arcs`] with `passes`, for inputs already known to be valid
-    /// (as [`Kinematics::law_step_trusted`]). Out of line: a replay calls it on arc steps
-    /// only, and the free step it inlines stays as it was.
-    #[inline(never)]
+    /// (as [`Kinematics::law_step_trusted`]). Inlined into a replay's arc step, which is out
+    /// of line itself.
+    #[inline(always)]
     pub(crate) fn law_step_on_arcs_trusted(
         &self,
         state: &State<T>,

@@ -22,7 +22,7 @@
 use crate::arc::{Arc, ArcTable, Exits};
 use crate::gait::Table;
 use crate::kinematics::{Kinematics, State};
-use crate::law::OnArcs;
+use crate::law::{LawStep, OnArcs};
 use crate::{Error, Real, Se2, TrajectoryDigest};
 use nalgebra::{Vector2, Vector3};
 
@@ -148,11 +148,13 @@ pub struct Replay<'a, T> {
     xi: Vector2<T>,
     k: u32,
     steps: u32,
-    /// The next step at which a checkpoint is due or an arc begins or ends (`u32::MAX`, which
-    /// `k` never reaches, if none): the one comparison a step makes for all of them.
+    /// The next step at which a checkpoint is due or an arc begins (`u32::MAX`, which `k`
+    /// never reaches, if none): the one comparison a step makes for both.
     next_event: u32,
     /// The step index of the next checkpoint (`u32::MAX` if none).
     next_checkpoint: u32,
+    /// The first step of the next arc (`u32::MAX` if none).
+    next_arc: u32,
     checkpoints: CheckpointTable<'a, T>,
     /// Whether the checkpoints that are no arc's exit are restored too.
     periodic: bool,
@@ -240,6 +242,7 @@ impl<'a, T: Real> Replay<'a, T> {
         }
         exits.finish()?;
         let next_checkpoint = checkpoints.next_k().unwrap_or(u32::MAX);
+        let next_arc = arcs.next_first().unwrap_or(u32::MAX);
         Ok(Replay {
             kinematics,
             mu: costate.mu,
@@ -253,8 +256,9 @@ impl<'a, T: Real> Replay<'a, T> {
             xi: costate.xi,
             k: 0,
             steps,
-            next_event: next_checkpoint.min(arcs.next_first().unwrap_or(u32::MAX)),
+            next_event: next_checkpoint.min(next_arc),
             next_checkpoint,
+            next_arc,
             checkpoints,
             periodic,
             arcs,
@@ -279,15 +283,35 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k == self.next_event {
             self.event();
         }
+        if self.on_arcs != OnArcs::NONE {
+            return self.step_on_arcs();
+        }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
-        let (state, xi, mu) = (&self.state, &self.xi, &self.mu);
-        let step = if self.on_arcs == OnArcs::NONE {
-            self.kinematics.law_step_trusted(state, xi, mu, T::PASSES)
-        } else {
-            self.kinematics
-                .law_step_on_arcs_trusted(state, xi, mu, T::PASSES, self.on_arcs)
-        };
+        let step = self
+            .kinematics
+            .law_step_trusted(&self.state, &self.xi, &self.mu, T::PASSES);
+        self.record(step)
+    }
+
+    /// [`Replay::step`] on an arc: the law with the joints on it at rest
+    /// ([`Kinematics::law_step_on_arcs`]). Out of line, so that the free step stays the code
+    /// it is without arcs (measured on the M4F: an arc step costs no more than a free one).
+    #[inline(never)]
+    fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        let step = self.kinematics.law_step_on_arcs_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            T::PASSES,
+            self.on_arcs,
+        );
+        self.record(step)
+    }
+
+    /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
+    #[inline(always)]
+    fn record(&mut self, step: Result<LawStep<T>, Error>) -> Result<Option<&Sample<T>>, Error> {
         match step {
             Ok(step) => {
                 self.sample = Sample {
@@ -308,41 +332,47 @@ impl<'a, T: Real> Replay<'a, T> {
         }
     }
 
-    /// At a step where a checkpoint is due or an arc begins or ends: enters the arcs that
-    /// begin here, restores `(α_k, g_k, ξ^{k−1})` from the checkpoint due here (validated by
-    /// `new`; skipped unless `periodic` or an arc exits here), and sets the joints on an arc
-    /// for this step and the next event.
-    #[inline(never)]
+    /// At a step where a checkpoint is due or an arc begins (an arc ends where a checkpoint
+    /// is due: `new` checked that): enters the arcs that begin here, restores
+    /// `(α_k, g_k, ξ^{k−1})` from the checkpoint due here (validated by `new`; skipped unless
+    /// `periodic` or an arc exits here), and sets the joints on an arc and the next event.
+    /// Inlined: a call would cost a checkpoint's step more than its restore (M4F).
+    #[inline(always)]
     fn event(&mut self) {
         let k = self.k;
-        // At most one arc per joint begins here (a checked table).
-        while self.arcs.next_first() == Some(k) {
+        if k == self.next_arc {
+            self.enter_arcs();
+        }
+        if k == self.next_checkpoint {
+            if let Some(c) = self.checkpoints.pop()
+                && (self.periodic || self.arc_ends.contains(&k))
+            {
+                self.state = c.state;
+                self.xi = c.xi;
+            }
+            // An arc may exit here.
+            if self.arc_ends != [0; 2] {
+                self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
+            }
+            self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
+        }
+        self.next_event = self.next_checkpoint.min(self.next_arc);
+    }
+
+    /// Enters the arcs that begin at this step (at most one per joint in a checked table; each
+    /// turn takes one).
+    #[inline(never)]
+    fn enter_arcs(&mut self) {
+        let k = self.k;
+        while k == self.next_arc {
             if let Some(a) = self.arcs.next()
                 && let Some(end) = self.arc_ends.get_mut(a.index())
             {
                 *end = a.last;
             }
+            self.next_arc = self.arcs.next_first().unwrap_or(u32::MAX);
         }
-        if k == self.next_checkpoint {
-            let exit = self.arc_ends.contains(&k);
-            if let Some(c) = self.checkpoints.pop()
-                && (self.periodic || exit)
-            {
-                self.state = c.state;
-                self.xi = c.xi;
-            }
-            self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
-        }
-        let on = self.arc_ends.map(|end| k < end);
-        self.on_arcs = OnArcs(on);
-        let mut next = self.next_checkpoint;
-        next = next.min(self.arcs.next_first().unwrap_or(u32::MAX));
-        for (&end, on) in self.arc_ends.iter().zip(on) {
-            if on {
-                next = next.min(end);
-            }
-        }
-        self.next_event = next;
+        self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
     }
 
     /// The current state: `(α_k, g_k)` before step `k`, `(α_N, g_N)` at the end.
