@@ -136,10 +136,7 @@ impl<T: Real> Kinematics<T> {
         mu: &Vector3<T>,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
-        if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
-            return Err(Error::NonFinite);
-        }
-        state.check()?;
+        check_inputs(state, xi_prev, mu)?;
         self.law_step_trusted(state, xi_prev, mu, passes)
     }
 
@@ -169,10 +166,7 @@ impl<T: Real> Kinematics<T> {
         on: OnArcs,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
-        if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
-            return Err(Error::NonFinite);
-        }
-        state.check()?;
+        check_inputs(state, xi_prev, mu)?;
         self.law_step_on_arcs_trusted(state, xi_prev, mu, passes, on)
     }
 
@@ -246,6 +240,18 @@ impl<T: Real> Kinematics<T> {
         let next = self.advance(state, &u, &se2::exp(&eq.twist(&u)))?;
         Ok(LawStep { u, next, xi })
     }
+}
+
+/// `Ok` if `ξ^{k−1}` and `μ` are finite and `state` passes [`State::check`].
+fn check_inputs<T: Real>(
+    state: &State<T>,
+    xi_prev: &Vector2<T>,
+    mu: &Vector3<T>,
+) -> Result<(), Error> {
+    if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
+        return Err(Error::NonFinite);
+    }
+    state.check()
 }
 
 /// A 2×2 matrix `(m11, m12, m21, m22)`.
