@@ -30,7 +30,7 @@ if grep -q '^warning' <<<"$package"; then echo "$package"; exit 1; fi
 step "board example (STM32F4-Discovery): format, lints, firmware build"
 (cd benches/mcu/board-stm32f4-discovery && cargo fmt --check &&
   cargo clippy -q --release --locked -- -D warnings && cargo build -q --release --locked)
-step "firmware in QEMU: exported gaits (solved, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
+step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
 bash benches/mcu/check.sh
 step "fuzz the costate-file reader for ${PURCELL_FUZZ_SECONDS:=45} s (host-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs

@@ -3,22 +3,26 @@
 #  1. a gait solved for another target (purcell-sim solve → export → include_bytes! through
 #     PURCELL_GAIT) flies on the M4F bit-identical to `purcell-sim replay --gait … --precision
 #     f32` (same digest line) and passes `purcell-mcu check`;
-#  2. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
-#  3. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
+#  2. the committed constrained gait core/examples/paper-limit.gait (the paper's target within
+#     |alpha_i| <= 1.5: five joint-limit arcs) flies on the M4F bit-identical to `purcell-sim
+#     replay --gait … --precision f32`, within the M4F budgets, its steps on the arcs no
+#     dearer than its free steps (mean and largest);
+#  3. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
+#  4. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
 #     to the host f32 flight, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 685,
 #     issue 14's target), largest step <= PURCELL_MCU_MAX_STEP_INSN (default 750, a regression
 #     guard: a step that restores a checkpoint reads it from the gait's table), stack of a
 #     step <= 2048 B, no soft-float helper reachable from the step;
-#  4. M7 (mps2-an500), f64: bit-identical to the host f64 flight, mean and largest step
+#  5. M7 (mps2-an500), f64: bit-identical to the host f64 flight, mean and largest step
 #     <= PURCELL_M7_MAX_INSN (default 1200, a regression guard), no soft-float helper
 #     reachable from the step;
-#  5. M3 (mps2-an385, no FPU), f32 in software floating point: bit-identical to the host f32
+#  6. M3 (mps2-an385, no FPU), f32 in software floating point: bit-identical to the host f32
 #     flight (and so to the M4F), mean and largest step <= PURCELL_M3_MAX_INSN (default
 #     36000, a regression guard);
-#  6. the M7 build run on the M4F board must exit 1 through the HardFault handler.
+#  7. the M7 build run on the M4F board must exit 1 through the HardFault handler.
 # Needs qemu-system-arm, defmt-print, arm-none-eabi-objdump/-size (binutils-arm-none-eabi)
 # and the thumbv7em-none-eabihf and thumbv7m-none-eabi targets. Logs and listings go to
-# $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 3).
+# $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 4).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -71,22 +75,33 @@ fly() {
   echo "flash: $name $("$size" -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" {s[$1] = $2} END {printf ".text=%d .rodata=%d .vector_table=%d bytes", s[".text"], s[".rodata"], s[".vector_table"]}')"
 }
 
+# $1 name, $2 gait file: flies it on the M4F (PURCELL_GAIT), checks the log against the host
+# (budgets included) and the digest line against `purcell-sim replay --gait … --precision f32`.
+fly_gait() {
+  local name=$1 gait=$2
+  sim replay --gait "$gait" --precision f32 | tee "$gaits/$name-host.txt"
+  PURCELL_GAIT=$gait m4f_run 2>"$out/$name.stderr" | tee "$out/$name.log"
+  PURCELL_GAIT=$gait tool check "$out/$name.log" "${m4f_budget[@]}" --max-stack 2048
+  local host_digest mcu_digest
+  host_digest=$(grep '^digest: ' "$gaits/$name-host.txt")
+  mcu_digest=$(grep '^digest: ' "$out/$name.log")
+  if [[ $host_digest != "$mcu_digest" ]]; then
+    echo "check.sh: $name: purcell-sim replay says '$host_digest', the M4F '$mcu_digest'" >&2
+    exit 1
+  fi
+  echo "$name: the M4F flight of $gait is bit-identical to purcell-sim replay ($mcu_digest)"
+}
+
 echo "--- gait: solve a non-default target, export, fly it on the M4F, compare with the host"
 gaits=$out/gaits
 rm -rf "$gaits"
 mkdir -p "$gaits"
 sim solve --target 0.05,0.02,0 --horizon 20 --no-plots --out "$gaits/solved" >/dev/null
 sim export --costate "$gaits/solved/costate.json" --out "$gaits/solved.gait"
-sim replay --gait "$gaits/solved.gait" --precision f32 | tee "$gaits/host.txt"
-PURCELL_GAIT=$gaits/solved.gait m4f_run 2>"$out/gait.stderr" | tee "$out/gait.log"
-PURCELL_GAIT=$gaits/solved.gait tool check "$out/gait.log" "${m4f_budget[@]}" --max-stack 2048
-host_digest=$(grep '^digest: ' "$gaits/host.txt")
-mcu_digest=$(grep '^digest: ' "$out/gait.log")
-if [[ $host_digest != "$mcu_digest" ]]; then
-  echo "check.sh: purcell-sim replay says '$host_digest', the M4F '$mcu_digest'" >&2
-  exit 1
-fi
-echo "gait: the M4F flight of the exported gait is bit-identical to purcell-sim replay ($mcu_digest)"
+fly_gait gait "$gaits/solved.gait"
+
+echo "--- constrained gait: the paper's target within |alpha_i| <= 1.5, on its joint limit on five arcs"
+fly_gait limit core/examples/paper-limit.gait
 
 echo "--- corrupted gait: one flipped byte in the checkpoint table must be refused (exit 1)"
 cp "$gaits/solved.gait" "$gaits/corrupt.gait"
@@ -104,4 +119,4 @@ fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mc
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
 PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' benches/mcu/qemu-run.sh "$m7"
-echo "mcu: 6 passed, 0 failed"
+echo "mcu: 7 passed, 0 failed"

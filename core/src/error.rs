@@ -22,8 +22,8 @@ pub enum Error {
     CheckpointOrder,
     /// A fixed-capacity buffer is full.
     CapacityExceeded,
-    /// A gait's checkpoints are not at every multiple of its spacing below its horizon
-    /// ([`crate::gait::check`]).
+    /// A gait's checkpoints are not exactly at every multiple of its spacing below its horizon
+    /// and at its arcs' exits ([`crate::gait::check`]).
     CheckpointSpacing,
     /// A rotation `(cos θ, sin θ)` is not of unit length: to `1e-9` in a stored gait
     /// ([`crate::gait`]), to [`crate::kinematics::UNIT_ROTATION_TOLERANCE`] where a state
@@ -40,6 +40,20 @@ pub enum Error {
     /// A gait file whose sections are missing, unknown, out of bounds, of the wrong record
     /// size, or whose `f32` checkpoint table is not its `f64` table rounded.
     GaitLayout,
+    /// A joint-limit arc with a joint other than 1 or 2, a sign other than ±1, or steps outside
+    /// `1 ≤ first ≤ last < N` ([`crate::arc::check`]).
+    ArcInvalid,
+    /// Joint-limit arcs not sorted by `(first, joint)`, or two arcs of one joint sharing a
+    /// state ([`crate::arc::check`]).
+    ArcOrder,
+    /// A joint-limit arc's last state has no checkpoint (a replay restores one there).
+    ArcCheckpoint,
+    /// At the checkpoint of an arc's exit, the joint is not on its limit `sign·α_max`
+    /// ([`crate::gait::check`]).
+    ArcOffLimit,
+    /// A gait's joint limit `α_max` is not in `]max |ᾱ_i|, π[`, is missing although the gait
+    /// has arcs, or a checkpoint lies past it ([`crate::gait::check`]).
+    JointLimit,
 }
 
 impl Error {
@@ -61,7 +75,7 @@ impl Error {
             }
             Error::CapacityExceeded => "fixed-capacity buffer is full",
             Error::CheckpointSpacing => {
-                "gait checkpoints must sit at every multiple of checkpoint_every below the horizon"
+                "gait checkpoints must sit at every multiple of checkpoint_every below the horizon and at every arc's last step, nowhere else"
             }
             Error::NotRotation => "rotation (cos theta, sin theta) is not of unit length",
             Error::GaitMagic => "not a gait file (bad magic)",
@@ -69,6 +83,19 @@ impl Error {
             Error::GaitLength => "gait file length differs from its header (truncated?)",
             Error::GaitChecksum => "gait file checksum (CRC-32) mismatch: the file is corrupted",
             Error::GaitLayout => "malformed gait file (sections or tables)",
+            Error::ArcInvalid => {
+                "joint-limit arc must have joint 1 or 2, sign +1 or -1 and 1 <= first <= last < steps"
+            }
+            Error::ArcOrder => {
+                "joint-limit arcs must be sorted by (first, joint), and arcs of one joint must not overlap"
+            }
+            Error::ArcCheckpoint => "a joint-limit arc's last step has no checkpoint",
+            Error::ArcOffLimit => {
+                "at an arc's exit checkpoint the joint is not on its limit sign*alpha_max"
+            }
+            Error::JointLimit => {
+                "joint limit alpha_max must be in ]max|alpha0_i|, pi[, present with arcs, and no checkpoint may lie past it"
+            }
         }
     }
 }
@@ -78,7 +105,7 @@ impl core::fmt::Display for Error {
         match self {
             Error::GaitVersion(v) => write!(
                 f,
-                "unsupported gait file version {v} (this build reads version {})",
+                "unsupported gait file version {v} (this build reads versions 1 to {})",
                 crate::gait::VERSION
             ),
             e => f.write_str(e.message()),
@@ -95,7 +122,7 @@ impl defmt::Format for Error {
         match self {
             Error::GaitVersion(v) => defmt::write!(
                 f,
-                "unsupported gait file version {=u16} (this build reads version {=u16})",
+                "unsupported gait file version {=u16} (this build reads versions 1 to {=u16})",
                 *v,
                 crate::gait::VERSION
             ),

@@ -1,18 +1,20 @@
 //! The binary gait file: one solved gait, embedded in firmware with `include_bytes!` and read
 //! in place by [`Gait::from_bytes`], without a heap and without copying its checkpoint table.
 //!
-//! A gait is a [`GaitParams`] (model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`) and a table of
-//! [`CheckpointRecord`]s `(k, α_k, g_k, ξ^{k−1})` of the `f64` replay (see [`crate::replay`]).
-//! The byte layout (version [`VERSION`]) is specified in the repository's `docs/GAIT.md`: a
-//! 16-byte header (magic `PURCGAIT`, version, section count, length), a directory of sections
-//! (tag, offset, record count, record size), the sections, and a CRC-32 of all that. Version 1
-//! has three sections: `PARM` (the parameters), `CK64` (the checkpoints in `f64`) and `CK32`
-//! (the same checkpoints rounded to `f32`, so that an `f32` replay restores a checkpoint with
-//! integer loads: no `f64` arithmetic, which is soft-float on a Cortex-M4F). A later version adds
-//! a table (say, of constrained arcs) as a new section without moving the others.
+//! A gait is a [`GaitParams`] (model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`, the joint limit
+//! `α_max` if any), a table of [`CheckpointRecord`]s `(k, α_k, g_k, ξ^{k−1})` of the solution,
+//! and, for a gait that rests on its joint limit, a table of [`Arc`]s (see [`crate::arc`]).
+//! The byte layout (version [`VERSION`]; version 1, without arcs, is still read) is specified in
+//! the repository's `docs/GAIT.md`: a 16-byte header (magic `PURCGAIT`, version, section count,
+//! length), a directory of sections (tag, offset, record count, record size), the sections,
+//! and a CRC-32 of all that. Version 2 has four sections: `PARM` (the parameters), `ARCS` (the
+//! arcs), `CK64` (the checkpoints in `f64`) and `CK32` (the same checkpoints rounded to `f32`,
+//! so that an `f32` replay restores a checkpoint with integer loads: no `f64` arithmetic, which
+//! is soft-float on a Cortex-M4F).
 //!
-//! [`GaitParams`] and [`CheckpointRecord`] are also the schema of host-sim's JSON costate file
-//! (with the `serde` feature), and [`check`] is the one validation both formats go through.
+//! [`GaitParams`], [`CheckpointRecord`] and [`Arc`] are also the schema of host-sim's JSON
+//! costate file (with the `serde` feature), and [`check`] is the one validation both formats go
+//! through.
 //!
 //! ```
 //! use purcell_core::gait::{self, CheckpointRecord, Gait, GaitParams, Model};
@@ -27,9 +29,10 @@
 //!     mu: [0.1, 0.2, 0.0],
 //!     xi0: [0.3, -0.1],
 //!     checkpoint_every: 0,
+//!     alpha_max: None,
 //! };
-//! let mut bytes = [0u8; gait::encoded_len(0)];
-//! gait::encode(&params, &[], &mut bytes)?;
+//! let mut bytes = [0u8; gait::encoded_len(0, 0)];
+//! gait::encode(&params, &[], &[], &mut bytes)?;
 //!
 //! // What a firmware does with `include_bytes!("gait.bin")`:
 //! let gait = Gait::from_bytes(&bytes)?;
@@ -43,6 +46,8 @@
 //! # Ok::<(), purcell_core::Error>(())
 //! ```
 
+pub use crate::arc::Arc;
+use crate::arc::{self, ArcTable, Exits};
 use crate::kinematics::{Kinematics, State};
 use crate::replay::{Checkpoint, CheckpointTable, Costate, Replay, TerminalError};
 use crate::swimmer::check_shape;
@@ -52,8 +57,8 @@ use nalgebra::{Vector2, Vector3};
 
 /// The first 8 bytes of every gait file.
 pub const MAGIC: [u8; 8] = *b"PURCGAIT";
-/// The version this build writes and reads.
-pub const VERSION: u16 = 1;
+/// The version this build writes; it reads this one and version 1 (no joint limit, no arcs).
+pub const VERSION: u16 = 2;
 
 /// Header: magic (8), version (u16), section count (u16), file length (u32).
 const HEADER_LEN: usize = 16;
@@ -62,10 +67,16 @@ const ENTRY_LEN: usize = 16;
 /// The CRC-32 at the end.
 const CRC_LEN: usize = 4;
 const PARAMS_TAG: [u8; 4] = *b"PARM";
+const ARCS_TAG: [u8; 4] = *b"ARCS";
 const CK64_TAG: [u8; 4] = *b"CK64";
 const CK32_TAG: [u8; 4] = *b"CK32";
-/// `steps`, `checkpoint_every` (u32), then 16 `f64` (see [`Cursor::params`]).
-const PARAMS_LEN: usize = 8 + 16 * 8;
+/// Sections of a version-2 file, in the order [`encode`] writes them.
+const SECTIONS: usize = 4;
+/// `steps`, `checkpoint_every` (u32), then 16 `f64` (see [`Cursor::params`]), then in
+/// version 2 `α_max` (`f64`, 0 for none).
+const fn params_len(version: u16) -> usize {
+    8 + 16 * 8 + if version == 1 { 0 } else { 8 }
+}
 /// Numbers in a checkpoint: `α1 α2 x y cos θ sin θ ξ1 ξ2`.
 const VALUES: usize = 8;
 /// A checkpoint record of values `width` bytes wide: `k` in a field of that width (`u32`,
@@ -75,6 +86,9 @@ const fn record_len(width: usize) -> usize {
 }
 /// How far `cos² θ + sin² θ` of a stored rotation may be from 1.
 const UNIT_TOLERANCE: f64 = 1e-9;
+/// How far (radians) a stored state may lie past the joint limit, and the state at an arc's
+/// exit from it: the solver puts arc states on the limit to rounding (`1e-13` relative).
+pub const LIMIT_TOLERANCE: f64 = 1e-9;
 
 /// The swimmer's geometry and drag as stored (see [`Swimmer::new`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,8 +128,12 @@ pub struct GaitParams {
     pub mu: [f64; 3],
     /// Shape costate before the first step, `ξ^{−1}`.
     pub xi0: [f64; 2],
-    /// Nominal spacing of the checkpoints in steps (0: none); informative only.
+    /// Spacing of the periodic checkpoints in steps (0: none): there is one at every
+    /// multiple of it below `N`, besides those at the arcs' exits ([`check`]).
     pub checkpoint_every: u32,
+    /// The joint limit `|α_i| ≤ α_max` the gait was solved under, radians (`None`: only the
+    /// links' overlap, `|α_i| < π`); required by arcs, which rest on it.
+    pub alpha_max: Option<f64>,
 }
 
 /// One checkpoint `(k, α_k, g_k, ξ^{k−1})` as stored, `g` as `(x, y, cos θ, sin θ)`.
@@ -147,7 +165,8 @@ fn all_finite<const N: usize>(xs: [f64; N]) -> Result<(), Error> {
 impl GaitParams {
     /// `Ok` if a replay can start from these numbers. Errors: [`Error::NonFinite`] (any
     /// number), [`Error::InvalidParameters`] (model), [`Error::InvalidStep`] (`h ≤ 0` or
-    /// `N = 0`), [`Error::ShapeLimit`] (`ᾱ`).
+    /// `N = 0`), [`Error::ShapeLimit`] (`ᾱ`), [`Error::JointLimit`] (an `α_max` outside
+    /// `]max |ᾱ_i|, π[`).
     pub fn check(&self) -> Result<(), Error> {
         let ([l0, l1, l2], [a1, a2], [tx, ty, tt]) = (self.model.links, self.alpha0, self.target);
         let ([m1, m2, m3], [x1, x2]) = (self.mu, self.xi0);
@@ -157,7 +176,19 @@ impl GaitParams {
         if self.steps == 0 {
             return Err(Error::InvalidStep);
         }
-        check_shape(&Vector2::new(a1, a2))
+        check_shape(&Vector2::new(a1, a2))?;
+        match self.alpha_max {
+            Some(limit) => {
+                let pi = core::f64::consts::PI;
+                let inside = limit.is_finite() && limit > a1.abs().max(a2.abs()) && limit < pi;
+                if inside {
+                    Ok(())
+                } else {
+                    Err(Error::JointLimit)
+                }
+            }
+            None => Ok(()),
+        }
     }
 
     /// The swimmer and time step in `T` (each number rounded to nearest).
@@ -238,33 +269,67 @@ fn checkpoint<T: Real>(k: u32, [a1, a2, x, y, c, s, x1, x2]: [T; VALUES]) -> Che
     }
 }
 
-/// The one validation of a gait, for the binary file and the JSON costate file alike:
-/// [`GaitParams::check`], [`CheckpointRecord::check`] for each checkpoint, and
-/// [`Error::CheckpointSpacing`] unless the checkpoints sit at `k = M, 2M, …` below `N`, every
-/// one of them (`M` = `checkpoint_every`; none for `M = 0`). A checkpoint at `k = 0` would
-/// silently replace the start `(ᾱ, e, ξ^{−1})`.
-pub fn check(
+/// The one validation of a gait, for the binary file and the JSON costate file alike, in
+/// this order: [`GaitParams::check`]; the arcs ([`crate::arc::check`]: [`Error::ArcInvalid`],
+/// [`Error::ArcOrder`]; [`Error::JointLimit`] for arcs without an `α_max`); then the
+/// checkpoints in order: [`Error::CheckpointSpacing`] unless they sit exactly at
+/// `k = M, 2M, …` below `N` (`M` = `checkpoint_every`; none for `M = 0`) and at every arc's
+/// `last`, nowhere else ([`Error::ArcCheckpoint`] for an arc's `last` without one),
+/// [`CheckpointRecord::check`] for each, [`Error::ArcOffLimit`] unless the arc's joint lies on
+/// `sign·α_max` at its exit's checkpoint, and [`Error::JointLimit`] for a checkpoint past the
+/// limit (each to [`LIMIT_TOLERANCE`]). A checkpoint at `k = 0` would silently replace the
+/// start `(ᾱ, e, ξ^{−1})`.
+pub fn check<A>(
     params: &GaitParams,
     checkpoints: impl IntoIterator<Item = CheckpointRecord>,
-) -> Result<(), Error> {
+    arcs: A,
+) -> Result<(), Error>
+where
+    A: IntoIterator<Item = Arc>,
+    A::IntoIter: Clone,
+{
     params.check()?;
-    let every = u64::from(params.checkpoint_every);
-    let expected = (u64::from(params.steps) - 1)
-        .checked_div(every)
-        .unwrap_or(0);
-    let mut count = 0u64;
+    let arcs = arcs.into_iter();
+    arc::check(arcs.clone(), params.steps)?;
+    let limit = match params.alpha_max {
+        Some(limit) => limit,
+        None if arcs.clone().next().is_some() => return Err(Error::JointLimit),
+        None => f64::INFINITY,
+    };
+    let (every, steps) = (u64::from(params.checkpoint_every), u64::from(params.steps));
+    // The next multiple of M due (at or past N: none left).
+    let mut due = if every == 0 { steps } else { every };
+    let mut exits = Exits::new(arcs);
     for c in checkpoints {
-        count += 1;
-        if u64::from(c.k) != count * every {
+        let k = u64::from(c.k);
+        if due < k.min(steps) {
             return Err(Error::CheckpointSpacing);
         }
+        let periodic = k == due && k < steps;
+        let exiting = exits.at(c.k)?;
+        if !periodic && exiting == [None; 2] {
+            return Err(Error::CheckpointSpacing);
+        }
+        if periodic {
+            due += every;
+        }
         c.check()?;
+        for a in exiting.into_iter().flatten() {
+            let alpha = c.alpha.get(a.index()).copied().unwrap_or(f64::NAN);
+            // `alpha` is finite (checked above), and so is `limit` with arcs.
+            if (f64::from(a.sign) * alpha - limit).abs() > LIMIT_TOLERANCE {
+                return Err(Error::ArcOffLimit);
+            }
+        }
+        if c.alpha.iter().any(|a| a.abs() > limit + LIMIT_TOLERANCE) {
+            return Err(Error::JointLimit);
+        }
     }
-    if count == expected {
-        Ok(())
-    } else {
-        Err(Error::CheckpointSpacing)
+    exits.finish()?;
+    if due < steps {
+        return Err(Error::CheckpointSpacing);
     }
+    Ok(())
 }
 
 /// The scalars a gait stores a checkpoint table in: `f32` (section `CK32`) and `f64`
@@ -326,6 +391,8 @@ pub struct Gait<'a> {
     count: usize,
     table64: Table<'a>,
     table32: Table<'a>,
+    /// The `ARCS` records (empty in version 1).
+    arcs: &'a [u8],
     crc: u32,
 }
 
@@ -356,20 +423,26 @@ impl<'a> Cursor<'a> {
         Ok(out)
     }
 
-    /// The `PARM` record (field order of [`Out::params`]).
-    fn params(&mut self) -> Result<GaitParams, Error> {
+    /// The `PARM` record of a file of `version` (field order of [`Out::params`]).
+    fn params(&mut self, version: u16) -> Result<GaitParams, Error> {
         let (steps, checkpoint_every) = (self.u32()?, self.u32()?);
         let links = self.f64s()?;
         let [drag, ratio, h] = self.f64s()?;
+        let (alpha0, target, mu, xi0) = (self.f64s()?, self.f64s()?, self.f64s()?, self.f64s()?);
+        let alpha_max = match version {
+            1 => None,
+            _ => Some(f64::from_le_bytes(self.take()?)).filter(|&a| a != 0.0),
+        };
         Ok(GaitParams {
             model: Model { links, drag, ratio },
             h,
             steps,
-            alpha0: self.f64s()?,
-            target: self.f64s()?,
-            mu: self.f64s()?,
-            xi0: self.f64s()?,
+            alpha0,
+            target,
+            mu,
+            xi0,
             checkpoint_every,
+            alpha_max,
         })
     }
 }
@@ -395,8 +468,8 @@ impl Out<'_> {
         xs.iter().try_for_each(|x| self.put(&x.to_le_bytes()))
     }
 
-    /// The `PARM` record: `steps`, `checkpoint_every`, then `L0 L1 L2 k r h`, `ᾱ`, `ḡ`, `μ`,
-    /// `ξ^{−1}` (16 `f64`).
+    /// The `PARM` record of version 2: `steps`, `checkpoint_every`, then `L0 L1 L2 k r h`, `ᾱ`,
+    /// `ḡ`, `μ`, `ξ^{−1}`, `α_max` (17 `f64`; `α_max = 0` for none).
     fn params(&mut self, p: &GaitParams) -> Result<(), Error> {
         self.u32(p.steps as usize)?;
         self.u32(p.checkpoint_every as usize)?;
@@ -405,41 +478,47 @@ impl Out<'_> {
         self.f64s(&p.alpha0)?;
         self.f64s(&p.target)?;
         self.f64s(&p.mu)?;
-        self.f64s(&p.xi0)
+        self.f64s(&p.xi0)?;
+        self.f64s(&[p.alpha_max.unwrap_or(0.0)])
     }
 }
 
-/// The size of the gait file [`encode`] writes for `checkpoints` checkpoints, bytes.
-pub const fn encoded_len(checkpoints: usize) -> usize {
+/// The size of the gait file [`encode`] writes for `checkpoints` checkpoints and `arcs` arcs,
+/// bytes.
+pub const fn encoded_len(checkpoints: usize, arcs: usize) -> usize {
     HEADER_LEN
-        + 3 * ENTRY_LEN
-        + PARAMS_LEN
+        + SECTIONS * ENTRY_LEN
+        + params_len(VERSION)
+        + arcs * arc::RECORD_LEN
         + checkpoints * (record_len(8) + record_len(4))
         + CRC_LEN
 }
 
-/// Writes the gait file of `params` and `checkpoints` into the front of `out` and returns its
-/// length ([`encoded_len`]). The `CK32` table holds each `CK64` value rounded to nearest.
+/// Writes the gait file (version [`VERSION`]) of `params`, `checkpoints` and `arcs` into the
+/// front of `out` and returns its length ([`encoded_len`]). The `CK32` table holds each `CK64`
+/// value rounded to nearest.
 ///
 /// Errors: those of [`check`] (nothing is written then), [`Error::CapacityExceeded`] if `out`
 /// is shorter than [`encoded_len`] or the file would exceed 4 GiB.
 pub fn encode(
     params: &GaitParams,
     checkpoints: &[CheckpointRecord],
+    arcs: &[Arc],
     out: &mut [u8],
 ) -> Result<usize, Error> {
-    check(params, checkpoints.iter().copied())?;
+    check(params, checkpoints.iter().copied(), arcs.iter().copied())?;
     let n = checkpoints.len();
-    let len = encoded_len(n);
+    let len = encoded_len(n, arcs.len());
     let file = out.get_mut(..len).ok_or(Error::CapacityExceeded)?;
     let mut w = Out(&mut *file);
     w.put(&MAGIC)?;
     w.put(&VERSION.to_le_bytes())?;
-    w.put(&3u16.to_le_bytes())?;
+    w.put(&(SECTIONS as u16).to_le_bytes())?;
     w.u32(len)?;
-    let mut offset = HEADER_LEN + 3 * ENTRY_LEN;
+    let mut offset = HEADER_LEN + SECTIONS * ENTRY_LEN;
     for (tag, count, size) in [
-        (PARAMS_TAG, 1, PARAMS_LEN),
+        (PARAMS_TAG, 1, params_len(VERSION)),
+        (ARCS_TAG, arcs.len(), arc::RECORD_LEN),
         (CK64_TAG, n, record_len(8)),
         (CK32_TAG, n, record_len(4)),
     ] {
@@ -450,6 +529,9 @@ pub fn encode(
         offset += count * size;
     }
     w.params(params)?;
+    for a in arcs {
+        w.put(&a.to_bytes())?;
+    }
     for c in checkpoints {
         w.u32(c.k as usize)?;
         w.u32(0)?;
@@ -486,11 +568,15 @@ impl<'a> Gait<'a> {
     /// # Ok::<(), purcell_core::Error>(())
     /// ```
     ///
+    /// Reads version [`VERSION`] and version 1 (no `α_max`, no arcs).
+    ///
     /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
     /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
-    /// [`Error::GaitLayout`] (sections), then the values as [`check`] does
-    /// ([`Error::NonFinite`], [`Error::InvalidParameters`], [`Error::InvalidStep`],
-    /// [`Error::ShapeLimit`], [`Error::NotRotation`], [`Error::CheckpointSpacing`]), and
+    /// [`Error::GaitLayout`] (sections, or an arc record's padding), then the values as
+    /// [`check`] does ([`Error::NonFinite`], [`Error::InvalidParameters`],
+    /// [`Error::InvalidStep`], [`Error::ShapeLimit`], [`Error::JointLimit`],
+    /// [`Error::ArcInvalid`], [`Error::ArcOrder`], [`Error::NotRotation`],
+    /// [`Error::CheckpointSpacing`], [`Error::ArcCheckpoint`], [`Error::ArcOffLimit`]), and
     /// [`Error::GaitLayout`] if the `f32` table is not the `f64` one rounded to nearest.
     pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, Error> {
         if bytes.first_chunk() != Some(&MAGIC) {
@@ -498,7 +584,7 @@ impl<'a> Gait<'a> {
         }
         let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
         let version = header.u16().map_err(|_| Error::GaitLength)?;
-        if version != VERSION {
+        if !matches!(version, 1 | VERSION) {
             return Err(Error::GaitVersion(version));
         }
         let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
@@ -518,6 +604,8 @@ impl<'a> Gait<'a> {
         let mut directory = Cursor(body.get(HEADER_LEN..).ok_or(Error::GaitLayout)?);
         let mut end = HEADER_LEN + sections * ENTRY_LEN;
         let (mut params, mut table64, mut table32) = (None, None, None);
+        // Version 1 has no arc table: read as an empty one.
+        let mut arcs = (version == 1).then_some((&[][..], 0));
         for _ in 0..sections {
             let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
             let (count, size) = (directory.usize()?, directory.usize()?);
@@ -531,7 +619,8 @@ impl<'a> Gait<'a> {
             }
             end = stop;
             let slot = match (tag, size) {
-                (PARAMS_TAG, PARAMS_LEN) if count == 1 => &mut params,
+                (PARAMS_TAG, s) if s == params_len(version) && count == 1 => &mut params,
+                (ARCS_TAG, arc::RECORD_LEN) if version != 1 => &mut arcs,
                 (CK64_TAG, s) if s == record_len(8) => &mut table64,
                 (CK32_TAG, s) if s == record_len(4) => &mut table32,
                 _ => return Err(Error::GaitLayout),
@@ -540,23 +629,31 @@ impl<'a> Gait<'a> {
                 return Err(Error::GaitLayout);
             }
         }
-        let (Some((params, _)), Some((t64, count)), Some((t32, count32))) =
-            (params, table64, table32)
+        let (Some((params, _)), Some((arcs, _)), Some((t64, count)), Some((t32, count32))) =
+            (params, arcs, table64, table32)
         else {
             return Err(Error::GaitLayout);
         };
         if count != count32 {
             return Err(Error::GaitLayout);
         }
-        let params = Cursor(params).params()?;
+        // The arc records' padding is zero.
+        let padded = arcs
+            .chunks_exact(arc::RECORD_LEN)
+            .all(|r| r.first_chunk().is_some_and(|r| Arc::from_bytes(r).1));
+        if !padded {
+            return Err(Error::GaitLayout);
+        }
+        let params = Cursor(params).params(version)?;
         let gait = Gait {
             params,
             count,
             table64: Table { records: t64 },
             table32: Table { records: t32 },
+            arcs,
             crc,
         };
-        check(&params, gait.checkpoints())?;
+        check(&params, gait.checkpoints(), gait.arcs())?;
 
         // The f64 records' padding is zero, and the f32 table is the f64 one rounded.
         let (mut wide, mut narrow) = (gait.table64, gait.table32);
@@ -593,35 +690,56 @@ impl<'a> Gait<'a> {
         }
     }
 
+    /// The joint-limit arcs, in order (none for a gait that never rests on its limit).
+    pub fn arcs(&self) -> impl Iterator<Item = Arc> + Clone + 'a {
+        ArcTable::Stored(self.arcs)
+    }
+
+    /// Number of arcs.
+    pub fn arc_count(&self) -> usize {
+        self.arcs.len() / arc::RECORD_LEN
+    }
+
     /// The file's CRC-32 (its last four bytes): a name for this gait in logs.
     pub fn crc(&self) -> u32 {
         self.crc
     }
 
     /// A replay of the whole gait in `T` that restores the checkpoints from the table stored
-    /// in `T`, read in place as the replay reaches them.
+    /// in `T`, read in place as the replay reaches them, and runs the law on the arcs
+    /// ([`Replay::with_arcs`]).
     ///
     /// Errors: as [`Replay::new`] (the parameters and checkpoints rounded to `T` are checked
     /// again, e.g. an angle that rounds up to `π` in `f32`).
     pub fn replay<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
+        self.replay_with(true)
+    }
+
+    /// A replay of the whole gait in `T` from `(μ, ξ^{−1})` and the arc table alone: the
+    /// only checkpoints it restores are those at the arcs' exits, which the law needs (MODEL.md
+    /// §9); none for a gait without arcs.
+    ///
+    /// Errors: as [`Replay::new`] (only the checkpoints it restores are checked in `T`).
+    pub fn replay_without_checkpoints<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
+        self.replay_with(false)
+    }
+
+    fn replay_with<T: Stored>(&self, periodic: bool) -> Result<Replay<'a, T>, Error> {
+        let p = &self.params;
         let table = if size_of::<T>() == 4 {
             self.table32
         } else {
             self.table64
         };
-        self.replay_with(CheckpointTable::Stored(table))
-    }
-
-    /// A replay of the whole gait in `T` from `(μ, ξ^{−1})` alone, without the checkpoints.
-    ///
-    /// Errors: as [`Replay::new`].
-    pub fn replay_without_checkpoints<T: Real>(&self) -> Result<Replay<'a, T>, Error> {
-        self.replay_with(CheckpointTable::Slice(&[]))
-    }
-
-    fn replay_with<T: Real>(&self, table: CheckpointTable<'a, T>) -> Result<Replay<'a, T>, Error> {
-        let p = &self.params;
-        Replay::with_table(p.kinematics()?, p.start(), p.costate(), p.steps, table)
+        Replay::with_tables(
+            p.kinematics()?,
+            p.start(),
+            p.costate(),
+            p.steps,
+            CheckpointTable::Stored(table),
+            ArcTable::Stored(self.arcs),
+            periodic,
+        )
     }
 }
 
@@ -680,7 +798,11 @@ mod tests {
     #[test]
     fn record_and_file_sizes() {
         assert_eq!((record_len(8), record_len(4)), (72, 36));
-        assert_eq!(encoded_len(0), 16 + 48 + 136 + 4);
-        assert_eq!(encoded_len(99), 204 + 99 * 108);
+        assert_eq!(
+            (params_len(1), params_len(2), arc::RECORD_LEN),
+            (136, 144, 12)
+        );
+        assert_eq!(encoded_len(0, 0), 16 + 64 + 144 + 4);
+        assert_eq!(encoded_len(99, 5), 228 + 99 * 108 + 5 * 12);
     }
 }

@@ -35,12 +35,19 @@
 //!
 //! Both kinds converge to the same `u_k`, the root of the law's equations. The work per step
 //! is fixed: no loop runs to a tolerance.
+//!
+//! **On a joint-limit arc** (MODEL.md §9; [`Kinematics::law_step_on_arcs`]), joint `i` rests:
+//! `u_{k,i} = 0` replaces row `i` of every solve (first iterate and passes alike, with
+//! `X = −hAu` at that `u`), so the other row gives `u_{k,j}` alone, `ξ^k_j = ξ^{k−1}_j +
+//! (hB u)_j` as above, and `ξ^k_i = (Aᵀζ^k)_i`, the value that makes row `i` hold (the costate
+//! jump `η` of the limit is what row `i` leaves over). Both joints on arcs: `u_k = 0`. The
+//! same code runs both (a `Rows` parameter): the free law solves all rows, an arc step fewer.
 
 use crate::kinematics::{Kinematics, State};
 use crate::se2::{self, ExpCoefficients, Tangent};
 use crate::swimmer::{Frame, Sym3, sym_mul_vec};
 use crate::{Error, Real};
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{Matrix3x2, Vector2, Vector3};
 
 /// The kind of the passes that follow the first iterate (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,6 +85,17 @@ impl Passes {
             count,
         }
     }
+}
+
+/// The joints on a joint-limit arc at a step, `[joint 1, joint 2]` (MODEL.md §9): their
+/// control is zero and their costate takes the value that makes the law's row hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct OnArcs(pub [bool; 2]);
+
+impl OnArcs {
+    /// No joint on an arc: the free law.
+    pub const NONE: OnArcs = OnArcs([false; 2]);
 }
 
 /// One step of the control law.
@@ -118,11 +136,38 @@ impl<T: Real> Kinematics<T> {
         mu: &Vector3<T>,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
-        if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
-            return Err(Error::NonFinite);
-        }
-        state.check()?;
+        check_inputs(state, xi_prev, mu)?;
         self.law_step_trusted(state, xi_prev, mu, passes)
+    }
+
+    /// One step of the law with the type's passes, [`Real::PASSES`], with the joints `on`
+    /// a joint-limit arc at rest (see the [module docs](self); MODEL.md §9): their `u_{k,i}`
+    /// is exactly 0 and their `ξ^k_i = (Aᵀζ^k)_i`. With [`OnArcs::NONE`] it is
+    /// [`Kinematics::law_step`].
+    ///
+    /// Errors: as [`Kinematics::law_step`].
+    pub fn law_step_on_arcs(
+        &self,
+        state: &State<T>,
+        xi_prev: &Vector2<T>,
+        mu: &Vector3<T>,
+        on: OnArcs,
+    ) -> Result<LawStep<T>, Error> {
+        self.law_step_on_arcs_with_passes(state, xi_prev, mu, on, T::PASSES)
+    }
+
+    /// [`Kinematics::law_step_on_arcs`] with the given passes after the first iterate, as
+    /// [`Kinematics::law_step_with_passes`].
+    pub fn law_step_on_arcs_with_passes(
+        &self,
+        state: &State<T>,
+        xi_prev: &Vector2<T>,
+        mu: &Vector3<T>,
+        on: OnArcs,
+        passes: Passes,
+    ) -> Result<LawStep<T>, Error> {
+        check_inputs(state, xi_prev, mu)?;
+        self.law_step_on_arcs_trusted(state, xi_prev, mu, passes, on)
     }
 
     /// [`Kinematics::law_step_with_passes`] for inputs already known to be valid: `state`
@@ -137,15 +182,43 @@ impl<T: Real> Kinematics<T> {
         mu: &Vector3<T>,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
+        self.law_step_rows(state, xi_prev, mu, passes, Free)
+    }
+
+    /// [`Kinematics::law_step_on_arcs`] with `passes`, for inputs already known to be valid
+    /// (as [`Kinematics::law_step_trusted`]). Inlined into a replay's arc step, which is out
+    /// of line itself.
+    #[inline(always)]
+    pub(crate) fn law_step_on_arcs_trusted(
+        &self,
+        state: &State<T>,
+        xi_prev: &Vector2<T>,
+        mu: &Vector3<T>,
+        passes: Passes,
+        on: OnArcs,
+    ) -> Result<LawStep<T>, Error> {
+        self.law_step_rows(state, xi_prev, mu, passes, on)
+    }
+
+    /// The step, solving the law's rows `rows` (the free law, or an arc step).
+    #[inline(always)]
+    fn law_step_rows<R: Rows<T>>(
+        &self,
+        state: &State<T>,
+        xi_prev: &Vector2<T>,
+        mu: &Vector3<T>,
+        passes: Passes,
+        rows: R,
+    ) -> Result<LawStep<T>, Error> {
         let frame = self.swimmer().frame(&state.alpha)?;
         let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
-        let (u0, xi0) = eq.first_iterate()?;
+        let (u0, xi0) = eq.first_iterate(rows)?;
         let (u, xi) = match passes.kind {
             PassKind::Plain => {
-                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.plain_pass(&u))?
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.plain_pass(&u, rows))?
             }
             PassKind::Newton => {
-                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.newton_pass(&u))?
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.newton_pass(&u, rows))?
             }
         };
         self.finish(state, &eq, u, xi)
@@ -169,8 +242,75 @@ impl<T: Real> Kinematics<T> {
     }
 }
 
+/// `Ok` if `ξ^{k−1}` and `μ` are finite and `state` passes [`State::check`].
+fn check_inputs<T: Real>(
+    state: &State<T>,
+    xi_prev: &Vector2<T>,
+    mu: &Vector3<T>,
+) -> Result<(), Error> {
+    if !T::all_finite([xi_prev.x, xi_prev.y, mu.x, mu.y, mu.z]) {
+        return Err(Error::NonFinite);
+    }
+    state.check()
+}
+
 /// A 2×2 matrix `(m11, m12, m21, m22)`.
 type Mat2<T> = (T, T, T, T);
+
+/// Which rows of the law's equation a step solves: all ([`Free`]), or those of the joints off
+/// their limit ([`OnArcs`]: `u_i = 0` in place of row `i`, and `ξ^k_i = (Aᵀζ)_i`).
+trait Rows<T: Real>: Copy {
+    /// The solution of `P·u = r` with the rows of the joints on an arc replaced by `u_i = 0`.
+    fn solve(self, p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error>;
+    /// `ξ^k` from the free rows' `ξ` and the `ζ` it goes with: the components of the joints
+    /// on an arc replaced by `(Aᵀζ)_i`.
+    fn costate(self, xi: Vector2<T>, a: &Matrix3x2<T>, z: &Vector3<T>) -> Vector2<T>;
+}
+
+/// Every row: the free law.
+#[derive(Clone, Copy)]
+struct Free;
+
+impl<T: Real> Rows<T> for Free {
+    #[inline(always)]
+    fn solve(self, p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error> {
+        solve(p, r)
+    }
+
+    #[inline(always)]
+    fn costate(self, xi: Vector2<T>, _: &Matrix3x2<T>, _: &Vector3<T>) -> Vector2<T> {
+        xi
+    }
+}
+
+impl<T: Real> Rows<T> for OnArcs {
+    #[inline(always)]
+    fn solve(self, p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error> {
+        match self.0 {
+            [false, false] => solve(p, r),
+            [true, false] => Ok(Vector2::new(T::zero(), r.y * inverse_det(p.3)?)),
+            [false, true] => Ok(Vector2::new(r.x * inverse_det(p.0)?, T::zero())),
+            [true, true] => Ok(Vector2::zeros()),
+        }
+    }
+
+    #[inline(always)]
+    fn costate(self, xi: Vector2<T>, a: &Matrix3x2<T>, z: &Vector3<T>) -> Vector2<T> {
+        let [on1, on2] = self.0;
+        Vector2::new(
+            if on1 {
+                a.m11 * z.x + a.m21 * z.y + a.m31 * z.z
+            } else {
+                xi.x
+            },
+            if on2 {
+                a.m12 * z.x + a.m22 * z.y + a.m32 * z.z
+            } else {
+                xi.y
+            },
+        )
+    }
+}
 
 /// The law's equation `R(u) = 0` at one step: the connection's [`Frame`] at `α_k`, with
 /// `h·W_ξ⁻¹` so that `hB(ζ)` comes from `λ = h·W_ξ⁻¹ζ` against the brackets' columns (see
@@ -239,31 +379,35 @@ impl<T: Real> Equation<T> {
     }
 
     /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)` and its `ξ = ξ^{k−1} + hB(m)u⁰` (see the
-    /// module docs).
+    /// module docs), solving `rows`.
     #[inline(always)]
-    fn first_iterate(&self) -> Result<(Vector2<T>, Vector2<T>), Error> {
+    fn first_iterate<R: Rows<T>>(&self, rows: R) -> Result<(Vector2<T>, Vector2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
         let hb = self.hb(m);
         let (b11, b12, b21, b22) = hb;
         // κ = a₁ᵀK(m)a₂ = m_x (a₁z a₂y − a₁y a₂z) + m_y (a₁x a₂z − a₁z a₂x).
         let kappa = m.x * (a.m31 * a.m22 - a.m21 * a.m32) + m.y * (a.m11 * a.m32 - a.m31 * a.m12);
         let hk = T::half() * self.h * kappa;
-        let u = solve(
+        let u = rows.solve(
             &(T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22),
             &self.rhs(m),
         )?;
-        Ok((u, self.xi(&hb, &u)))
+        Ok((u, rows.costate(self.xi(&hb, &u), a, m)))
     }
 
     /// A plain pass from `u`: `ζ(u)`, then `u' = (I − hB(ζ))⁻¹(ξ^{k−1} − Aᵀζ)`; returns `u'`
-    /// and `ξ^{k−1} + hB(ζ)u'`.
+    /// and `ξ^{k−1} + hB(ζ)u'` (solving `rows`).
     #[inline(always)]
-    fn plain_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Vector2<T>), Error> {
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<(Vector2<T>, Vector2<T>), Error> {
         let z = self.zeta(u);
         let hb = self.hb(&z);
         let (b11, b12, b21, b22) = hb;
-        let u = solve(&(T::one() - b11, -b12, -b21, T::one() - b22), &self.rhs(&z))?;
-        Ok((u, self.xi(&hb, &u)))
+        let u = rows.solve(&(T::one() - b11, -b12, -b21, T::one() - b22), &self.rhs(&z))?;
+        Ok((u, rows.costate(self.xi(&hb, &u), &self.frame.a, &z)))
     }
 
     /// A Newton pass from `u`: `u' = u − J⁻¹R(u)` with `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ`
@@ -271,9 +415,14 @@ impl<T: Real> Equation<T> {
     /// (so that `hB(ζ)u = V(u)ζ`) and `∂ζ/∂u = ∂(dexp_Xᵀm)/∂X·(−hA)`. Returns `u'` and
     /// `ξ^{k−1} + hB(ζ')u'` at `ζ' = ζ(u')`, which is `ξ^{k−1} + V(u)ζ' + hB(ζ)δu` with
     /// `δu = u' − u` and `ζ' = ζ + ∂ζ/∂u·δu` up to `O(|δu|²)`, below rounding after a Newton
-    /// step from the first iterate (`|δu| ≈ 5e-6·|u|`).
+    /// step from the first iterate (`|δu| ≈ 5e-6·|u|`). Solving `rows`, `δu_i = 0` for a
+    /// joint on an arc.
     #[inline(always)]
-    fn newton_pass(&self, u: &Vector2<T>) -> Result<(Vector2<T>, Vector2<T>), Error> {
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<(Vector2<T>, Vector2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
         let x = self.twist(u);
         let k = ExpCoefficients::new(x.z);
@@ -298,10 +447,10 @@ impl<T: Real> Equation<T> {
             (u.x - self.xi_prev.x) + g1.dot(&z),
             (u.y - self.xi_prev.y) + g2.dot(&z),
         );
-        let du = -solve(&jac, &res)?;
+        let du = -rows.solve(&jac, &res)?;
         let z1 = z + d1 * du.x + d2 * du.y;
         let xi = self.xi_prev + Vector2::new(v1.dot(&z1), v2.dot(&z1)) + mul(&hb, &du);
-        Ok((u + du, xi))
+        Ok((u + du, rows.costate(xi, a, &z1)))
     }
 }
 

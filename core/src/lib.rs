@@ -12,6 +12,7 @@
     allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)
 )]
 
+pub mod arc;
 pub mod digest;
 pub mod error;
 pub mod gait;
@@ -22,11 +23,12 @@ pub mod replay;
 pub mod se2;
 pub mod swimmer;
 
+pub use arc::Arc;
 pub use digest::TrajectoryDigest;
 pub use error::Error;
 pub use gait::Gait;
 pub use kinematics::{Kinematics, State};
-pub use law::{LawStep, PassKind, Passes};
+pub use law::{LawStep, OnArcs, PassKind, Passes};
 pub use real::Real;
 pub use replay::{Checkpoint, Checkpoints, Costate, Flight, Replay, Sample, TerminalError};
 pub use se2::{Se2, Tangent};
@@ -45,6 +47,8 @@ const _: () = {
     loggable::<Se2<f32>>();
     loggable::<Swimmer<f32>>();
     loggable::<LawStep<f32>>();
+    loggable::<Arc>();
+    loggable::<OnArcs>();
     loggable::<Costate<f32>>();
     loggable::<Checkpoint<f32>>();
     loggable::<Sample<f32>>();

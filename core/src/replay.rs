@@ -19,8 +19,10 @@
 //! [`Replay::fly`] runs a replay to the end and digests it ([`Flight`]): what the host and a
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
+use crate::arc::{Arc, ArcTable, Exits};
 use crate::gait::Table;
 use crate::kinematics::{Kinematics, State};
+use crate::law::{LawStep, OnArcs};
 use crate::{Error, Real, Se2, TrajectoryDigest};
 use nalgebra::{Vector2, Vector3};
 
@@ -132,7 +134,8 @@ impl<T: Real> CheckpointTable<'_, T> {
     }
 }
 
-/// Runs `N` steps of the control law from a start state and an initial costate.
+/// Runs `N` steps of the control law from a start state and an initial costate, with the
+/// joint-limit arcs of a constrained gait ([`crate::arc`]) if it has any.
 #[derive(Clone, Debug)]
 pub struct Replay<'a, T> {
     kinematics: Kinematics<T>,
@@ -145,9 +148,22 @@ pub struct Replay<'a, T> {
     xi: Vector2<T>,
     k: u32,
     steps: u32,
-    /// The step index of the next checkpoint (`u32::MAX`, which `k` never reaches, if none).
+    /// The next step at which a checkpoint is due or an arc begins (`u32::MAX`, which `k`
+    /// never reaches, if none): the one comparison a step makes for both.
+    next_event: u32,
+    /// The step index of the next checkpoint (`u32::MAX` if none).
     next_checkpoint: u32,
+    /// The first step of the next arc (`u32::MAX` if none).
+    next_arc: u32,
     checkpoints: CheckpointTable<'a, T>,
+    /// Whether the checkpoints that are no arc's exit are restored too.
+    periodic: bool,
+    /// The arcs not yet entered, in order.
+    arcs: ArcTable<'a>,
+    /// The last state of each joint's latest arc (0: none yet).
+    arc_ends: [u32; 2],
+    /// The joints on an arc at this step.
+    on_arcs: OnArcs,
     failed: Option<Error>,
 }
 
@@ -165,37 +181,68 @@ impl<'a, T: Real> Replay<'a, T> {
         steps: u32,
         checkpoints: &'a [Checkpoint<T>],
     ) -> Result<Self, Error> {
-        Self::with_table(
+        Self::with_arcs(kinematics, start, costate, steps, checkpoints, &[])
+    }
+
+    /// [`Replay::new`] for a constrained gait: on an arc the law keeps the joint at rest
+    /// ([`Kinematics::law_step_on_arcs`]), and each arc's exit restores its checkpoint (MODEL.md
+    /// §9).
+    ///
+    /// Errors: those of [`Replay::new`], [`Error::ArcInvalid`] and [`Error::ArcOrder`] (see
+    /// [`crate::arc::check`]), [`Error::ArcCheckpoint`] if an arc's `last` has no checkpoint.
+    pub fn with_arcs(
+        kinematics: Kinematics<T>,
+        start: State<T>,
+        costate: Costate<T>,
+        steps: u32,
+        checkpoints: &'a [Checkpoint<T>],
+        arcs: &'a [Arc],
+    ) -> Result<Self, Error> {
+        Self::with_tables(
             kinematics,
             start,
             costate,
             steps,
             CheckpointTable::Slice(checkpoints),
+            ArcTable::Slice(arcs),
+            true,
         )
     }
 
-    /// [`Replay::new`] with checkpoints from a slice or a gait file's table.
-    pub(crate) fn with_table(
+    /// A replay with checkpoints from a slice or a gait file's table, and arcs likewise.
+    /// Without `periodic`, only the arcs' exits restore their checkpoints (and only theirs are
+    /// checked): the replay from `(μ, ξ^{−1})` and the arc table alone.
+    pub(crate) fn with_tables(
         kinematics: Kinematics<T>,
         start: State<T>,
         costate: Costate<T>,
         steps: u32,
         checkpoints: CheckpointTable<'a, T>,
+        arcs: ArcTable<'a>,
+        periodic: bool,
     ) -> Result<Self, Error> {
         start.check()?;
         let (mu, xi) = (costate.mu, costate.xi);
         if !T::all_finite([mu.x, mu.y, mu.z, xi.x, xi.y]) {
             return Err(Error::NonFinite);
         }
+        crate::arc::check(arcs, steps)?;
+        let mut exits = Exits::new(arcs);
         let mut last: Option<u32> = None;
         let mut table = checkpoints;
         while let Some(c) = table.pop() {
             if c.k >= steps || last.is_some_and(|l| l >= c.k) {
                 return Err(Error::CheckpointOrder);
             }
-            c.check()?;
+            let exit = exits.at(c.k)? != [None; 2];
+            if periodic || exit {
+                c.check()?;
+            }
             last = Some(c.k);
         }
+        exits.finish()?;
+        let next_checkpoint = checkpoints.next_k().unwrap_or(u32::MAX);
+        let next_arc = arcs.next_first().unwrap_or(u32::MAX);
         Ok(Replay {
             kinematics,
             mu: costate.mu,
@@ -209,8 +256,14 @@ impl<'a, T: Real> Replay<'a, T> {
             xi: costate.xi,
             k: 0,
             steps,
-            next_checkpoint: checkpoints.next_k().unwrap_or(u32::MAX),
+            next_event: next_checkpoint.min(next_arc),
+            next_checkpoint,
+            next_arc,
             checkpoints,
+            periodic,
+            arcs,
+            arc_ends: [0; 2],
+            on_arcs: OnArcs::NONE,
             failed: None,
         })
     }
@@ -227,15 +280,39 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k >= self.steps {
             return Ok(None);
         }
-        if self.k == self.next_checkpoint {
-            self.restore();
+        if self.k == self.next_event {
+            self.event();
+        }
+        if self.on_arcs != OnArcs::NONE {
+            return self.step_on_arcs();
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
-        match self
+        let step = self
             .kinematics
-            .law_step_trusted(&self.state, &self.xi, &self.mu, T::PASSES)
-        {
+            .law_step_trusted(&self.state, &self.xi, &self.mu, T::PASSES);
+        self.record(step)
+    }
+
+    /// [`Replay::step`] on an arc: the law with the joints on it at rest
+    /// ([`Kinematics::law_step_on_arcs`]). Out of line, so that the free step stays the code
+    /// it is without arcs (measured on the M4F: an arc step costs no more than a free one).
+    #[inline(never)]
+    fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        let step = self.kinematics.law_step_on_arcs_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            T::PASSES,
+            self.on_arcs,
+        );
+        self.record(step)
+    }
+
+    /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
+    #[inline(always)]
+    fn record(&mut self, step: Result<LawStep<T>, Error>) -> Result<Option<&Sample<T>>, Error> {
+        match step {
             Ok(step) => {
                 self.sample = Sample {
                     k: self.k,
@@ -255,14 +332,47 @@ impl<'a, T: Real> Replay<'a, T> {
         }
     }
 
-    /// Resets `(α_k, g_k, ξ^{k−1})` to the checkpoint at this step (validated by `new`).
-    #[inline(never)]
-    fn restore(&mut self) {
-        if let Some(c) = self.checkpoints.pop() {
-            self.state = c.state;
-            self.xi = c.xi;
+    /// At a step where a checkpoint is due or an arc begins (an arc ends where a checkpoint
+    /// is due: `new` checked that): enters the arcs that begin here, restores
+    /// `(α_k, g_k, ξ^{k−1})` from the checkpoint due here (validated by `new`; skipped unless
+    /// `periodic` or an arc exits here), and sets the joints on an arc and the next event.
+    /// Inlined: a call would cost a checkpoint's step more than its restore (M4F).
+    #[inline(always)]
+    fn event(&mut self) {
+        let k = self.k;
+        if k == self.next_arc {
+            self.enter_arcs();
         }
-        self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
+        if k == self.next_checkpoint {
+            if let Some(c) = self.checkpoints.pop()
+                && (self.periodic || self.arc_ends.contains(&k))
+            {
+                self.state = c.state;
+                self.xi = c.xi;
+            }
+            // An arc may exit here.
+            if self.arc_ends != [0; 2] {
+                self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
+            }
+            self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
+        }
+        self.next_event = self.next_checkpoint.min(self.next_arc);
+    }
+
+    /// Enters the arcs that begin at this step (at most one per joint in a checked table; each
+    /// turn takes one).
+    #[inline(never)]
+    fn enter_arcs(&mut self) {
+        let k = self.k;
+        while k == self.next_arc {
+            if let Some(a) = self.arcs.next()
+                && let Some(end) = self.arc_ends.get_mut(a.index())
+            {
+                *end = a.last;
+            }
+            self.next_arc = self.arcs.next_first().unwrap_or(u32::MAX);
+        }
+        self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
     }
 
     /// The current state: `(α_k, g_k)` before step `k`, `(α_N, g_N)` at the end.

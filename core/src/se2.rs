@@ -307,6 +307,8 @@ impl<T: Real> Se2<T> {
 
     /// `self · other`, with the rotation part renormalised to first order
     /// (`(c, s) ← (c, s)·(3 − c² − s²)/2`) so it stays on the group over long products.
+    /// Always inlined: a replay's two law steps (free and on a joint-limit arc) both call it.
+    #[inline(always)]
     pub fn compose(&self, other: &Self) -> Self {
         let c = self.c * other.c - self.s * other.s;
         let s = self.s * other.c + self.c * other.s;

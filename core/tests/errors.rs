@@ -344,6 +344,11 @@ fn every_error_has_a_distinct_message() {
         Error::GaitLength,
         Error::GaitChecksum,
         Error::GaitLayout,
+        Error::ArcInvalid,
+        Error::ArcOrder,
+        Error::ArcCheckpoint,
+        Error::ArcOffLimit,
+        Error::JointLimit,
     ];
     assert!(Error::GaitVersion(7).to_string().contains("version 7"));
     let msgs: Vec<String> = all.iter().map(|e| e.to_string()).collect();

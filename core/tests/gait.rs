@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
-use purcell_core::gait::{self, CheckpointRecord, Gait, GaitParams, Model};
+use purcell_core::gait::{self, Arc, CheckpointRecord, Gait, GaitParams, Model};
 use purcell_core::{Checkpoint, Error, Real, Replay, Sample, State};
 
 /// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
@@ -26,6 +26,7 @@ fn example() -> (GaitParams, Vec<CheckpointRecord>) {
         mu: [c.mu.x, c.mu.y, c.mu.z],
         xi0: [c.xi.x, c.xi.y],
         checkpoint_every: 100,
+        alpha_max: None,
     };
     let records = states_along(c, 1000, 100)
         .into_iter()
@@ -42,8 +43,15 @@ fn example() -> (GaitParams, Vec<CheckpointRecord>) {
 }
 
 fn encode(params: &GaitParams, records: &[CheckpointRecord]) -> Vec<u8> {
-    let mut bytes = vec![0; gait::encoded_len(records.len())];
-    assert_eq!(gait::encode(params, records, &mut bytes), Ok(bytes.len()));
+    encode_arcs(params, records, &[])
+}
+
+fn encode_arcs(params: &GaitParams, records: &[CheckpointRecord], arcs: &[Arc]) -> Vec<u8> {
+    let mut bytes = vec![0; gait::encoded_len(records.len(), arcs.len())];
+    assert_eq!(
+        gait::encode(params, records, arcs, &mut bytes),
+        Ok(bytes.len())
+    );
     bytes
 }
 
@@ -58,9 +66,9 @@ fn put_f64(bytes: &mut [u8], at: usize, x: f64) {
     bytes[at..at + 8].copy_from_slice(&x.to_le_bytes());
 }
 
-/// Offsets in the file `encode` writes (docs/GAIT.md).
-const PARAMS: usize = 64;
-const CK64: usize = 200;
+/// Offsets in the file `encode` writes without arcs (docs/GAIT.md).
+const PARAMS: usize = 80;
+const CK64: usize = 224;
 fn ck32(n: usize) -> usize {
     CK64 + 72 * n
 }
@@ -80,14 +88,14 @@ fn encode_then_from_bytes_gives_the_same_gait() {
     // before anything is written.
     let mut short = vec![0; bytes.len() - 1];
     assert_eq!(
-        gait::encode(&params, &records, &mut short),
+        gait::encode(&params, &records, &[], &mut short),
         Err(Error::CapacityExceeded)
     );
     let mut bad = records.clone();
     bad[3].k = bad[2].k;
     let mut out = vec![7; bytes.len()];
     assert_eq!(
-        gait::encode(&params, &bad, &mut out),
+        gait::encode(&params, &bad, &[], &mut out),
         Err(Error::CheckpointSpacing)
     );
     assert!(out.iter().all(|&b| b == 7));
@@ -213,7 +221,8 @@ fn every_corruption_is_refused_with_its_reason() {
     assert_eq!(edit(&|b| b[0] = b'X'), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(&[]).err(), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(b"PURCGAIT").err(), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b[8] = 2), Some(Error::GaitVersion(2)));
+    assert_eq!(edit(&|b| b[8] = 3), Some(Error::GaitVersion(3)));
+    assert_eq!(edit(&|b| b[8] = 0), Some(Error::GaitVersion(0)));
     assert_eq!(edit(&|b| b.truncate(b.len() - 1)), Some(Error::GaitLength));
     assert_eq!(edit(&|b| b.push(0)), Some(Error::GaitLength));
     assert_eq!(edit(&|b| b[ck32(n) + 5] ^= 0x10), Some(Error::GaitChecksum));
@@ -221,23 +230,26 @@ fn every_corruption_is_refused_with_its_reason() {
     let last = good.len() - 1;
     assert_eq!(edit(&|b| b[last] ^= 0x80), Some(Error::GaitChecksum));
 
-    // Sections: an unknown tag, a wrong record size, a duplicate, a count mismatch, an
-    // offset out of bounds or overlapping, a missing one, a non-zero pad, an f32 table that
-    // is not the f64 one rounded.
+    // Sections (directory entries PARM, ARCS, CK64, CK32 at 16, 32, 48, 64): an unknown
+    // tag, a wrong record size (CK64's, PARM's of version 1 in version 2), a duplicate, a
+    // count mismatch, an offset out of bounds or overlapping, a missing one, a non-zero pad,
+    // an f32 table that is not the f64 one rounded; a version-1 file may not have arcs.
     let layout = Some(Error::GaitLayout);
-    assert_eq!(sealed(&|b| b[32..36].copy_from_slice(b"ARCS")), layout);
-    assert_eq!(sealed(&|b| b[28] = 73), layout);
-    assert_eq!(sealed(&|b| b[48..52].copy_from_slice(b"CK64")), layout);
-    assert_eq!(sealed(&|b| b[56] = 8), layout);
+    assert_eq!(sealed(&|b| b[32..36].copy_from_slice(b"ARCZ")), layout);
+    assert_eq!(sealed(&|b| b[60] = 73), layout);
+    assert_eq!(sealed(&|b| b[28] = 136), layout);
+    assert_eq!(sealed(&|b| b[64..68].copy_from_slice(b"CK64")), layout);
+    assert_eq!(sealed(&|b| b[72] = 8), layout);
     assert_eq!(
-        sealed(&|b| b[36..40].copy_from_slice(&60u32.to_le_bytes())),
+        sealed(&|b| b[52..56].copy_from_slice(&60u32.to_le_bytes())),
         layout
     );
     assert_eq!(
-        sealed(&|b| b[52..56].copy_from_slice(&9999u32.to_le_bytes())),
+        sealed(&|b| b[68..72].copy_from_slice(&9999u32.to_le_bytes())),
         layout
     );
-    assert_eq!(sealed(&|b| b[10] = 2), layout);
+    assert_eq!(sealed(&|b| b[10] = 3), layout);
+    assert_eq!(sealed(&|b| b[8] = 1), layout);
     assert_eq!(sealed(&|b| b[CK64 + 4] = 1), layout);
     assert_eq!(sealed(&|b| b[ck32(n) + 4] ^= 1), layout);
     assert_eq!(sealed(&|b| b[ck32(n)] ^= 1), layout);
@@ -263,6 +275,13 @@ fn every_corruption_is_refused_with_its_reason() {
         sealed(&|b| put_f64(b, PARAMS + 56, 3.2)),
         Some(Error::ShapeLimit)
     );
+    // α_max (0: none) must lie in ]max |ᾱ_i|, π[.
+    for bad in [-1.0, 3.2, f64::NAN] {
+        assert_eq!(
+            sealed(&|b| put_f64(b, PARAMS + 136, bad)),
+            Some(Error::JointLimit)
+        );
+    }
     // Checkpoint 0 copied over checkpoint 1 in both tables (so they still agree): a repeated k.
     assert_eq!(
         sealed(&|b| {
@@ -280,13 +299,13 @@ fn every_corruption_is_refused_with_its_reason() {
     rotated[0].g[2] *= 1.0 + 1e-8;
     let mut out = vec![0; good.len()];
     assert_eq!(
-        gait::encode(&params, &rotated, &mut out),
+        gait::encode(&params, &rotated, &[], &mut out),
         Err(Error::NotRotation)
     );
     let mut overlap = records.clone();
     overlap[0].alpha[1] = -3.2;
     assert_eq!(
-        gait::encode(&params, &overlap, &mut out),
+        gait::encode(&params, &overlap, &[], &mut out),
         Err(Error::ShapeLimit)
     );
 }
@@ -309,7 +328,7 @@ proptest! {
     /// Any change of one byte of a valid file is refused (CRC-32 catches every error burst of
     /// up to 32 bits), and never panics.
     #[test]
-    fn any_changed_byte_is_refused(at in 0usize..gait::encoded_len(9), flip in 1u8..=255) {
+    fn any_changed_byte_is_refused(at in 0usize..gait::encoded_len(9, 0), flip in 1u8..=255) {
         let (params, records) = example();
         let mut bytes = encode(&params, &records);
         bytes[at] ^= flip;
@@ -321,7 +340,7 @@ proptest! {
     fn garbage_never_panics(mut bytes in proptest::collection::vec(any::<u8>(), 0..400), len in any::<bool>()) {
         if len && bytes.len() >= 16 {
             bytes[..8].copy_from_slice(&gait::MAGIC);
-            bytes[8..10].copy_from_slice(&1u16.to_le_bytes());
+            bytes[8..10].copy_from_slice(&gait::VERSION.to_le_bytes());
             let n = bytes.len() as u32;
             bytes[12..16].copy_from_slice(&n.to_le_bytes());
             if bytes.len() >= 20 {
@@ -332,13 +351,113 @@ proptest! {
     }
 }
 
-/// `data/tiny.gait` (written by `purcell-sim export` from host-sim's
-/// `tests/data/tiny.costate.json`: a 200-step gait to `ḡ = (0.002, 0.001, 0)`, one
-/// checkpoint) is read as these numbers and written back byte for byte, and its header and
-/// directory are where docs/GAIT.md says: changing the layout fails here.
+/// `data/tiny-limit.gait` (written by `purcell-sim export` from host-sim's
+/// `tests/data/tiny-limit.costate.json`: a 300-step gait to `ḡ = (0.01, 0.005, 0)` within
+/// `|α_i| ≤ 0.8`, two arcs, checkpoints at 100 and 200 and at the arcs' exits 137 and 185) is
+/// read as these numbers and written back byte for byte, and its header, directory and
+/// sections are where docs/GAIT.md says: changing the layout fails here.
 #[test]
-fn the_committed_tiny_gait_locks_the_layout() {
-    let bytes: &[u8] = include_bytes!("data/tiny.gait");
+fn the_committed_limit_gait_locks_the_layout() {
+    let bytes: &[u8] = include_bytes!("data/tiny-limit.gait");
+    let params = GaitParams {
+        model: Model {
+            links: [1.0; 3],
+            drag: 1.0,
+            ratio: 2.0,
+        },
+        h: 0.01,
+        steps: 300,
+        alpha0: [0.0, 0.0],
+        target: [0.01, 0.005, 0.0],
+        mu: [-56.867426414422425, 281.2775050523989, 1.2826606795323952],
+        xi0: [47.92457979744187, -46.10058568703169],
+        checkpoint_every: 100,
+        alpha_max: Some(0.8),
+    };
+    let arcs = [
+        Arc {
+            joint: 2,
+            sign: 1,
+            first: 117,
+            last: 137,
+        },
+        Arc {
+            joint: 1,
+            sign: 1,
+            first: 165,
+            last: 185,
+        },
+    ];
+    let exit = CheckpointRecord {
+        k: 137,
+        alpha: [0.6477345645475362, 0.7999999999999998],
+        g: [
+            -0.007968802609140516,
+            0.027239689385942636,
+            0.927442202327413,
+            -0.3739665243602398,
+        ],
+        xi: [51.417133353267936, -50.71471354662252],
+    };
+    let gait = Gait::from_bytes(bytes).unwrap();
+    assert_eq!(gait.params(), &params);
+    assert_eq!(
+        (gait.arcs().collect::<Vec<_>>(), gait.arc_count()),
+        (arcs.to_vec(), 2)
+    );
+    let records: Vec<_> = gait.checkpoints().collect();
+    let ks: Vec<u32> = records.iter().map(|c| c.k).collect();
+    assert_eq!((ks, records[1]), (vec![100, 137, 185, 200], exit));
+    assert_eq!(encode_arcs(&params, &records, &arcs), bytes);
+
+    let u16_at = |at: usize| u16::from_le_bytes([bytes[at], bytes[at + 1]]);
+    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    let f32_at = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert_eq!(&bytes[..8], b"PURCGAIT");
+    assert_eq!((u16_at(8), u16_at(10), u32_at(12)), (2, 4, 684));
+    // Directory: tag, offset, count, record size.
+    let entry = |i: usize| {
+        let at = 16 + 16 * i;
+        (
+            &bytes[at..at + 4],
+            u32_at(at + 4),
+            u32_at(at + 8),
+            u32_at(at + 12),
+        )
+    };
+    assert_eq!(entry(0), (&b"PARM"[..], 80, 1, 144));
+    assert_eq!(entry(1), (&b"ARCS"[..], 224, 2, 12));
+    assert_eq!(entry(2), (&b"CK64"[..], 248, 4, 72));
+    assert_eq!(entry(3), (&b"CK32"[..], 536, 4, 36));
+    // PARM: steps, checkpoint_every, then L0 L1 L2 k r h ᾱ ḡ μ ξ⁻¹ α_max as f64.
+    assert_eq!((u32_at(80), u32_at(84)), (300, 100));
+    assert_eq!(f64_at(88 + 5 * 8), 0.01);
+    assert_eq!(f64_at(88 + 11 * 8), params.mu[0]);
+    assert_eq!(f64_at(88 + 16 * 8), 0.8);
+    // ARCS: joint (u8), sign (i8), zero pad, first, last.
+    assert_eq!(&bytes[224..228], &[2, 1, 0, 0]);
+    assert_eq!((u32_at(228), u32_at(232)), (117, 137));
+    assert_eq!(&bytes[236..240], &[1, 1, 0, 0]);
+    // CK64: k, zero pad, α1 α2 x y cos sin ξ1 ξ2; CK32: k, the same values as f32.
+    assert_eq!(
+        (u32_at(248 + 72), u32_at(252 + 72), f64_at(256 + 72)),
+        (137, 0, exit.alpha[0])
+    );
+    assert_eq!(
+        (u32_at(536 + 36), f32_at(540 + 36)),
+        (137, exit.alpha[0] as f32)
+    );
+    assert_eq!(u32_at(680), gait::crc32(&bytes[..680]));
+    assert_eq!(gait.crc(), 0x20e6_3071);
+}
+
+/// Version 1 (written before joint limits, `data/tiny-v1.gait`: a 200-step gait to
+/// `ḡ = (0.002, 0.001, 0)`, one checkpoint) is still read, as a gait without a joint limit and
+/// without arcs; written again it is version 2 and flies the same.
+#[test]
+fn version_1_gaits_are_still_read() {
+    let bytes: &[u8] = include_bytes!("data/tiny-v1.gait");
     let params = GaitParams {
         model: Model {
             links: [1.0; 3],
@@ -352,6 +471,7 @@ fn the_committed_tiny_gait_locks_the_layout() {
         mu: [-102.05775417345498, 590.1701561480827, -31.45148654572925],
         xi0: [91.01363029151028, -106.55065114553868],
         checkpoint_every: 100,
+        alpha_max: None,
     };
     let records = [CheckpointRecord {
         k: 100,
@@ -364,43 +484,22 @@ fn the_committed_tiny_gait_locks_the_layout() {
         ],
         xi: [95.78484708845677, -112.98913203930218],
     }];
-    let gait = Gait::from_bytes(bytes).unwrap();
-    assert_eq!(gait.params(), &params);
-    assert_eq!(gait.checkpoints().collect::<Vec<_>>(), records);
-    assert_eq!(encode(&params, &records), bytes);
-
-    let u16_at = |at: usize| u16::from_le_bytes([bytes[at], bytes[at + 1]]);
-    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
-    assert_eq!(&bytes[..8], b"PURCGAIT");
-    assert_eq!((u16_at(8), u16_at(10), u32_at(12)), (1, 3, 312));
-    // Directory: tag, offset, count, record size.
-    let entry = |i: usize| {
-        let at = 16 + 16 * i;
-        (
-            &bytes[at..at + 4],
-            u32_at(at + 4),
-            u32_at(at + 8),
-            u32_at(at + 12),
-        )
-    };
-    assert_eq!(entry(0), (&b"PARM"[..], 64, 1, 136));
-    assert_eq!(entry(1), (&b"CK64"[..], 200, 1, 72));
-    assert_eq!(entry(2), (&b"CK32"[..], 272, 1, 36));
-    // PARM: steps, checkpoint_every, then L0 L1 L2 k r h ᾱ ḡ μ ξ⁻¹ as f64.
-    assert_eq!((u32_at(64), u32_at(68)), (200, 100));
-    let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
-    assert_eq!(f64_at(64 + 8 + 5 * 8), 0.01);
-    assert_eq!(f64_at(64 + 8 + 11 * 8), params.mu[0]);
-    // CK64: k, zero pad, α1 α2 x y cos sin ξ1 ξ2; CK32: k, the same values as f32.
-    assert_eq!(
-        (u32_at(200), u32_at(204), f64_at(208)),
-        (100, 0, records[0].alpha[0])
-    );
-    let f32_at = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
-    assert_eq!(
-        (u32_at(272), f32_at(276)),
-        (100, records[0].alpha[0] as f32)
-    );
-    assert_eq!(u32_at(308), gait::crc32(&bytes[..308]));
-    assert_eq!(gait.crc(), 0x1774_b718);
+    assert_eq!(u16::from_le_bytes([bytes[8], bytes[9]]), 1);
+    let v1 = Gait::from_bytes(bytes).unwrap();
+    assert_eq!(v1.params(), &params);
+    assert_eq!(v1.checkpoints().collect::<Vec<_>>(), records);
+    assert_eq!(v1.arc_count(), 0);
+    let v2 = encode(&params, &records);
+    assert_eq!(v2.len(), gait::encoded_len(1, 0));
+    let v2 = Gait::from_bytes(&v2).unwrap();
+    for fly in [
+        |g: &Gait| g.replay::<f32>().unwrap().fly(Replay::step),
+        |g: &Gait| {
+            g.replay_without_checkpoints::<f32>()
+                .unwrap()
+                .fly(Replay::step)
+        },
+    ] {
+        assert_eq!(fly(&v1), fly(&v2));
+    }
 }

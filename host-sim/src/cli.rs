@@ -115,7 +115,8 @@ pub struct SolveArgs {
     /// limit active on arcs where that is cheaper.
     #[arg(long, allow_hyphen_values = true)]
     pub alpha_max: Option<f64>,
-    /// Costate checkpoint spacing M in steps (0: none).
+    /// Costate checkpoint spacing M in steps (0: none; a gait on its joint limit also has
+    /// one at each arc's last step, which its replay needs).
     #[arg(long, default_value_t = 100)]
     pub checkpoint_every: u32,
     /// Skip the figures (SVG and PNG) and field.csv.
@@ -205,7 +206,8 @@ pub struct ReplayArgs {
     /// checkpoints).
     #[arg(long, value_enum)]
     pub precision: Option<Precision>,
-    /// With --precision: ignore the file's costate checkpoints.
+    /// With --precision: ignore the file's costate checkpoints (except those at the
+    /// joint-limit arcs' exits, which the replay of a constrained gait needs).
     #[arg(long)]
     pub no_checkpoints: bool,
     /// Also write the JSON report to this file (atomically; an existing file is replaced
@@ -667,12 +669,10 @@ fn extremal_json(x: &Extremal) -> serde_json::Value {
     })
 }
 
-/// Joint-limit arcs in `report.json`: joint (1 or 2, as `α_1`, `α_2`), the first and last
-/// step `k` of the states on the limit, and the limit's sign.
+/// Joint-limit arcs in `report.json`, as the costate file stores them (`purcell_core::Arc`:
+/// joint 1 or 2, as `α_1`, `α_2`, the limit's sign ±1, the first and last state on it).
 fn arcs_json(arcs: &[Arc]) -> serde_json::Value {
-    arcs.iter()
-        .map(|a| json!({"joint": a.joint + 1, "first": a.first, "last": a.last, "sign": a.sign()}))
-        .collect()
+    arcs.iter().map(|a| json!(output::arc_record(a))).collect()
 }
 
 /// Reads a costate file (exit 2 if unreadable or invalid).
@@ -784,12 +784,13 @@ fn run_export(a: ExportArgs) -> Result<String, Failure> {
         .map_err(output_failure(true))?;
     out.commit(&bytes).map_err(output_failure(false))?;
     Ok(format!(
-        "gait: wrote {} ({} bytes, crc={:#010x}, steps={}, checkpoints={})\n",
+        "gait: wrote {} ({} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={})\n",
         a.out.display(),
         bytes.len(),
         gait.crc(),
         gait.params().steps,
-        gait.checkpoint_count()
+        gait.checkpoint_count(),
+        gait.arc_count()
     ))
 }
 

@@ -1,39 +1,52 @@
 //! The versioned costate file (`costate.json`): a gait as JSON, for people and scripts.
 //!
 //! ```text
-//! { "format": "purcell-costate", "version": 2,
+//! { "format": "purcell-costate", "version": 3,
 //!   "model": {"links": [L0, L1, L2], "drag": k, "ratio": r},
 //!   "h": 0.01, "steps": 10000, "alpha0": [a1, a2], "target": [x, y, theta],
 //!   "mu": [m1, m2, m3], "xi0": [x1, x2],            // xi0 = ξ^{−1}
 //!   "checkpoint_every": 100,
+//!   "alpha_max": 1.5,                                 // null: no joint limit
+//!   "arcs": [{"joint": 2, "sign": 1, "first": 1276, "last": 1418}, ...],
 //!   "checkpoints": [{"k": 100, "alpha": [a1, a2], "g": [x, y, cos, sin], "xi": [x1, x2]}, ...] }
 //! ```
 //!
-//! Between the tag (`format`, `version`) and `checkpoints` the fields are the core's gait
-//! schema, [`GaitParams`], and each checkpoint a [`CheckpointRecord`]: the binary gait file
-//! (`purcell-sim export`, read by `purcell_core::Gait::from_bytes`) holds the same numbers, and
-//! both go through the same validation, `purcell_core::gait::check`.
+//! Between the tag (`format`, `version`) and `arcs` the fields are the core's gait schema,
+//! [`GaitParams`], each arc a [`purcell_core::Arc`] (joint 1 or 2, sign ±1, the first and last
+//! state on the limit, MODEL.md §9) and each checkpoint a [`CheckpointRecord`]: the binary gait
+//! file (`purcell-sim export`, read by `purcell_core::Gait::from_bytes`) holds the same numbers,
+//! and both go through the same validation, `purcell_core::gait::check`.
 //!
-//! Checkpoint `k` holds `(α_k, g_k, ξ^{k−1})` of a plain `f64` replay from `(μ, ξ^{−1})`; a
-//! replay restarts from it at step `k` (see `purcell_core::replay`: resetting `ξ` alone does
-//! not keep an `f32` replay on the solution). `g` is stored as `(x, y, cos θ, sin θ)`, the
-//! core's own representation, so it comes back bit for bit. Version 1 (checkpoints of `ξ`
-//! alone) is refused.
+//! Checkpoint `k` holds `(α_k, g_k, ξ̃^{k−1})` of the solution (`ξ̃`: the costate with state
+//! `k`'s jump on the joint limit, MODEL.md §9); a replay restarts from it at step `k` (see
+//! `purcell_core::replay`: resetting `ξ` alone does not keep an `f32` replay on the solution).
+//! There is one at every multiple of `checkpoint_every` below `steps` and one at every arc's
+//! `last`, where the replay needs it. `g` is stored as `(x, y, cos θ, sin θ)`, the core's own
+//! representation, so it comes back bit for bit.
+//!
+//! Versions: 3 is written; 2 (no `alpha_max`, no `arcs`: a gait without a joint limit) is still
+//! read; 1 (checkpoints of `ξ` alone) is refused.
 //!
 //! Numbers are written in shortest round-trip form, so reading gives the same bits back.
-//! Reading is strict: unknown fields, missing fields, wrong lengths, a different `format`
-//! or `version`, and whatever `purcell_core::gait::check` refuses (non-finite values, shapes
-//! at the overlap limit, rotations off unit length, checkpoints anywhere but at every multiple
-//! of `checkpoint_every` below `steps`) are typed errors. A file replayed in `f32` must also
-//! fit `f32` ([`CostateFile::check_precision`]).
+//! Reading is strict: unknown fields, missing fields (`alpha_max` and `arcs` included in
+//! version 3), wrong lengths, a different `format` or `version`, and whatever
+//! `purcell_core::gait::check` refuses (non-finite values, shapes at the overlap limit,
+//! rotations off unit length, arcs out of order or off the limit, checkpoints anywhere but at
+//! every multiple of `checkpoint_every` below `steps` and at the arcs' exits) are typed errors.
+//! A file replayed in `f32` must also fit `f32` ([`CostateFile::check_precision`]).
 
+pub use purcell_core::Arc;
 pub use purcell_core::gait::{CheckpointRecord, GaitParams, Model};
 use serde::{Deserialize, Serialize};
 
 /// The `format` tag.
 pub const FORMAT: &str = "purcell-costate";
-/// The only version this build reads and writes.
-pub const VERSION: u64 = 2;
+/// The version this build writes.
+pub const VERSION: u64 = 3;
+/// The older version this build still reads: no joint limit, no arcs.
+pub const VERSION_WITHOUT_ARCS: u64 = 2;
+/// The fields version 3 added.
+const ARC_FIELDS: [&str; 2] = ["alpha_max", "arcs"];
 
 /// The whole file: a tagged gait. Dereferences to its [`GaitParams`] (`file.mu`, `file.h`, …).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -41,11 +54,13 @@ pub const VERSION: u64 = 2;
 pub struct CostateFile {
     /// Always [`FORMAT`].
     pub format: String,
-    /// Always [`VERSION`].
+    /// [`VERSION`] (a version-2 file is read as the same gait in version 3).
     pub version: u64,
-    /// Model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`, checkpoint spacing.
+    /// Model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`, checkpoint spacing, joint limit.
     #[serde(flatten)]
     pub gait: GaitParams,
+    /// Joint-limit arcs, sorted by `(first, joint)`.
+    pub arcs: Vec<Arc>,
     /// Checkpoints, strictly increasing in `k`, each `k < steps`.
     pub checkpoints: Vec<CheckpointRecord>,
 }
@@ -66,9 +81,19 @@ pub enum CostateFileError {
     /// `format` is not [`FORMAT`].
     #[error("not a costate file: format is {0:?}, expected \"purcell-costate\"")]
     WrongFormat(String),
-    /// `version` is not [`VERSION`].
-    #[error("unsupported costate file version {0} (this build reads version 2)")]
+    /// `version` is neither [`VERSION`] nor [`VERSION_WITHOUT_ARCS`].
+    #[error("unsupported costate file version {0} (this build reads versions 2 and 3)")]
     WrongVersion(u64),
+    /// A field of version 3 missing from a version-3 file, or present in a version-2 file.
+    #[error("invalid costate file: version {version} {which} the field \"{field}\"")]
+    VersionField {
+        /// The file's version.
+        version: u64,
+        /// `"needs"` or `"does not have"`.
+        which: &'static str,
+        /// The field.
+        field: &'static str,
+    },
     /// `version` is not a non-negative integer.
     #[error("invalid costate file: version must be a non-negative integer")]
     BadVersion,
@@ -77,40 +102,66 @@ pub enum CostateFileError {
     Invalid(#[source] purcell_core::Error),
 }
 
-#[derive(Deserialize)]
-struct Header {
-    format: Option<serde_json::Value>,
-    version: Option<serde_json::Value>,
-}
-
 impl CostateFile {
     /// Parses and validates.
     pub fn parse(text: &str) -> Result<Self, CostateFileError> {
+        use serde_json::Value;
+        let mut object: serde_json::Map<String, Value> =
+            serde_json::from_str(text).map_err(CostateFileError::Malformed)?;
         // Check the tag and version first, so a newer file says so instead of a field error.
-        let header: Header = serde_json::from_str(text).map_err(CostateFileError::Malformed)?;
-        match header.format {
-            Some(serde_json::Value::String(s)) if s == FORMAT => {}
+        match object.get("format") {
+            Some(Value::String(s)) if s == FORMAT => {}
             Some(v) => return Err(CostateFileError::WrongFormat(v.to_string())),
             None => return Err(CostateFileError::WrongFormat("<missing>".into())),
         }
-        match header.version.as_ref().and_then(|v| v.as_u64()) {
-            Some(VERSION) => {}
+        let version = object.get("version").and_then(Value::as_u64);
+        let version = match version {
+            Some(v @ (VERSION | VERSION_WITHOUT_ARCS)) => v,
             Some(v) => return Err(CostateFileError::WrongVersion(v)),
             None => return Err(CostateFileError::BadVersion),
+        };
+        for field in ARC_FIELDS {
+            match (version, object.contains_key(field)) {
+                (VERSION, false) => {
+                    return Err(CostateFileError::VersionField {
+                        version,
+                        which: "needs",
+                        field,
+                    });
+                }
+                (VERSION_WITHOUT_ARCS, true) => {
+                    return Err(CostateFileError::VersionField {
+                        version,
+                        which: "does not have",
+                        field,
+                    });
+                }
+                _ => {}
+            }
         }
-        let file: CostateFile = serde_json::from_str(text).map_err(CostateFileError::Malformed)?;
-        purcell_core::gait::check(&file.gait, file.checkpoints.iter().copied())
-            .map_err(CostateFileError::Invalid)?;
+        // A version-2 file is the same gait without a joint limit and without arcs.
+        object.insert("version".into(), VERSION.into());
+        object.entry("alpha_max").or_insert(Value::Null);
+        object.entry("arcs").or_insert(Value::Array(Vec::new()));
+        let file: CostateFile =
+            serde_json::from_value(Value::Object(object)).map_err(CostateFileError::Malformed)?;
+        purcell_core::gait::check(
+            &file.gait,
+            file.checkpoints.iter().copied(),
+            file.arcs.iter().copied(),
+        )
+        .map_err(CostateFileError::Invalid)?;
         Ok(file)
     }
 
-    /// The file of `gait` and `checkpoints` (not validated: [`CostateFile::to_gait`] and
-    /// [`CostateFile::parse`] do that).
-    pub fn new(gait: GaitParams, checkpoints: Vec<CheckpointRecord>) -> Self {
+    /// The file of `gait`, `arcs` and `checkpoints` (not validated: [`CostateFile::to_gait`]
+    /// and [`CostateFile::parse`] do that).
+    pub fn new(gait: GaitParams, arcs: Vec<Arc>, checkpoints: Vec<CheckpointRecord>) -> Self {
         CostateFile {
             format: FORMAT.into(),
             version: VERSION,
             gait,
+            arcs,
             checkpoints,
         }
     }
@@ -119,8 +170,9 @@ impl CostateFile {
     ///
     /// Errors: what `purcell_core::gait::check` refuses.
     pub fn to_gait(&self) -> Result<Vec<u8>, purcell_core::Error> {
-        let mut bytes = vec![0; purcell_core::gait::encoded_len(self.checkpoints.len())];
-        purcell_core::gait::encode(&self.gait, &self.checkpoints, &mut bytes)?;
+        let len = purcell_core::gait::encoded_len(self.checkpoints.len(), self.arcs.len());
+        let mut bytes = vec![0; len];
+        purcell_core::gait::encode(&self.gait, &self.checkpoints, &self.arcs, &mut bytes)?;
         Ok(bytes)
     }
 
@@ -159,7 +211,7 @@ impl CostateFile {
             links: self.model.links,
             drag: self.model.drag,
             ratio: self.model.ratio,
-            alpha_max: None,
+            alpha_max: self.alpha_max,
         })
     }
 }

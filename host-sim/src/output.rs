@@ -2,7 +2,7 @@
 //! never over anything the tool did not write, checked before the work, atomically.
 
 use crate::problem::Problem;
-use crate::solver::{Extremal, Trajectory};
+use crate::solver::{Arc, Extremal, Trajectory};
 use std::fmt::Write as _;
 
 pub mod target;
@@ -30,11 +30,23 @@ pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
     s
 }
 
-/// The costate file for an extremal, with checkpoints every `every` steps.
+/// A joint-limit arc of the solver as the gait files store it (joint 1 or 2, sign ±1).
+pub fn arc_record(a: &Arc) -> purcell_core::Arc {
+    purcell_core::Arc {
+        joint: if a.joint == 0 { 1 } else { 2 },
+        sign: if a.upper { 1 } else { -1 },
+        first: a.first as u32,
+        last: a.last as u32,
+    }
+}
+
+/// The costate file for an extremal, with checkpoints every `every` steps and at each
+/// joint-limit arc's last state (MODEL.md §9; `every = 0`: at the arcs' exits only).
 ///
-/// The checkpoints are `(α_k, g_k, ξ^{k−1})` of the converged trajectory itself (states of the
-/// direct method, costates from its multipliers), not of a free replay of `(μ, ξ^{−1})`, which
-/// drifts from it on unstable problems: a replay restarts on the extremal at each one.
+/// The checkpoints are `(α_k, g_k, ξ̃^{k−1})` of the converged trajectory itself (states of the
+/// direct method, costates from its multipliers with state `k`'s jump on the limit), not of a
+/// free replay of `(μ, ξ^{−1})`, which drifts from it on unstable problems: a replay restarts on
+/// the extremal at each one.
 pub fn costate_file(
     problem: &Problem,
     x: &Extremal,
@@ -42,22 +54,27 @@ pub fn costate_file(
 ) -> crate::costate_file::CostateFile {
     use crate::costate_file::*;
     let t = &x.trajectory;
-    let checkpoints = if every == 0 {
-        Vec::new()
-    } else {
-        (every..problem.steps)
-            .step_by(every as usize)
-            .filter_map(|k| {
-                let (s, xi) = (t.states.get(k as usize)?, t.xis.get(k as usize)?);
-                Some(CheckpointRecord {
-                    k,
-                    alpha: [s.alpha.x, s.alpha.y],
-                    g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
-                    xi: [xi.x, xi.y],
-                })
+    let periodic = (every > 0)
+        .then(|| (every..problem.steps).step_by(every as usize))
+        .into_iter()
+        .flatten();
+    let mut steps: Vec<u32> = periodic
+        .chain(x.arcs.iter().map(|a| a.last as u32))
+        .collect();
+    steps.sort_unstable();
+    steps.dedup();
+    let checkpoints = steps
+        .into_iter()
+        .filter_map(|k| {
+            let (s, xi) = (t.states.get(k as usize)?, t.xis.get(k as usize)?);
+            Some(CheckpointRecord {
+                k,
+                alpha: [s.alpha.x, s.alpha.y],
+                g: [s.g.x(), s.g.y(), s.g.cos(), s.g.sin()],
+                xi: [xi.x, xi.y],
             })
-            .collect()
-    };
+        })
+        .collect();
     CostateFile::new(
         GaitParams {
             model: Model {
@@ -72,7 +89,9 @@ pub fn costate_file(
             mu: [x.mu.x, x.mu.y, x.mu.z],
             xi0: [x.xi0.x, x.xi0.y],
             checkpoint_every: every,
+            alpha_max: problem.joint_limit(),
         },
+        x.arcs.iter().map(arc_record).collect(),
         checkpoints,
     )
 }

@@ -14,7 +14,8 @@ use std::fmt::Write as _;
 pub struct ReplayReport {
     /// `"f64"` or `"f32"`.
     pub precision: &'static str,
-    /// Whether the gait's checkpoints were applied.
+    /// Whether the gait's checkpoints were applied (without: only those at the joint-limit
+    /// arcs' exits, which the law needs; see `purcell_core::Gait::replay_without_checkpoints`).
     pub checkpoints: bool,
     /// `purcell_core::TrajectoryDigest` as `0x` and 16 hex digits (`null` if the replay failed).
     pub digest: Option<String>,
@@ -157,11 +158,13 @@ pub fn standard_replays(gait: &Gait<'_>) -> Vec<ReplayReport> {
 pub fn text(gait: &Gait<'_>, reports: &[ReplayReport]) -> String {
     let p = gait.params();
     let mut s = format!(
-        "gait: crc={:#010x} steps={} h={} checkpoints={} alpha0={:?} target={:?}\n",
+        "gait: crc={:#010x} steps={} h={} checkpoints={} arcs={} alpha_max={} alpha0={:?} target={:?}\n",
         gait.crc(),
         p.steps,
         p.h,
         gait.checkpoint_count(),
+        gait.arc_count(),
+        p.alpha_max.map_or("none".into(), |a| a.to_string()),
         p.alpha0,
         p.target
     );

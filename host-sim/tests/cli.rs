@@ -117,6 +117,14 @@ const GOOD: &str = r#"{"format":"purcell-costate","version":2,
  "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":100,
  "checkpoints":[{"k":100,"alpha":[0.01,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;
 
+/// [`GOOD`] in version 3 with a joint limit and one arc of joint 1 ending at its checkpoint.
+const GOOD_V3: &str = r#"{"format":"purcell-costate","version":3,
+ "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
+ "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":100,
+ "alpha_max":0.5,"arcs":[{"joint":1,"sign":1,"first":90,"last":100}],
+ "checkpoints":[{"k":100,"alpha":[0.5,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;
+const ARC: &str = r#""arcs":[{"joint":1,"sign":1,"first":90,"last":100}],"#;
+
 fn refused_file(name: &str, text: &str, needle: &str) {
     let dir = tempfile::tempdir().unwrap();
     let p = write(dir.path(), name, text);
@@ -180,9 +188,68 @@ fn costate_files_are_read_strictly() {
             &GOOD.replace("\"h\":0.01", "\"h\":-0.01")[..],
             "step h must be finite and positive",
         ),
+        (
+            "version4.json",
+            &GOOD.replace("\"version\":2", "\"version\":4")[..],
+            "version 4 (this build reads versions 2 and 3)",
+        ),
+        // Version 2 knows no joint limit; version 3 states it (null: none) and its arcs.
+        (
+            "v2-arcs.json",
+            &GOOD.replace("\"h\":0.01", "\"h\":0.01,\"arcs\":[]")[..],
+            "version 2 does not have the field \"arcs\"",
+        ),
+        (
+            "v3-no-limit.json",
+            &GOOD_V3.replace("\"alpha_max\":0.5,", "")[..],
+            "version 3 needs the field \"alpha_max\"",
+        ),
+        (
+            "v3-no-arcs.json",
+            &GOOD_V3.replace(ARC, "")[..],
+            "version 3 needs the field \"arcs\"",
+        ),
+        (
+            "v3-joint.json",
+            &GOOD_V3.replace("\"joint\":1", "\"joint\":0")[..],
+            "joint-limit arc must have joint 1 or 2",
+        ),
+        (
+            "v3-exit.json",
+            &GOOD_V3.replace("\"last\":100", "\"last\":90")[..],
+            "a joint-limit arc's last step has no checkpoint",
+        ),
+        (
+            "v3-off-limit.json",
+            &GOOD_V3.replace("\"alpha_max\":0.5", "\"alpha_max\":0.6")[..],
+            "not on its limit",
+        ),
+        (
+            "v3-unlimited.json",
+            &GOOD_V3.replace("\"alpha_max\":0.5", "\"alpha_max\":null")[..],
+            "present with arcs",
+        ),
+        (
+            "v3-sign.json",
+            &GOOD_V3.replace("\"sign\":1", "\"sign\":1.0")[..],
+            "malformed",
+        ),
     ];
     for (name, text, needle) in cases {
         refused_file(name, text, needle);
+    }
+    // The version-3 file itself, and without arcs (`"arcs": []`, `"alpha_max": null`).
+    for (name, text) in [
+        ("v3.json", GOOD_V3.to_string()),
+        (
+            "v3-free.json",
+            GOOD.replace("\"version\":2", "\"version\":3")
+                .replace("\"h\":0.01", "\"h\":0.01,\"alpha_max\":null,\"arcs\":[]"),
+        ),
+    ] {
+        let p = write(dir.path(), name, &text);
+        let o = sim(&["replay", "--costate", &p]);
+        assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
     }
 }
 
@@ -340,12 +407,13 @@ fn help_explains_units() {
 }
 
 /// `export` writes the binary gait of a costate file; replaying it is replaying the costate
-/// file; the committed `tiny` pair is what `export` writes today, byte for byte.
+/// file; the committed `tiny-limit` pair (a gait on its joint limit) is what `export` writes
+/// today, byte for byte.
 #[test]
 fn export_writes_the_gait_that_replays_like_its_costate_file() {
     let dir = tempfile::tempdir().unwrap();
-    let json = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tiny.costate.json");
-    let gait = dir.path().join("tiny.gait");
+    let json = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tiny-limit.costate.json");
+    let gait = dir.path().join("tiny-limit.gait");
     let o = sim(&[
         "export",
         "--costate",
@@ -354,8 +422,13 @@ fn export_writes_the_gait_that_replays_like_its_costate_file() {
         gait.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stdout(&o).contains("312 bytes"), "{}", stdout(&o));
-    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny.gait");
+    assert!(
+        stdout(&o).contains("684 bytes") && stdout(&o).contains("arcs=2"),
+        "{}",
+        stdout(&o)
+    );
+    let committed =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny-limit.gait");
     assert_eq!(
         std::fs::read(&gait).unwrap(),
         std::fs::read(committed).unwrap()
@@ -380,7 +453,7 @@ fn export_writes_the_gait_that_replays_like_its_costate_file() {
         assert_eq!(digests(&from_gait).len(), 1);
         assert_eq!(stdout(&from_gait), stdout(&from_json));
     }
-    // Checkpoints change the f32 flight, not the f64 one (they are the f64 replay's states).
+    // The periodic checkpoints change the f32 flight (the arcs' exits are restored either way).
     let f32_without = sim(&[
         "replay",
         "--gait",
@@ -398,7 +471,37 @@ fn export_writes_the_gait_that_replays_like_its_costate_file() {
     ]);
     assert_ne!(digests(&f32_with), digests(&f32_without));
     let all = digests(&sim(&["replay", "--gait", gait.to_str().unwrap()]));
-    assert_eq!((all.len(), &all[0]), (4, &all[1]));
+    assert_eq!(all.len(), 4);
+}
+
+/// The previous versions are still read: the version-2 costate file `tiny.costate.json` and
+/// the version-1 gait `tiny-v1.gait` exported from it fly the same; exported again, the gait
+/// is version 2 and flies the same too.
+#[test]
+fn previous_versions_are_still_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tiny.costate.json");
+    let v1 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny-v1.gait");
+    let v2 = dir.path().join("tiny.gait");
+    let o = sim(&[
+        "export",
+        "--costate",
+        json.to_str().unwrap(),
+        "--out",
+        v2.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v2_bytes = std::fs::read(&v2).unwrap();
+    assert_eq!(u16::from_le_bytes([v2_bytes[8], v2_bytes[9]]), 2);
+    let replay = |flag: &str, path: &Path| {
+        let o = sim(&["replay", flag, path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        digests(&o)
+    };
+    let from_json = replay("--costate", &json);
+    assert_eq!(from_json.len(), 4);
+    assert_eq!(replay("--gait", &v1), from_json);
+    assert_eq!(replay("--gait", &v2), from_json);
 }
 
 /// A damaged gait file is refused with exit 2 and the reason; `export` of a bad costate file
@@ -406,9 +509,10 @@ fn export_writes_the_gait_that_replays_like_its_costate_file() {
 #[test]
 fn corrupted_gaits_are_refused_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
-    let good =
-        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny.gait"))
-            .unwrap();
+    let good = std::fs::read(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny-limit.gait"),
+    )
+    .unwrap();
     let mut flipped = good.clone();
     flipped[250] ^= 4;
     let mut version = good.clone();

@@ -135,15 +135,17 @@ proptest! {
 
     /// `replay` on a valid costate file with one number replaced by a random one.
     #[test]
-    fn replay_on_random_costate_files(field in 0usize..18, value in wild()) {
+    fn replay_on_random_costate_files(field in 0usize..23, value in wild()) {
         let numbers = [
             ("[1,1,1]", "links"), ("\"drag\":1", "drag"), ("\"ratio\":2", "ratio"),
             ("\"h\":0.01", "h"), ("\"steps\":200", "steps"), ("[0,0]", "alpha0"),
             ("[0.1,0.1,0]", "target"), ("[0.1,0.2,0.0]", "mu"), ("\"xi0\":[0.01,-0.02]", "xi0"),
             ("\"checkpoint_every\":100", "every"), ("\"k\":100", "k"),
-            ("\"alpha\":[0.01,-0.02]", "cp alpha"), ("[0.001,0.0,1,0]", "cp g"),
-            ("\"xi\":[0.01,-0.02]", "cp xi"), ("\"version\":2", "version"),
+            ("\"alpha\":[0.5,-0.02]", "cp alpha"), ("[0.001,0.0,1,0]", "cp g"),
+            ("\"xi\":[0.01,-0.02]", "cp xi"), ("\"version\":3", "version"),
             ("0.001,0.0,1,0]", "cp x"), ("\"ratio\":2}", "ratio end"), ("-0.02]}]}", "cp xi end"),
+            ("\"alpha_max\":0.5", "alpha_max"), ("\"joint\":1", "joint"), ("\"sign\":1", "sign"),
+            ("\"first\":90", "first"), ("\"last\":100", "last"),
         ];
         let (pattern, _) = numbers[field];
         // Replace the first number inside the pattern.
@@ -167,7 +169,9 @@ proptest! {
     }
 }
 
-const COSTATE_FILE: &str = r#"{"format":"purcell-costate","version":2,
+/// A version-3 costate file with a joint limit and one arc.
+const COSTATE_FILE: &str = r#"{"format":"purcell-costate","version":3,
  "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
  "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":100,
- "checkpoints":[{"k":100,"alpha":[0.01,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;
+ "alpha_max":0.5,"arcs":[{"joint":1,"sign":1,"first":90,"last":100}],
+ "checkpoints":[{"k":100,"alpha":[0.5,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;

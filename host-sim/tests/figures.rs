@@ -58,7 +58,9 @@ fn gait() -> (Problem, Trajectory, Vector3<f64>, CostateFile) {
             mu: [mu.x, mu.y, mu.z],
             xi0: [xi.x, xi.y],
             checkpoint_every: 100,
+            alpha_max: None,
         },
+        Vec::new(),
         checkpoints,
     );
     let problem = file.problem().unwrap();

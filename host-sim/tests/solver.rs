@@ -6,6 +6,7 @@ use host_sim::output;
 use host_sim::problem::{Problem, Spec, SuiteProblem, read_suite};
 use host_sim::replay;
 use host_sim::solver::{Extremal, Solution, SolveError, SolveOptions, solve};
+use purcell_core::OnArcs;
 
 fn public_problems() -> Vec<SuiteProblem> {
     let text = include_str!("../../tests/problems/public.json");
@@ -13,12 +14,15 @@ fn public_problems() -> Vec<SuiteProblem> {
 }
 
 /// What a returned gait must satisfy, and its costate file: replayed through the core it
-/// lands on `(ᾱ, ḡ)` within 1e-8 in f64 and 1e-5 in f32 (with its checkpoints).
-fn check_solution(name: &str, p: &Problem, s: &Solution, reference: Option<f64>) {
+/// lands on `(ᾱ, ḡ)` within 1e-8 in f64 and 1e-5 in f32 (with its checkpoints, and with the
+/// arcs of a gait on its joint limit). Returns the replays' terminal errors (largest of `α`
+/// and `g`), f64 then f32.
+fn check_solution(name: &str, p: &Problem, s: &Solution, reference: Option<f64>) -> [f64; 2] {
     let best = &s.extremals[s.best];
     check_extremal(name, p, best, reference);
     let file = output::costate_file(p, best, 100);
-    for (precision, bound) in [("f64", 1e-8), ("f32", 1e-5)] {
+    assert_eq!(file.arcs.len(), best.arcs.len(), "{name}");
+    [("f64", 1e-8), ("f32", 1e-5)].map(|(precision, bound)| {
         let r = if precision == "f64" {
             replay::replay::<f64>(&file, precision, true)
         } else {
@@ -27,7 +31,40 @@ fn check_solution(name: &str, p: &Problem, s: &Solution, reference: Option<f64>)
         assert!(r.failure.is_none(), "{name} {precision}: {r:?}");
         let (a, g) = (r.alpha_error.unwrap(), r.g_error.unwrap());
         assert!(a <= bound && g <= bound, "{name} {precision}: {r:?}");
+        a.max(g)
+    })
+}
+
+/// The core's law on every step of a constrained extremal, from the trajectory's own state
+/// and costate `ξ̃^{k−1}` (MODEL.md §9): on the arcs' steps [`Kinematics::law_step_on_arcs`]
+/// rests the joint (`u_i = 0` exactly) and gives the other control and the next state; off
+/// them the free law. Returns the largest deviation from the controls, relative to the
+/// largest control.
+///
+/// [`Kinematics::law_step_on_arcs`]: purcell_core::Kinematics::law_step_on_arcs
+fn arc_steps_reproduce_the_controls(name: &str, p: &Problem, x: &Extremal) -> f64 {
+    let kin = p.kinematics::<f64>().unwrap();
+    let t = &x.trajectory;
+    let scale = t.controls.iter().fold(0.0f64, |m, u| m.max(u.amax()));
+    let mut worst = 0.0f64;
+    for (k, u) in t.controls.iter().enumerate() {
+        let mut on = [false; 2];
+        for a in x.arcs.iter().filter(|a| a.first <= k && k < a.last) {
+            on[a.joint] = true;
+        }
+        let step = kin
+            .law_step_on_arcs(&t.states[k], &t.xis[k], &x.mu, OnArcs(on))
+            .unwrap();
+        for (i, &rests) in on.iter().enumerate() {
+            if rests {
+                assert_eq!((step.u[i], u[i]), (0.0, 0.0), "{name}: k = {k}");
+            }
+        }
+        worst = worst.max((step.u - u).amax() / scale);
+        let next = (step.next.alpha - t.states[k + 1].alpha).amax();
+        assert!(next <= 1e-9 * scale * p.h, "{name}: k = {k}: {next}");
     }
+    worst
 }
 
 /// The certificates of a returned extremal: admissible, cost at or below the reference,
@@ -81,7 +118,9 @@ fn every_public_problem_solves_at_or_below_its_reference() {
                 "{}: {r:?}",
                 sp.name
             ),
-            _ => check_solution(&sp.name, &p, &r.unwrap(), sp.reference),
+            _ => {
+                check_solution(&sp.name, &p, &r.unwrap(), sp.reference);
+            }
         }
     }
 }
@@ -97,7 +136,14 @@ fn joint_limit_problems_solve_at_or_below_their_reference() {
         let p = Problem::new(&sp.spec).unwrap();
         let s = solve(&p, &SolveOptions::default(), &|| {}).unwrap();
         let best = &s.extremals[s.best];
-        check_extremal(&sp.name, &p, best, sp.reference);
+        let [f64_error, f32_error] = check_solution(&sp.name, &p, &s, sp.reference);
+        let law = arc_steps_reproduce_the_controls(&sp.name, &p, best);
+        assert!(law <= 1e-9, "{}: {law}", sp.name);
+        eprintln!(
+            "{}: {} arcs, replay errors f64 {f64_error:.1e}, f32 {f32_error:.1e}, law on the arcs {law:.1e}",
+            sp.name,
+            best.arcs.len()
+        );
         assert!(best.max_abs_alpha <= limit * (1.0 + 1e-13), "{}", sp.name);
         for a in &best.arcs {
             for st in &best.trajectory.states[a.first..=a.last] {

@@ -22,8 +22,9 @@ usage:
       compare a decoded firmware log (QEMU's, or a board's with cycles_per_step) with the
       host's flight of the same gait in the same precision; fail on another gait, a digest
       or final-state mismatch, a mean above M instructions (default 1000) or a largest step
-      above S (default M), a mean or a largest step above C cycles (default: no limit), or a
-      step stack above B bytes (default 2048)
+      above S (default M), a mean or a largest step above C cycles (default: no limit), the
+      steps on a joint-limit arc dearer than the free ones (mean or largest), or a step
+      stack above B bytes (default 2048)
   purcell-mcu disasm LISTING [--root SYMBOL] [--soft-float]
       from `arm-none-eabi-objdump -d` output: code reachable from SYMBOL (default
       purcell_mcu_step), its size; fail if a soft-float helper or an indirect branch is
@@ -140,10 +141,22 @@ fn run(args: &[String]) -> Result<(), String> {
             let stack = log.stack_bytes.map_or("not measured".to_string(), |s| {
                 format!("{s} B (budget {} B)", budget.stack_bytes)
             });
+            let a = &log.arcs;
             println!(
                 "check: ok board={} scalar={} gait={:#010x} digest={:#018x} bit-identical to the \
-                 host; {unit} mean={} max={} (budget {limit}); stack_step={stack}",
-                log.board, log.scalar, log.gait_crc, log.digest, log.mean, log.max
+                 host; {unit} mean={} max={} (budget {limit}); on arcs: {} steps, mean={} max={} \
+                 (free steps: mean={} max={}); stack_step={stack}",
+                log.board,
+                log.scalar,
+                log.gait_crc,
+                log.digest,
+                log.mean,
+                log.max,
+                a.steps,
+                a.mean,
+                a.max,
+                a.free_mean,
+                a.free_max
             );
             Ok(())
         }

@@ -8,20 +8,24 @@
 //! The lines (defmt, printed with `defmt-print --log-format '{s}'`):
 //!
 //! ```text
-//! purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C> gait=<crc32>
+//! purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C> arcs=<A> gait=<crc32>
 //! <cycles_per_step|insn_per_step>: mean=<M.m> max=<X>
+//! arc_steps: steps=<n> mean=<M.m> max=<X> free_mean=<F.f> free_max=<Y>
 //! replay_total: steps=<N> units=<sum>
 //! digest: 0x<16 hex digits>
 //! final_state_bits: <0x…> ×6
 //! ```
 //!
-//! and the caller ends a successful run with `result: ok`.
+//! and the caller ends a successful run with `result: ok`. `arc_steps` splits the per-step
+//! figures (same units) between the steps with a joint at rest on a joint-limit arc (its
+//! `mean`, `max`; all zero for a gait without arcs) and the others (`free_…`).
 
 #![no_std]
 #![deny(missing_docs)]
 
+use core::iter::Peekable;
 use purcell_core::gait::Stored;
-use purcell_core::{Error, Flight, Gait, Replay, Sample};
+use purcell_core::{Arc, Error, Flight, Gait, Replay, Sample};
 
 /// A free-running counter that times each step.
 pub trait Counter {
@@ -54,6 +58,26 @@ impl Stats {
         self.n += 1;
         self.sum += u64::from(x);
         self.max = self.max.max(x);
+    }
+}
+
+/// Which steps have a joint at rest on a joint-limit arc (`first ≤ k < last`): walks a gait's
+/// arc table in step order.
+struct ArcSteps<I: Iterator<Item = Arc>> {
+    arcs: Peekable<I>,
+    /// The last state of each joint's latest arc.
+    ends: [u32; 2],
+}
+
+impl<I: Iterator<Item = Arc>> ArcSteps<I> {
+    /// Whether step `k` (called with increasing `k`) is on an arc.
+    fn at(&mut self, k: u32) -> bool {
+        while let Some(a) = self.arcs.next_if(|a| a.first <= k) {
+            if let Some(end) = self.ends.get_mut(usize::from(a.joint == 2)) {
+                *end = a.last;
+            }
+        }
+        self.ends.iter().any(|&end| k < end)
     }
 }
 
@@ -113,21 +137,29 @@ where
         "f64"
     };
     defmt::println!(
-        "purcell-mcu: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} gait={=u32:#010x}",
+        "purcell-mcu: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} arcs={=usize} gait={=u32:#010x}",
         board,
         scalar,
         gait.params().steps,
         S::PASSES.count,
         gait.checkpoint_count(),
+        gait.arc_count(),
         gait.crc()
     );
-    let mut stats = Stats::default();
+    let (mut stats, mut free, mut on_arcs) = (Stats::default(), Stats::default(), Stats::default());
+    let mut arc_steps = ArcSteps {
+        arcs: gait.arcs().peekable(),
+        ends: [0; 2],
+    };
     let flight = replay.fly(|r| {
+        let on_arc = arc_steps.at(r.steps_done());
         let t0 = C::now();
         let item = step(r);
         let t1 = C::now();
         if let Ok(Some(_)) = item {
-            stats.add(C::elapsed(t0, t1).saturating_sub(overhead));
+            let units = C::elapsed(t0, t1).saturating_sub(overhead);
+            stats.add(units);
+            (if on_arc { &mut on_arcs } else { &mut free }).add(units);
         }
         item
     })?;
@@ -138,6 +170,18 @@ where
         mean,
         tenths,
         scaled::<C>(u64::from(stats.max))
+    );
+    let ((arc_mean, arc_tenths), (free_mean, free_tenths)) =
+        (scaled_mean::<C>(&on_arcs), scaled_mean::<C>(&free));
+    defmt::println!(
+        "arc_steps: steps={=u32} mean={=u64}.{=u64} max={=u64} free_mean={=u64}.{=u64} free_max={=u64}",
+        on_arcs.n,
+        arc_mean,
+        arc_tenths,
+        scaled::<C>(u64::from(on_arcs.max)),
+        free_mean,
+        free_tenths,
+        scaled::<C>(u64::from(free.max))
     );
     defmt::println!(
         "replay_total: steps={=u32} units={=u64}",

@@ -13,12 +13,15 @@ use std::vec::Vec;
 /// The lines the firmware prints.
 pub mod line {
     /// `purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C>
-    /// gait=<crc32>`.
+    /// arcs=<A> gait=<crc32>`.
     pub const HEADER: &str = "purcell-mcu:";
     /// `insn_per_step: mean=<M> max=<X>` (instructions per control step, QEMU).
     pub const INSN: &str = "insn_per_step:";
     /// `cycles_per_step: mean=<M> max=<X>` (cycles per control step, a board's counter).
     pub const CYCLES: &str = "cycles_per_step:";
+    /// `arc_steps: steps=<n> mean=<M> max=<X> free_mean=<F> free_max=<Y>` (the per-step
+    /// figures of the steps with a joint at rest on a joint-limit arc, and of the others).
+    pub const ARCS: &str = "arc_steps:";
     /// `stack_step: bytes=<B>` (deepest stack use below the caller of one step, QEMU).
     pub const STACK: &str = "stack_step:";
     /// `digest: <0x…>` ([`purcell_core::TrajectoryDigest`] of the whole flight).
@@ -38,6 +41,21 @@ pub enum Unit {
     Cycles,
 }
 
+/// The per-step figures split between the steps on a joint-limit arc and the others.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Split {
+    /// Steps with a joint at rest on an arc.
+    pub steps: u32,
+    /// Their mean.
+    pub mean: f64,
+    /// Their largest.
+    pub max: u32,
+    /// Mean of the other steps.
+    pub free_mean: f64,
+    /// Largest of the other steps.
+    pub free_max: u32,
+}
+
 /// What a firmware run reported.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FirmwareLog {
@@ -55,6 +73,8 @@ pub struct FirmwareLog {
     pub mean: f64,
     /// Largest single step.
     pub max: u32,
+    /// The same over the steps on a joint-limit arc ([`Split`]).
+    pub arcs: Split,
     /// Deepest stack use of one step, bytes (measured by the QEMU harness only).
     pub stack_bytes: Option<u32>,
     /// Trajectory digest.
@@ -131,6 +151,7 @@ impl FirmwareLog {
             return Err(HostError::Log(format!("no `{}` line", line::RESULT)));
         }
         let crc = parse_hex(key(header, "gait")?)?;
+        let arcs = need_line(text, line::ARCS)?;
         Ok(FirmwareLog {
             board: key(header, "board")?.to_string(),
             scalar: key(header, "scalar")?.to_string(),
@@ -139,6 +160,13 @@ impl FirmwareLog {
             unit,
             mean: parse_num(key(counts, "mean")?, "mean")?,
             max: parse_num(key(counts, "max")?, "max")?,
+            arcs: Split {
+                steps: parse_num(key(arcs, "steps")?, "steps")?,
+                mean: parse_num(key(arcs, "mean")?, "mean")?,
+                max: parse_num(key(arcs, "max")?, "max")?,
+                free_mean: parse_num(key(arcs, "free_mean")?, "free_mean")?,
+                free_max: parse_num(key(arcs, "free_max")?, "free_max")?,
+            },
             stack_bytes,
             digest: parse_hex(need_line(text, line::DIGEST)?)?,
             final_bits,
@@ -161,7 +189,8 @@ pub struct Budget {
 }
 
 /// Compares a firmware log with the host's flight of the same gait: same gait (CRC),
-/// precision, step count, digest and final bits, and the budget met. Errors:
+/// precision, step count, digest and final bits, the budget met, and the steps on a
+/// joint-limit arc no dearer than the free ones (mean and largest). Errors:
 /// [`HostError::Mismatch`] naming the first failure.
 pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Result<(), HostError> {
     let mismatch = |m: String| Err(HostError::Mismatch(m));
@@ -214,6 +243,13 @@ pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Resul
             ));
         }
     }
+    let a = &log.arcs;
+    if a.steps > 0 && (a.mean > a.free_mean || a.max > a.free_max) {
+        return mismatch(format!(
+            "steps on a joint-limit arc cost more than free steps: mean {} > {} or largest {} > {}",
+            a.mean, a.free_mean, a.max, a.free_max
+        ));
+    }
     if let Some(stack) = log.stack_bytes
         && stack > budget.stack_bytes
     {
@@ -233,8 +269,9 @@ mod tests {
 
     const QEMU_LOG: &str = "\
 insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004
-purcell-mcu: board=mps2-an386 scalar=f32 steps=10000 passes=2 checkpoints=99 gait=0x77b998a7
+purcell-mcu: board=mps2-an386 scalar=f32 steps=10000 passes=2 checkpoints=99 arcs=0 gait=0x77b998a7
 insn_per_step: mean=812.5 max=845
+arc_steps: steps=0 mean=0.0 max=0 free_mean=812.5 free_max=845
 replay_total: steps=10000 units=8125000
 stack_step: bytes=312
 digest: 0x000000deadbeef01
@@ -256,7 +293,7 @@ result: ok
         );
         assert_eq!((log.stack_bytes, log.digest), (Some(312), 0xdead_beef01));
         assert_eq!(log.final_bits, [1, 2, 3, 4, 5, 6]);
-        for drop in [1, 2, 4, 5, 6, 7] {
+        for drop in [1, 2, 3, 5, 6, 7, 8] {
             let text: Vec<&str> = QEMU_LOG
                 .lines()
                 .enumerate()
@@ -313,11 +350,28 @@ result: ok
             unit: Unit::Instructions,
             mean: 900.0,
             max: 950,
+            arcs: Split {
+                steps: 0,
+                mean: 0.0,
+                max: 0,
+                free_mean: 900.0,
+                free_max: 950,
+            },
             stack_bytes: Some(300),
             digest: reference.digest,
             final_bits: reference.final_bits,
         };
         check(&log, &reference, &budget).unwrap();
+        let arcs = |mean: f64, max: u32| FirmwareLog {
+            arcs: Split {
+                steps: 500,
+                mean,
+                max,
+                ..log.arcs
+            },
+            ..log.clone()
+        };
+        check(&arcs(880.0, 950), &reference, &budget).unwrap();
         check(
             &FirmwareLog {
                 max: 1100,
@@ -391,6 +445,8 @@ result: ok
                 max: 2001,
                 ..cycles.clone()
             },
+            arcs(900.1, 900),
+            arcs(800.0, 951),
         ];
         for b in bad {
             assert!(
