@@ -461,19 +461,32 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
 }
 
 fn run_field(a: FieldArgs) -> Result<String, Failure> {
-    let (problem, states) = match &a.gait {
+    let (problem, states, arcs) = match &a.gait {
         Some(path) => {
             let file = read_costate(path)?;
             let problem = file
                 .problem()
                 .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-            let states = replay::gait_states(&file, 10_000).map_err(|e| {
+            let (states, stride) = replay::gait_states(&file, 10_000).map_err(|e| {
                 fail(
                     2,
                     format!("{}: the gait does not replay: {e}", path.display()),
                 )
             })?;
-            (problem, Some(states))
+            // The arcs on the drawn states (every `stride`-th).
+            let arcs = file
+                .arcs
+                .iter()
+                .map(|a| {
+                    let a = output::solver_arc(a);
+                    Arc {
+                        first: a.first / stride,
+                        last: a.last / stride,
+                        ..a
+                    }
+                })
+                .collect();
+            (problem, Some(states), arcs)
         }
         None => {
             let spec = Spec {
@@ -482,7 +495,11 @@ fn run_field(a: FieldArgs) -> Result<String, Failure> {
                 ratio: a.model.ratio,
                 ..Spec::default()
             };
-            (Problem::new(&spec).map_err(|e| fail(2, e))?, None)
+            (
+                Problem::new(&spec).map_err(|e| fail(2, e))?,
+                None,
+                Vec::new(),
+            )
         }
     };
     let components = match a.component {
@@ -493,11 +510,10 @@ fn run_field(a: FieldArgs) -> Result<String, Failure> {
     };
     let out = output::OutputDir::prepare(&a.out, "field", a.force).map_err(output_failure(true))?;
     let options = plots::Options { degrees: a.degrees };
-    // The costate file holds no arcs (yet): the gait is drawn without them.
     let gait = states.as_deref().map(|states| plots::FieldGait {
         problem: &problem,
         states,
-        arcs: &[],
+        arcs: &arcs,
     });
     let files = plots::field_files(&problem.swimmer, gait, &components, &options)
         .map_err(|e| fail(1, format!("plotting: {e}")))?;

@@ -40,6 +40,17 @@ pub fn arc_record(a: &Arc) -> purcell_core::Arc {
     }
 }
 
+/// A gait file's arc as the solver and the figures index it (joint 0 or 1); the inverse of
+/// [`arc_record`].
+pub fn solver_arc(a: &purcell_core::Arc) -> Arc {
+    Arc {
+        joint: usize::from(a.joint == 2),
+        upper: a.sign > 0,
+        first: a.first as usize,
+        last: a.last as usize,
+    }
+}
+
 /// The costate file for an extremal, with checkpoints every `every` steps and at each
 /// joint-limit arc's last state (MODEL.md §9; `every = 0`: at the arcs' exits only).
 ///

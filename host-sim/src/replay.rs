@@ -87,21 +87,24 @@ pub fn trajectory(file: &CostateFile) -> Result<Trajectory, purcell_core::Error>
     Ok(t)
 }
 
-/// The states `(α_k, g_k)` of the `f64` replay of `file` (with its checkpoints) at about
-/// `points` evenly spaced steps, always with `k = 0` and `k = N`.
+/// The states `(α_k, g_k)` of the `f64` replay of `file` (with its checkpoints) at every
+/// `stride`-th step, `stride` chosen for about `points` of them, always with `k = 0` and
+/// `k = N`; and `stride`.
 pub fn gait_states(
     file: &CostateFile,
     points: usize,
-) -> Result<Vec<purcell_core::State<f64>>, purcell_core::Error> {
+) -> Result<(Vec<purcell_core::State<f64>>, usize), purcell_core::Error> {
     let t = trajectory(file)?;
     let stride = (file.steps as usize / points.max(1)).max(1);
     let last = t.states.len() - 1;
-    Ok(t.states
+    let states = t
+        .states
         .iter()
         .enumerate()
         .filter(|(k, _)| k % stride == 0 || *k == last)
         .map(|(_, s)| *s)
-        .collect())
+        .collect();
+    Ok((states, stride))
 }
 
 /// `0x` and the 16 hex digits of a flight's digest.

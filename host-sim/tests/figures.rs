@@ -431,6 +431,25 @@ fn solve_and_field_commands_write_every_figure() {
         );
     }
 
+    // `field --gait` of the constrained gait's costate file: its limit and arcs come with it.
+    let limited_field = dir.path().join("limited-field");
+    let costate = dir.path().join("limited").join("costate.json");
+    let o = sim(&[
+        "field",
+        "--gait",
+        costate.to_str().unwrap(),
+        "--out",
+        limited_field.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let m = limit_marks(&read_dir(&limited_field)["field.svg"]);
+    assert!(m.limit_label && m.arc_label && m.stretches >= 2, "{m:?}");
+
     // The field of that gait, one row, and the field of a swimmer given by its parameters.
     let costate = out.join("costate.json");
     let field = dir.path().join("field");

@@ -227,8 +227,8 @@ fn k_ok(n: usize, arcs: &[Arc]) -> bool {
 }
 
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
-/// through finer grids ([`super::finer_grid`]), each running the barrier path [`FINE_TAUS`]
-/// (the problem's own grid only its last weight), then [`polish`]. `Err` holds the terminal
+/// through finer grids ([`super::finer_grid`]), the first running the barrier path
+/// [`FINE_TAUS`], the others only its last weight, then [`polish`]. `Err` holds the terminal
 /// defect where it stopped.
 pub fn refine(
     problem: &Problem,
@@ -238,6 +238,7 @@ pub fn refine(
 ) -> Result<(Grid, Run), f64> {
     let mut u = u.to_vec();
     let mut nu = *nu;
+    let mut walked = false;
     loop {
         let (grid, last) = super::finer_grid(problem, u.len()).map_err(|_| f64::INFINITY)?;
         let next = grid.steps;
@@ -250,11 +251,13 @@ pub fn refine(
             tol_defect: 1e-10,
             tol_kkt: 1e-6,
         };
-        let taus: &[f64] = if last {
+        // The path once, on the first finer grid; a later grid only its last weight.
+        let taus: &[f64] = if walked {
             &FINE_TAUS[FINE_TAUS.len() - 1..]
         } else {
             &FINE_TAUS
         };
+        walked = true;
         let run =
             barrier_path(&grid, alpha_max, taus, start, &settings).map_err(|_| f64::INFINITY)?;
         if !run.converged {
