@@ -9,30 +9,26 @@
 //!   core, `RAYON_NUM_THREADS=1`).
 use criterion::{Criterion, criterion_group, criterion_main};
 use host_sim::problem::{Problem, Spec};
-use host_sim::solver::direct::Grid;
-use host_sim::solver::stage::Rule;
-use host_sim::solver::{SolveOptions, refine, search, solve};
+use host_sim::solver::{SolveOptions, coarse_grid, refine, search, solve};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
     let p = Problem::paper();
     let options = SolveOptions::default();
-    let coarse = Grid::new(
-        &p,
-        options.coarse_steps,
-        Rule::matching(p.horizon() / options.coarse_steps as f64, p.h),
-    )
-    .unwrap();
+    let coarse = coarse_grid(&p, &options).unwrap();
     let admissible = |a: f64| p.admits(a);
-    let found = search::search(
-        &coarse,
-        options.min_starts,
-        options.starts,
-        options.seed,
-        None,
-        &admissible,
-        &|| {},
-    );
+    let run_search = || {
+        search::search(
+            &coarse,
+            options.min_starts,
+            options.starts,
+            options.seed,
+            None,
+            &admissible,
+            &|| {},
+        )
+    };
+    let found = run_search();
     let best = found
         .candidates
         .iter()
@@ -47,19 +43,7 @@ fn bench(c: &mut Criterion) {
     g.bench_function("refine_cheapest_admissible", |b| {
         b.iter(|| refine(&p, black_box(&best.u), &best.nu).unwrap())
     });
-    g.bench_function("coarse_search", |b| {
-        b.iter(|| {
-            search::search(
-                &coarse,
-                options.min_starts,
-                options.starts,
-                options.seed,
-                None,
-                &admissible,
-                &|| {},
-            )
-        })
-    });
+    g.bench_function("coarse_search", |b| b.iter(run_search));
     for a in [1.5, 2.5] {
         let limited = Problem::new(&Spec {
             alpha_max: Some(a),

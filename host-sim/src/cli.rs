@@ -336,6 +336,27 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
     }
 }
 
+/// The bounds of a search (`solve`, `sweep`): `1 ≤ starts ≤ MAX_STARTS`, at most
+/// `MAX_SOLVE_STEPS` steps (exit 2).
+fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
+    if !(1..=MAX_STARTS).contains(&starts) {
+        return Err(fail(
+            2,
+            format!("--starts must be 1 to {MAX_STARTS} (got {starts})"),
+        ));
+    }
+    if problem.steps > MAX_SOLVE_STEPS {
+        return Err(fail(
+            2,
+            format!(
+                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
+                problem.steps
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     let spec = Spec {
         target: arr("target", &a.target)?,
@@ -352,21 +373,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     problem
         .check_precision::<f32>("f32")
         .map_err(|e| fail(2, e))?;
-    if !(1..=MAX_STARTS).contains(&a.starts) {
-        return Err(fail(
-            2,
-            format!("--starts must be 1 to {MAX_STARTS} (got {})", a.starts),
-        ));
-    }
-    if problem.steps > MAX_SOLVE_STEPS {
-        return Err(fail(
-            2,
-            format!(
-                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
-                problem.steps
-            ),
-        ));
-    }
+    search_limits(&problem, a.starts)?;
     let out = output::OutputDir::prepare(&a.out, "solve", a.force).map_err(output_failure(true))?;
     let options = SolveOptions {
         starts: a.starts,
@@ -594,12 +601,6 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
             ),
         ));
     }
-    if !(1..=MAX_STARTS).contains(&a.starts) {
-        return Err(fail(
-            2,
-            format!("--starts must be 1 to {MAX_STARTS} (got {})", a.starts),
-        ));
-    }
     let spec = Spec {
         target: [0.0; 3],
         horizon: a.horizon,
@@ -611,15 +612,7 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
         alpha_max: a.alpha_max,
     };
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
-    if problem.steps > MAX_SOLVE_STEPS {
-        return Err(fail(
-            2,
-            format!(
-                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
-                problem.steps
-            ),
-        ));
-    }
+    search_limits(&problem, a.starts)?;
     let out = output::OutputDir::prepare(&a.out, "sweep", a.force).map_err(output_failure(true))?;
     let options = SolveOptions {
         starts: a.starts,

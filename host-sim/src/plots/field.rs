@@ -244,15 +244,7 @@ impl FieldFigure<'_> {
         let mut v = -(lim / step).floor() * step;
         while v <= lim + 1e-12 * lim {
             let y = y0 + ((lim - v) / (2.0 * lim) * height).round() as i32;
-            root.draw(&PathElement::new(
-                vec![(bx + bw, y), (bx + bw + k.px(10.0), y)],
-                k.line(INK, 2.0),
-            ))?;
-            root.draw(&Text::new(
-                fmt(v),
-                (bx + bw + k.px(16.0), y),
-                k.font(TICK_FONT, HPos::Left, VPos::Center),
-            ))?;
+            colour_bar_tick(root, k, bx + bw, y, fmt(v))?;
             v += step;
         }
         Ok(())

@@ -409,6 +409,29 @@ impl Axes<'_> {
     }
 }
 
+/// One tick of a colour bar whose right edge is at `x`: a mark at height `y` and its label.
+pub fn colour_bar_tick<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    k: Scale,
+    x: i32,
+    y: i32,
+    label: String,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    root.draw(&PathElement::new(
+        vec![(x, y), (x + k.px(10.0), y)],
+        k.line(INK, 2.0),
+    ))?;
+    root.draw(&Text::new(
+        label,
+        (x + k.px(16.0), y),
+        k.font(TICK_FONT, HPos::Left, VPos::Center),
+    ))?;
+    Ok(())
+}
+
 /// Labels per axis (at most).
 pub const TICKS: usize = 7;
 

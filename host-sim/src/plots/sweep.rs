@@ -149,15 +149,7 @@ impl Figure for SweepFigure<'_> {
         for i in 0..=4 {
             let v = lo + (hi - lo) * f64::from(i) / 4.0;
             let y = py0 + ((hi - v) / (hi - lo) * height).round() as i32;
-            root.draw(&PathElement::new(
-                vec![(bx + bw, y), (bx + bw + k.px(10.0), y)],
-                k.line(INK, 2.0),
-            ))?;
-            root.draw(&Text::new(
-                fmt(v),
-                (bx + bw + k.px(16.0), y),
-                k.font(TICK_FONT, HPos::Left, VPos::Center),
-            ))?;
+            colour_bar_tick(root, k, bx + bw, y, fmt(v))?;
         }
         root.draw(&Text::new(
             "J",

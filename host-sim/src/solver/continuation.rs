@@ -444,12 +444,7 @@ fn newton_from(grid: &Grid, from: &Candidate, settings: &Settings) -> Option<Can
     if !run.converged || !grid.resolves(&run.point.u) {
         return None;
     }
-    let max_abs_alpha = run
-        .point
-        .states
-        .iter()
-        .map(|s| s[0].abs().max(s[1].abs()))
-        .fold(0.0, f64::max);
+    let max_abs_alpha = direct::max_abs_alpha(&run.point.states);
     Some(Candidate {
         cost: grid.cost(&run.point.u),
         u: run.point.u,

@@ -381,6 +381,14 @@ impl Point {
     }
 }
 
+/// The largest `|α_i|` along a path of stage states.
+pub fn max_abs_alpha(states: &[StageState]) -> f64 {
+    states
+        .iter()
+        .map(|s| s[0].abs().max(s[1].abs()))
+        .fold(0.0, f64::max)
+}
+
 /// Stopping rules.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {

@@ -241,11 +241,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let trajectory = costate::trajectory(&p.states, &p.u, &run.lambda, &run.jumps);
     let n = p.u.len();
     let mu = costate::momentum(&run.lambda[n], &p.states[n]);
-    let max_abs_alpha = p
-        .states
-        .iter()
-        .map(|s| s[0].abs().max(s[1].abs()))
-        .fold(0.0, f64::max);
+    let max_abs_alpha = direct::max_abs_alpha(&p.states);
     let physical = max_abs_alpha < core::f64::consts::PI;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
     let cost = grid.cost(&p.u);

@@ -118,12 +118,7 @@ pub fn search(
                 continue;
             }
             let cost = grid.cost(&run.point.u);
-            let max_abs_alpha = run
-                .point
-                .states
-                .iter()
-                .map(|s| s[0].abs().max(s[1].abs()))
-                .fold(0.0, f64::max);
+            let max_abs_alpha = direct::max_abs_alpha(&run.point.states);
             if let Some(c) = out
                 .candidates
                 .iter_mut()
