@@ -97,6 +97,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         max_iterations: 30,
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
+        fraction_to_boundary: false,
     };
     // With a joint limit: the warm start pulled inside it and through the barrier path at
     // its own target; the walk then keeps the barrier's last weight.
@@ -143,7 +144,8 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
             Err(_) => ds *= 0.5,
         }
     }
-    let (fine, run) = refine(problem, &point.u, &point.nu).map_err(unreachable)?;
+    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY)
+        .map_err(|stop| unreachable(stop.defect()))?;
     Ok(extremal(problem, &fine, &run))
 }
 
@@ -307,6 +309,7 @@ pub fn sweep(
         max_iterations: 40,
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
+        fraction_to_boundary: false,
     };
     while !to_search.is_empty() {
         let found: Vec<(usize, Vec<Candidate>)> = to_search
@@ -388,7 +391,7 @@ pub fn sweep(
                 best_residual: f64::INFINITY,
             });
             for c in &kept[i] {
-                match refine(p, &c.u, &c.nu) {
+                match refine(p, &c.u, &c.nu, f64::INFINITY) {
                     Ok((g, run)) => {
                         let x = extremal(p, &g, &run);
                         let admissible = x.admissible;
@@ -399,8 +402,10 @@ pub fn sweep(
                             break;
                         }
                     }
-                    Err(r) if result.is_err() => {
-                        result = Err(SolveError::Unreachable { best_residual: r })
+                    Err(stop) if result.is_err() => {
+                        result = Err(SolveError::Unreachable {
+                            best_residual: stop.defect(),
+                        })
                     }
                     Err(_) => {}
                 }

@@ -9,7 +9,7 @@
 //! [`super::riccati`] with the stage Hessians of `λ_{k+1}ᵀf`. Per iteration: one rollout, one
 //! backward sweep (derivatives, costates, Riccati), one forward sweep — `O(N)`.
 //!
-//! Globalisation: an `ℓ1` merit `J + ρ|c|₁` with Armijo backtracking and one second-order
+//! Globalisation: a filter line search ([`Filter`], as IPOPT's) with one second-order
 //! correction of a rejected full step (the terminal constraint is curved: without it the
 //! merit rejects good Newton steps, the Maratos effect); when the QP is not convex on the
 //! constraint's null space (wrong inertia), `δ·I` is added to the control Hessian until it is
@@ -228,6 +228,31 @@ impl Grid {
         slope
     }
 
+    /// Fraction to the boundary: the largest `t ≤ 1` such that the step `t·du` keeps every
+    /// state `k = 1 … N−1` at least 1 % of its distance from the limit (`δα_k = h Σ_{j<k}
+    /// δu_j` is linear in `t`); 1 without a barrier.
+    pub fn max_step(&self, states: &[StageState], du: &[Vector2<f64>]) -> f64 {
+        let Limits::Barrier { alpha_max, .. } = self.limits else {
+            return 1.0;
+        };
+        let h = self.h();
+        let mut t = 1.0f64;
+        let mut da = Vector2::zeros();
+        for (k, d) in du.iter().enumerate().take(du.len().saturating_sub(1)) {
+            da += d * h;
+            let s = &states[k + 1];
+            for i in 0..2 {
+                let dist = alpha_max - s[i].abs();
+                let toward = if s[i] >= 0.0 { da[i] } else { -da[i] };
+                // The nearer side only: the farther one is at least α_max away.
+                if toward > 0.0 {
+                    t = t.min(0.99 * dist / toward);
+                }
+            }
+        }
+        t
+    }
+
     /// The control maps of the arcs, one per stage (`None` without arcs).
     pub fn control_maps(&self) -> Option<Vec<ControlMap>> {
         let Limits::Arcs { arcs, .. } = &self.limits else {
@@ -398,6 +423,10 @@ pub struct Settings {
     pub tol_defect: f64,
     /// Largest stationarity residual accepted (rad/s).
     pub tol_kkt: f64,
+    /// With a barrier: start each line search at the fraction to the boundary
+    /// ([`Grid::max_step`]) rather than at the full step, so that no state comes closer to
+    /// the limit than 1 % of its distance in one step (IPOPT's rule).
+    pub fraction_to_boundary: bool,
 }
 
 /// Outcome of [`newton`].
@@ -511,7 +540,11 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
             Some((p, th, ph))
         };
         let mut accepted = None;
-        let mut t = 1.0;
+        let mut t = if settings.fraction_to_boundary {
+            grid.max_step(&pt.states, &du)
+        } else {
+            1.0
+        };
         while t > 1e-12 {
             if let Some((p, th, ph)) = trial(t, None) {
                 if let Some(kind) = filter.acceptable(theta, phi, slope, t, th, ph) {

@@ -14,6 +14,7 @@
 //! The result is a KKT point of the constrained problem: stationarity in every free
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
+use super::Stop;
 use super::direct::{self, Arc, Grid, Limits, Point, Run, Settings};
 use super::stage::StageState;
 use crate::problem::Problem;
@@ -32,6 +33,9 @@ pub fn coarse_path(index: usize) -> &'static [f64] {
 }
 /// Barrier weights of the fine grid before the active set is fixed.
 pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
+/// Most active-set rounds of [`polish`] (from a barrier solution on the same grid, two
+/// suffice: arcs found, then confirmed).
+const ROUNDS: usize = 6;
 /// A state this close to the limit (radians) at the end of the barrier path is on an arc.
 pub const NEAR: f64 = 1e-6;
 
@@ -148,18 +152,18 @@ pub enum PolishError {
     Unsettled,
 }
 
-/// The constrained extremal near a barrier solution `run` on `grid` (the problem's own grid):
-/// active-set rounds of Newton with the limit imposed on the arcs (see the module docs).
-/// Returns the grid (with its final arcs) and the run.
+/// The constrained extremal near `start` on `grid`: active-set rounds of Newton with the
+/// limit imposed on the arcs (see the module docs), the first arcs the stretches of `start`
+/// within [`NEAR`] of the limit. Returns the grid (with its final arcs) and the run.
 pub fn polish(
     grid: &Grid,
     alpha_max: f64,
-    run: &Run,
+    start: &Point,
     settings: &Settings,
 ) -> Result<(Grid, Run), PolishError> {
-    let mut arcs = arcs_of(&run.point.states, alpha_max, NEAR);
-    let mut point = run.point.clone();
-    for _ in 0..6 {
+    let mut arcs = arcs_of(&start.states, alpha_max, NEAR);
+    let mut point = start.clone();
+    for _ in 0..ROUNDS {
         let mut g = grid.clone();
         g.limits = Limits::Arcs {
             alpha_max,
@@ -214,11 +218,27 @@ pub fn polish(
         if settled {
             return Ok((g, r));
         }
-        arcs = released;
-        arcs.extend(violated);
+        released.extend(violated);
+        arcs = merged(released);
         point = r.point;
     }
     Err(PolishError::Unsettled)
+}
+
+/// The arcs with those of one joint and side that overlap or touch joined into one, in the
+/// order of [`arcs_of`] (joint, side, first step).
+fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
+    arcs.sort_by_key(|a| (a.joint, !a.upper, a.first));
+    let mut out: Vec<Arc> = Vec::with_capacity(arcs.len());
+    for a in arcs {
+        match out.last_mut() {
+            Some(b) if b.joint == a.joint && b.upper == a.upper && a.first <= b.last + 1 => {
+                b.last = b.last.max(a.last);
+            }
+            _ => out.push(a),
+        }
+    }
+    out
 }
 
 /// Every arc inside `1 … N−1`.
@@ -228,21 +248,25 @@ fn k_ok(n: usize, arcs: &[Arc]) -> bool {
 
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
 /// through finer grids ([`super::finer_grid`]), the first running the barrier path
-/// [`FINE_TAUS`], the others only its last weight, then [`polish`]. `Err` holds the terminal
-/// defect where it stopped.
+/// [`FINE_TAUS`], the others only its last weight, then [`polish`]. The barrier steps stop
+/// at the fraction to the boundary ([`Settings::fraction_to_boundary`]): from a prolonged
+/// coarse solution, unguarded steps pin states to the limit and Newton stalls there. Stops
+/// with [`Stop::Dearer`] if an intermediate grid's cost exceeds `bound`.
 pub fn refine(
     problem: &Problem,
     alpha_max: f64,
     u: &[Vector2<f64>],
     nu: &nalgebra::Vector5<f64>,
-) -> Result<(Grid, Run), f64> {
+    bound: f64,
+) -> Result<(Grid, Run), Stop> {
     let mut u = u.to_vec();
     let mut nu = *nu;
     let mut walked = false;
     loop {
-        let (grid, last) = super::finer_grid(problem, u.len()).map_err(|_| f64::INFINITY)?;
+        let inf = |_| Stop::Defect(f64::INFINITY);
+        let (grid, last) = super::finer_grid(problem, u.len()).map_err(inf)?;
         let next = grid.steps;
-        let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(|_| f64::INFINITY)?;
+        let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
         // The barrier's Hessian grows like τ/d² near the limit, so its stationarity is
         // asked only to 1e-6 at the small weights: the path is there to find the arcs,
         // [`polish`] converges the constrained problem itself.
@@ -250,6 +274,7 @@ pub fn refine(
             max_iterations: 40,
             tol_defect: 1e-10,
             tol_kkt: 1e-6,
+            fraction_to_boundary: true,
         };
         // The path once, on the first finer grid; a later grid only its last weight.
         let taus: &[f64] = if walked {
@@ -258,17 +283,19 @@ pub fn refine(
             &FINE_TAUS
         };
         walked = true;
-        let run =
-            barrier_path(&grid, alpha_max, taus, start, &settings).map_err(|_| f64::INFINITY)?;
+        let run = barrier_path(&grid, alpha_max, taus, start, &settings).map_err(inf)?;
         if !run.converged {
-            return Err(run.defect);
+            return Err(Stop::Defect(run.defect));
         }
         if last {
             let fine = super::fine_settings(problem, &run.point.u);
-            return polish(&grid, alpha_max, &run, &fine).map_err(|e| match e {
-                PolishError::NotConverged(d) => d,
-                PolishError::Unsettled => f64::INFINITY,
+            return polish(&grid, alpha_max, &run.point, &fine).map_err(|e| match e {
+                PolishError::NotConverged(d) => Stop::Defect(d),
+                PolishError::Unsettled => Stop::Defect(f64::INFINITY),
             });
+        }
+        if grid.cost(&run.point.u) > bound {
+            return Err(Stop::Dearer);
         }
         u = run.point.u;
         nu = run.point.nu;

@@ -72,6 +72,7 @@ pub fn search(
         max_iterations: 100,
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
+        fraction_to_boundary: false,
     };
     let size = starts::reference_size(grid);
     let family = starts::family(size, seed, max_starts);
