@@ -151,7 +151,7 @@ pub fn search(
         // Nothing at all after three batches: the target is out of reach (or needs more
         // starts than the default; `--starts` bounds the search, not this rule).
         let hopeless = out.candidates.is_empty() && out.starts >= 3 * BATCH;
-        if (confirmed && out.starts > min_starts) || trivial || hopeless {
+        if (confirmed && out.starts >= min_starts) || trivial || hopeless {
             break;
         }
     }
