@@ -228,10 +228,18 @@ impl Grid {
         slope
     }
 
-    /// Fraction to the boundary: the largest `t ≤ 1` such that the step `t·du` keeps every
-    /// state `k = 1 … N−1` at least 1 % of its distance from the limit (`δα_k = h Σ_{j<k}
-    /// δu_j` is linear in `t`); 1 without a barrier.
-    pub fn max_step(&self, states: &[StageState], du: &[Vector2<f64>]) -> f64 {
+    /// The largest `t ≤ 1` for which the step `t·du` keeps every state `k = 1 … N−1` a share
+    /// `1 − fraction` of its distance `d` from each limit, less `slack` (`δα_k = h Σ_{j<k}
+    /// δu_j` is linear in `t`): `t ≤ (fraction·d + slack)/δd`. `(0.99, 0)` is IPOPT's fraction
+    /// to the boundary; `(1, slack)` where the step leaves the barrier's domain. 1 without a
+    /// barrier.
+    pub fn max_step(
+        &self,
+        states: &[StageState],
+        du: &[Vector2<f64>],
+        fraction: f64,
+        slack: f64,
+    ) -> f64 {
         let Limits::Barrier { alpha_max, .. } = self.limits else {
             return 1.0;
         };
@@ -242,11 +250,14 @@ impl Grid {
             da += d * h;
             let s = &states[k + 1];
             for i in 0..2 {
-                let dist = alpha_max - s[i].abs();
-                let toward = if s[i] >= 0.0 { da[i] } else { -da[i] };
-                // The nearer side only: the farther one is at least α_max away.
+                // Toward `+α_max` or toward `−α_max`.
+                let (dist, toward) = if da[i] > 0.0 {
+                    (alpha_max - s[i], da[i])
+                } else {
+                    (alpha_max + s[i], -da[i])
+                };
                 if toward > 0.0 {
-                    t = t.min(0.99 * dist / toward);
+                    t = t.min((fraction * dist + slack) / toward);
                 }
             }
         }
@@ -541,12 +552,17 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         };
         let mut accepted = None;
         let mut t = if settings.fraction_to_boundary {
-            grid.max_step(&pt.states, &du)
+            grid.max_step(&pt.states, &du, 0.99, 0.0)
         } else {
             1.0
         };
+        // A trial that takes a state past the limit (by more than rounding) would fail in its
+        // rollout: it is skipped without one.
+        let wall = grid.max_step(&pt.states, &du, 1.0, 1e-12);
         while t > 1e-12 {
-            if let Some((p, th, ph)) = trial(t, None) {
+            if t <= wall
+                && let Some((p, th, ph)) = trial(t, None)
+            {
                 if let Some(kind) = filter.acceptable(theta, phi, slope, t, th, ph) {
                     accepted = Some((p, kind));
                     break;
