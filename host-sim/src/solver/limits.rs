@@ -271,7 +271,7 @@ pub fn refine(
         // asked only to 1e-6 at the small weights: the path is there to find the arcs,
         // [`polish`] converges the constrained problem itself.
         let settings = Settings {
-            max_iterations: 40,
+            max_iterations: 100,
             tol_defect: 1e-10,
             tol_kkt: 1e-6,
             fraction_to_boundary: true,
