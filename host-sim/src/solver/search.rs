@@ -125,12 +125,6 @@ pub fn search(
                     out.best_residual = out.best_residual.min(run.defect);
                     continue;
                 }
-                if !grid.resolves(&run.point.u) {
-                    out.unresolved += 1;
-                    continue;
-                }
-                let cost = grid.cost(&run.point.u);
-                let max_abs_alpha = direct::max_abs_alpha(&run.point.states);
                 if let Some(c) = out
                     .candidates
                     .iter_mut()
@@ -143,6 +137,13 @@ pub fn search(
                     }
                     continue;
                 }
+                // Checked once per distinct extremal (a rollout 16 times finer).
+                if !grid.resolves(&run.point.u) {
+                    out.unresolved += 1;
+                    continue;
+                }
+                let cost = grid.cost(&run.point.u);
+                let max_abs_alpha = direct::max_abs_alpha(&run.point.states);
                 out.candidates.push(Candidate {
                     u: run.point.u,
                     nu: run.point.nu,
