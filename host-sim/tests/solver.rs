@@ -5,7 +5,9 @@
 use host_sim::output;
 use host_sim::problem::{Problem, Spec, SuiteProblem, read_suite};
 use host_sim::replay;
-use host_sim::solver::{Extremal, Solution, SolveError, SolveOptions, solve};
+use host_sim::solver::{
+    Extremal, PRUNE, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
+};
 use purcell_core::OnArcs;
 
 fn public_problems() -> Vec<SuiteProblem> {
@@ -155,6 +157,48 @@ fn joint_limit_problems_solve_at_or_below_their_reference() {
             }
         }
     }
+}
+
+/// Tight limits, where every barrier path spends long pinned to the limit: the paper's
+/// target within 1.2 rad, and a bent start `ᾱ = (0.3, 0.3)` within 1.0 rad (the search
+/// needs its second pass with more iterations per weight). Each returns a gait on arcs of
+/// the limit that passes the certificates and replays to the target. No reference: IPOPT was
+/// not run on these; that the cheapest is found is the joint-limit suite problems' check.
+#[test]
+fn tight_limits_solve() {
+    for (name, target, alpha0, limit) in [
+        ("paper target within 1.2", [0.1, 0.1, 0.0], [0.0, 0.0], 1.2),
+        ("bent start within 1.0", [0.05, 0.05, 0.1], [0.3, 0.3], 1.0),
+    ] {
+        let spec = Spec {
+            target,
+            alpha0,
+            alpha_max: Some(limit),
+            ..Spec::default()
+        };
+        let p = Problem::new(&spec).unwrap();
+        let s = solve(&p, &SolveOptions::default(), &|| {}).unwrap();
+        let best = &s.extremals[s.best];
+        check_solution(name, &p, &s, None);
+        assert!(!best.arcs.is_empty(), "{name}");
+        assert!(best.max_abs_alpha <= limit * (1.0 + 1e-13), "{name}");
+    }
+}
+
+/// A refinement bounded below the candidate's cost stops on the intermediate grid
+/// ([`Stop::Dearer`]); unbounded, the same candidate reaches the problem's grid, where it
+/// costs more than the bound by more than [`PRUNE`] allows for the intermediate grid's error.
+#[test]
+fn a_refinement_stops_early_once_dearer_than_the_bound() {
+    let p = Problem::paper();
+    let options = SolveOptions::default();
+    let grid = coarse_grid(&p, &options).unwrap();
+    let found = search::search(&grid, 32, 32, 0, None, &|a| p.admits(a), &|| {});
+    let c = &found.candidates[0];
+    let bound = 0.9 * c.cost;
+    assert_eq!(refine(&p, &c.u, &c.nu, bound).err(), Some(Stop::Dearer));
+    let (fine, run) = refine(&p, &c.u, &c.nu, f64::INFINITY).unwrap();
+    assert!(fine.cost(&run.point.u) > bound * (1.0 + PRUNE));
 }
 
 #[test]
