@@ -34,9 +34,7 @@
 //! 3. **Finish**: `X = −hAu`, `α_{k+1}`, `g_{k+1} = g_k exp(X)`, and the output checks.
 //!
 //! Both kinds converge to the same `u_k`, the root of the law's equations. The work per step
-//! is fixed: no loop runs to a tolerance. The arithmetic is ordered per scalar type
-//! ([`Real::LAYOUT`]): for the fewest operations (`f32`, the Cortex-M4F) or the shortest
-//! dependency chain (`f64`, a host); the two orders give the same numbers up to rounding.
+//! is fixed: no loop runs to a tolerance.
 //!
 //! **On a joint-limit arc** (MODEL.md §9; [`Kinematics::law_step_on_arcs`]), joint `i` rests:
 //! `u_{k,i} = 0` replaces row `i` of every solve (first iterate and passes alike, with
@@ -47,7 +45,7 @@
 
 use crate::kinematics::{Kinematics, State};
 use crate::se2::{self, ExpCoefficients, Tangent};
-use crate::swimmer::{Bracket, Frame, Sym3, sym_mul_vec};
+use crate::swimmer::{Frame, Sym3, sym_mul_vec};
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
 
@@ -87,23 +85,6 @@ impl Passes {
             count,
         }
     }
-}
-
-/// How the law orders a step's arithmetic, per scalar type ([`Real::LAYOUT`]): the same
-/// equations, arranged for what a target's step is bound by.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Layout {
-    /// Fewest operations (`f32`: the Cortex-M4F runs the step in order, its cost is its
-    /// instruction count): `W_ξ⁻¹ = ι·adj W_ξ` first, then `A = W_ξ⁻¹W_α`, the brackets'
-    /// columns `E_i e_j` as vectors and `hB(ζ)_ij = λ·E_i e_j` with `λ = hW_ξ⁻¹ζ`.
-    Compact,
-    /// Shortest dependency chain (`f64`: an out-of-order host is bound by the chain from
-    /// `α_k` to `α_{k+1}`): the products with `adj W_ξ` run beside the division by its
-    /// determinant and `ι` scales their results, and `hB(ζ)_ij = t_ij·p_i + q_ij·r_i` from
-    /// per-link scalars, `p_i = hι·(adj ν'_i)·ζ`, `r_i = hι·(adj τ_i)·ζ` (see
-    /// `swimmer::Bracket`), so `ζ` reaches `hB` through one dot product.
-    Short,
 }
 
 /// The joints on a joint-limit arc at a step, `[joint 1, joint 2]` (MODEL.md §9): their
@@ -336,10 +317,7 @@ impl<T: Real> Rows<T> for OnArcs {
 /// [`crate::swimmer`]), `m_k` and `ξ^{k−1}`.
 struct Equation<T: Real> {
     frame: Frame<T>,
-    /// `h·W_ξ⁻¹` ([`Layout::Compact`]).
     hw_inv: Sym3<T>,
-    /// `h·ι = h/det W_ξ` ([`Layout::Short`]).
-    h_inv_det: T,
     h: T,
     m: Vector3<T>,
     xi_prev: Vector2<T>,
@@ -350,7 +328,6 @@ impl<T: Real> Equation<T> {
     fn new(frame: Frame<T>, h: T, m: Vector3<T>, xi_prev: Vector2<T>) -> Self {
         Equation {
             hw_inv: frame.w_inv.map(|v| v * h),
-            h_inv_det: h * frame.inv_det,
             frame,
             h,
             m,
@@ -358,47 +335,12 @@ impl<T: Real> Equation<T> {
         }
     }
 
-    /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j = λ·E_i e_j` with `λ = h·W_ξ⁻¹ζ`, in the type's
-    /// [`Layout`].
+    /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j = λ·E_i e_j` with `λ = h·W_ξ⁻¹ζ`.
     #[inline(always)]
     fn hb(&self, z: &Vector3<T>) -> Mat2<T> {
-        let [b1, b2] = &self.frame.brackets;
-        match T::LAYOUT {
-            Layout::Compact => {
-                let lam = sym_mul_vec(&self.hw_inv, z);
-                let (e11, e12, e21, e22) = (b1.column(0), b1.column(1), b2.column(0), b2.column(1));
-                (lam.dot(&e11), lam.dot(&e12), lam.dot(&e21), lam.dot(&e22))
-            }
-            Layout::Short => {
-                let hi = self.h_inv_det;
-                let row = |b: &Bracket<T>| {
-                    let (p, r) = (hi * b.adj_nu.dot(z), hi * b.adj_tau.dot(z));
-                    (b.t[0] * p + b.q[0] * r, b.t[1] * p + b.q[1] * r)
-                };
-                let ((b11, b12), (b21, b22)) = (row(b1), row(b2));
-                (b11, b12, b21, b22)
-            }
-        }
-    }
-
-    /// `hW_ξ⁻¹E_i u` (`= h∂A/∂α_i u`), the row `i` of `V(u)`: with `T_i = Σ_j t_ij u_j`,
-    /// `Q_i = Σ_j q_ij u_j` it is `hι·(T_i·adj ν'_i + Q_i·adj τ_i)` ([`Layout::Short`]).
-    #[inline(always)]
-    fn hw_inv_e(&self, i: usize, u: &Vector2<T>) -> Vector3<T> {
-        let b = if i == 0 {
-            &self.frame.brackets[0]
-        } else {
-            &self.frame.brackets[1]
-        };
-        match T::LAYOUT {
-            Layout::Compact => sym_mul_vec(&self.hw_inv, &(b.column(0) * u.x + b.column(1) * u.y)),
-            Layout::Short => {
-                let hi = self.h_inv_det;
-                let tu = hi * (b.t[0] * u.x + b.t[1] * u.y);
-                let qu = hi * (b.q[0] * u.x + b.q[1] * u.y);
-                b.adj_nu * tu + b.adj_tau * qu
-            }
-        }
+        let lam = sym_mul_vec(&self.hw_inv, z);
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        (lam.dot(e11), lam.dot(e12), lam.dot(e21), lam.dot(e22))
     }
 
     /// `ξ^{k−1} + hB·u`.
@@ -490,7 +432,9 @@ impl<T: Real> Equation<T> {
         let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
         let hb = self.hb(&z);
         let (b11, b12, b21, b22) = hb;
-        let (v1, v2) = (self.hw_inv_e(0, u), self.hw_inv_e(1, u));
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
+        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
         let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
         let jac = (
             T::one() - b11 + g1.dot(&d1),

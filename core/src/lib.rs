@@ -28,7 +28,7 @@ pub use digest::TrajectoryDigest;
 pub use error::Error;
 pub use gait::Gait;
 pub use kinematics::{Kinematics, State};
-pub use law::{LawStep, Layout, OnArcs, PassKind, Passes};
+pub use law::{LawStep, OnArcs, PassKind, Passes};
 pub use real::Real;
 pub use replay::{Checkpoint, Checkpoints, Costate, Flight, Replay, Sample, TerminalError};
 pub use se2::{Se2, Tangent};

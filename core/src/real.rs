@@ -18,7 +18,7 @@ use core::ops::Neg;
 use nalgebra::{ClosedAddAssign, ClosedDivAssign, ClosedMulAssign, ClosedSubAssign};
 use num_traits::{One, Zero};
 
-use crate::law::{Layout, Passes};
+use crate::law::Passes;
 
 /// A real scalar for the swimmer's kinematics and control law.
 pub trait Real:
@@ -39,10 +39,6 @@ pub trait Real:
     /// type's rounding on the paper's problem, of the kind that costs least
     /// (`core/tests/law.rs::passes_reach_rounding` checks both).
     const PASSES: Passes;
-
-    /// How the control law orders a step's arithmetic ([`Layout`]). Defaults to
-    /// [`Layout::Compact`], the fewest operations.
-    const LAYOUT: Layout = Layout::Compact;
 
     /// The spacing of this type's numbers at 1 (for a compound type, of its value), as an
     /// `f64`: series are cut where their truncation falls below it. Defaults to `f64`'s.
@@ -109,10 +105,6 @@ impl Real for f64 {
     /// 1 Newton pass leaves ≤ 7e-15 of `|u_k|` (against 25), the first iterate alone 5e-6 and
     /// 1 plain pass 2e-8 (see `core/tests/law.rs`).
     const PASSES: Passes = Passes::newton(1);
-    /// The shorter chain: on x86-64 ours/CasADi 0.47 against 0.49 with
-    /// [`Layout::Compact`] (`benches/casadi_host`, built for the CPU; 0.54 against 0.55
-    /// portably).
-    const LAYOUT: Layout = Layout::Short;
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {

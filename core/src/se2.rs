@@ -72,15 +72,15 @@ fn alternating_series<T: Real>(z: T, divisors: &[f64]) -> T {
 /// `c₀ + c₁z + c₂z²` in `z = ω² < 1e-4` with as many terms as the type needs. For the series
 /// here (the coefficients' and their derivatives') the third term is below 1e-9 of the first
 /// and the first omitted one below 2e-16, so f32 ([`Real::EPSILON`] ≥ 1e-10) keeps two terms
-/// and f64 three, as `(c₀ + c₁z) + c₂z²` (two multiplications deep, not three).
+/// and f64 three.
 #[inline(always)]
 fn small_angle_series<T: Real>(z: T, [c0, c1, c2]: [f64; 3]) -> T {
-    let head = T::from_f64(c0) + z * T::from_f64(c1);
-    if T::EPSILON < 1e-10 {
-        head + (z * z) * T::from_f64(c2)
+    let tail = if T::EPSILON < 1e-10 {
+        T::from_f64(c1) + z * T::from_f64(c2)
     } else {
-        head
-    }
+        T::from_f64(c1)
+    };
+    T::from_f64(c0) + z * tail
 }
 
 impl<T: Real> ExpCoefficients<T> {

@@ -39,7 +39,6 @@
 //! (`σᵢ = −1` front, `+1` rear, `ηᵢ = σᵢLᵢ²/2`); `∂A/∂αᵢ = W_ξ⁻¹(…)`, and what the control law
 //! needs, `ζᵀ∂A/∂αᵢ e_j`, is `λ·(…)e_j` with `λ = W_ξ⁻¹ζ`: four dot products.
 
-use crate::law::Layout;
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
 
@@ -181,8 +180,8 @@ impl<T: Real> Swimmer<T> {
         let f = self.frame(alpha)?;
         let c = Connection {
             a: f.a,
-            da: f.brackets.map(|b| {
-                Matrix3x2::from_columns(&[0, 1].map(|j| sym_mul_vec(&f.w_inv, &b.column(j))))
+            da: f.e.map(|[e1, e2]| {
+                Matrix3x2::from_columns(&[sym_mul_vec(&f.w_inv, &e1), sym_mul_vec(&f.w_inv, &e2)])
             }),
         };
         finite_or_singular(&c.a)?;
@@ -244,47 +243,13 @@ pub(crate) fn sym_mul_vec<T: Real>(s: &Sym3<T>, v: &Vector3<T>) -> Vector3<T> {
 
 /// The per-shape quantities shared by `A` and its derivatives.
 pub(crate) struct Frame<T> {
-    /// `W_ξ⁻¹ = ι·adj W_ξ` (symmetric), as [`Layout::Compact`] forms it.
+    /// `W_ξ⁻¹` (symmetric).
     pub(crate) w_inv: Sym3<T>,
-    /// `ι = 1/det W_ξ`.
-    pub(crate) inv_det: T,
     /// `A`.
     pub(crate) a: Matrix3x2<T>,
-    /// The brackets `E_i` of the front and rear link (see [`Bracket`]).
-    pub(crate) brackets: [Bracket<T>; 2],
-}
-
-/// One link's bracket `E_i = ∂W_α/∂α_i − ∂W_ξ/∂α_i·A` by its parts: with the link's unit
-/// vectors `τ`, `ν` (module docs), `ν' = κν − ηe₃` and the scalars `t_j = τᵀa_j`,
-/// `q_j = κνᵀa_j − ηa_{j,z} + σρδ_{j,own}`, its columns are `E_i e_j = ν't_j + τq_j`. So
-/// `ζᵀ∂A/∂α_i e_j = λ·E_i e_j = t_j(ν'·λ) + q_j(τ·λ)` with `λ = W_ξ⁻¹ζ`: two dot products
-/// per link carry all of `λ`.
-pub(crate) struct Bracket<T> {
-    pub(crate) tau: Vector3<T>,
-    nu: Vector3<T>,
-    kappa: T,
-    eta: T,
-    pub(crate) t: [T; 2],
-    pub(crate) q: [T; 2],
-    /// `adj W_ξ·ν'` and `adj W_ξ·τ` (for [`Layout::Short`]): `ν'·λ = ι·(adj ν')·ζ`.
-    pub(crate) adj_nu: Vector3<T>,
-    pub(crate) adj_tau: Vector3<T>,
-}
-
-impl<T: Real> Bracket<T> {
-    /// The column `E_i e_j = ν'·t_j + τ·q_j`, as [`Layout::Compact`] forms it:
-    /// `ν·(κt_j) + τ·q_j`, then `− ηt_j` on `z`.
-    #[inline(always)]
-    pub(crate) fn column(&self, j: usize) -> Vector3<T> {
-        let (t, q) = if j == 0 {
-            (self.t[0], self.q[0])
-        } else {
-            (self.t[1], self.q[1])
-        };
-        let mut v = self.nu * (self.kappa * t) + self.tau * q;
-        v.z -= self.eta * t;
-        v
-    }
+    /// `E_i e_j`, the columns of the brackets `E_i = ∂W_α/∂α_i − ∂W_ξ/∂α_i·A`, so that
+    /// `∂A/∂α_i e_j = W_ξ⁻¹ E_i e_j` and `ζᵀ∂A/∂α_i e_j = λ·E_i e_j` with `λ = W_ξ⁻¹ζ`.
+    pub(crate) e: [[Vector3<T>; 2]; 2],
 }
 
 impl<T: Real> Frame<T> {
@@ -304,7 +269,7 @@ impl<T: Real> Frame<T> {
         let zz = k.z0 + k.h0_sq * q + k.two_h0 * (e1 + e2);
 
         // Inverse by cofactors: one division.
-        let adj = [
+        let cof = [
             yy * zz - yz * yz,
             xz * yz - xy * zz,
             xy * yz - xz * yy,
@@ -312,17 +277,21 @@ impl<T: Real> Frame<T> {
             xy * xz - xx * yz,
             xx * yy - xy * xy,
         ];
-        let det = xx * adj[0] + xy * adj[1] + xz * adj[2];
+        let det = xx * cof[0] + xy * cof[1] + xz * cof[2];
         // W_ξ is positive definite for positive parameters; refuse anything else.
         if !(det.is_finite() && det > T::from_f64(1e-12) * (xx * yy * zz)) {
             return Err(Error::Singular);
         }
         let inv_det = T::one() / det;
-        let w_inv = adj.map(|v| v * inv_det);
+        let w_inv = cof.map(|v| v * inv_det);
 
-        // Each link's τ = (c, s, −σh₀s), ν = (−s, c, −σ(h₀c + L/2)) (σ = −1 front, +1 rear;
-        // the front link's centre is (h₀ + L1/2·c1, L1/2·s1), the rear's
-        // (−h₀ − L2/2·c2, −L2/2·s2)), and ν' = κν − ηe₃.
+        let col1 = Vector3::new(-f1, e1, k.h0 * e1 + lf.w);
+        let col2 = Vector3::new(f2, -e2, k.h0 * e2 + lr.w);
+        let a = Matrix3x2::from_columns(&[sym_mul_vec(&w_inv, &col1), sym_mul_vec(&w_inv, &col2)]);
+
+        // Each link's bracket ν⊗(κ·τᵀA) + τ⊗q − e₃⊗(η·τᵀA), q = κ·νᵀA − η·e₃ᵀA + σρ·e_ownᵀ,
+        // with τ = (c, s, −σh₀s), ν = (−s, c, −σ(h₀c + L/2)) (σ = −1 front, +1 rear; the
+        // front link's centre is (h₀ + L1/2·c1, L1/2·s1), the rear's (−h₀ − L2/2·c2, −L2/2·s2)).
         let (hs1, hs2) = (k.h0 * s1, k.h0 * s2);
         let front = (
             Vector3::new(c1, s1, hs1),
@@ -332,82 +301,23 @@ impl<T: Real> Frame<T> {
             Vector3::new(c2, s2, -hs2),
             Vector3::new(-s2, c2, -(k.h0 * c2 + lr.half_l)),
         );
-        let nu_k = |nu: &Vector3<T>, lc: &LinkConstants<T>| {
-            let mut v = nu * lc.kappa;
-            v.z -= lc.eta;
-            v
+        let bracket = |(tau, nu): (Vector3<T>, Vector3<T>), lc: &LinkConstants<T>, own: usize| {
+            let col = |j: usize| {
+                let aj = a.column(j);
+                let t = tau.dot(&aj);
+                let mut q = lc.kappa * nu.dot(&aj) - lc.eta * aj.z;
+                // σρ = −ρ front (own column 0), +ρ rear (own column 1).
+                if j == own {
+                    q = if own == 0 { q - lc.rho } else { q + lc.rho };
+                }
+                let mut v = nu * (lc.kappa * t) + tau * q;
+                v.z -= lc.eta * t;
+                v
+            };
+            [col(0), col(1)]
         };
-        let col1 = Vector3::new(-f1, e1, k.h0 * e1 + lf.w);
-        let col2 = Vector3::new(f2, -e2, k.h0 * e2 + lr.w);
-        let (a, brackets) = match T::LAYOUT {
-            Layout::Compact => {
-                let a = Matrix3x2::from_columns(&[
-                    sym_mul_vec(&w_inv, &col1),
-                    sym_mul_vec(&w_inv, &col2),
-                ]);
-                // t_j = τᵀa_j, q_j = κνᵀa_j − ηa_{j,z} + σρδ_{j,own}
-                // (σρ = −ρ front, own column 0; +ρ rear, own column 1).
-                let bracket = |(tau, nu): (Vector3<T>, Vector3<T>), lc: &LinkConstants<T>, own| {
-                    let tq = |j: usize| {
-                        let aj = a.column(j);
-                        let q = lc.kappa * nu.dot(&aj) - lc.eta * aj.z;
-                        let q = match (j == own, own) {
-                            (false, _) => q,
-                            (true, 0) => q - lc.rho,
-                            (true, _) => q + lc.rho,
-                        };
-                        (tau.dot(&aj), q)
-                    };
-                    let ((t0, q0), (t1, q1)) = (tq(0), tq(1));
-                    let nu_k = nu_k(&nu, lc);
-                    Bracket {
-                        adj_nu: sym_mul_vec(&adj, &nu_k),
-                        adj_tau: sym_mul_vec(&adj, &tau),
-                        tau,
-                        nu,
-                        kappa: lc.kappa,
-                        eta: lc.eta,
-                        t: [t0, t1],
-                        q: [q0, q1],
-                    }
-                };
-                (a, [bracket(front, lf, 0), bracket(rear, lr, 1)])
-            }
-            Layout::Short => {
-                // The products with adj W_ξ run beside the division; ι scales them after.
-                let (a1, a2) = (sym_mul_vec(&adj, &col1), sym_mul_vec(&adj, &col2));
-                let a = Matrix3x2::from_columns(&[a1 * inv_det, a2 * inv_det]);
-                let bracket = |(tau, nu): (Vector3<T>, Vector3<T>), lc: &LinkConstants<T>, own| {
-                    let nu_k = nu_k(&nu, lc);
-                    let (t, q) = (
-                        [tau.dot(&a1) * inv_det, tau.dot(&a2) * inv_det],
-                        [nu_k.dot(&a1) * inv_det, nu_k.dot(&a2) * inv_det],
-                    );
-                    let q = if own == 0 {
-                        [q[0] - lc.rho, q[1]]
-                    } else {
-                        [q[0], q[1] + lc.rho]
-                    };
-                    Bracket {
-                        adj_nu: sym_mul_vec(&adj, &nu_k),
-                        adj_tau: sym_mul_vec(&adj, &tau),
-                        tau,
-                        nu,
-                        kappa: lc.kappa,
-                        eta: lc.eta,
-                        t,
-                        q,
-                    }
-                };
-                (a, [bracket(front, lf, 0), bracket(rear, lr, 1)])
-            }
-        };
-        Ok(Frame {
-            w_inv,
-            inv_det,
-            a,
-            brackets,
-        })
+        let e = [bracket(front, lf, 0), bracket(rear, lr, 1)];
+        Ok(Frame { w_inv, a, e })
     }
 }
 
