@@ -93,21 +93,34 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     let mut point = warm
         .point(&medium, horizon)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    let settings = Settings {
+    let mut settings = Settings {
         max_iterations: 30,
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
         fraction_to_boundary: false,
     };
-    // With a joint limit: the warm start pulled inside it and through the barrier path at
-    // its own target; the walk then keeps the barrier's last weight.
+    // With a joint limit: the warm start pulled just inside it (a gait on arcs of the limit
+    // rests on it) and to the barrier's minimum at its own target and the search's last
+    // weight; the walk then keeps that weight, its steps stopping short of the limit.
     if let Some(a) = limit {
+        settings.max_iterations = 100;
+        settings.fraction_to_boundary = true;
         let w = warm.target;
         let mut own = medium.clone();
         own.target = StageState::new(own.target[0], own.target[1], w.x, w.y, w.z);
-        let u = limits::shrink_into(point.u, &problem.alpha0, a, medium.h());
-        let start = Point::new(&own, u, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
-        let run = limits::barrier_path(&own, a, limits::coarse_path(0), start, &settings)
+        // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
+        // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
+        let within = problem.admits(direct::max_abs_alpha(&point.states));
+        let (inside, path): (_, &[f64]) = if within {
+            let bound = (1.0 - 1e-3) * a;
+            let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
+            (u, &[limits::COARSE_TAU])
+        } else {
+            let u = limits::shrink_into(point.u, &problem.alpha0, a, medium.h());
+            (u, limits::coarse_path(0))
+        };
+        let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
+        let run = limits::barrier_path(&own, a, path, start, &settings)
             .map_err(|_| unreachable(f64::INFINITY))?;
         if !run.converged {
             return Err(unreachable(run.defect));

@@ -61,6 +61,33 @@ pub fn shrink_into(
     u.into_iter().map(|v| v * f).collect()
 }
 
+/// The controls `u` (from `ᾱ`) with their shape path clipped to `|α_i| ≤ bound` (the last
+/// state, `ᾱ`, kept): a path on the limit pulled just inside it, the rest unchanged.
+pub fn clip_into(
+    u: &[Vector2<f64>],
+    alpha0: &Vector2<f64>,
+    bound: f64,
+    h: f64,
+) -> Vec<Vector2<f64>> {
+    let n = u.len();
+    let mut alpha = *alpha0;
+    let mut prev = *alpha0;
+    u.iter()
+        .enumerate()
+        .map(|(k, v)| {
+            alpha += v * h;
+            let next = if k + 1 == n {
+                alpha
+            } else {
+                alpha.map(|x| x.clamp(-bound, bound))
+            };
+            let w = (next - prev) / h;
+            prev = next;
+            w
+        })
+        .collect()
+}
+
 /// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last;
 /// the run at the last weight.
 pub fn barrier_path(
