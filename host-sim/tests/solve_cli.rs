@@ -110,7 +110,8 @@ fn bad_or_hopeless_joint_limits_are_refused() {
 }
 
 /// `--alpha-max`: the gait stays within the limit, touching it on arcs that the report lists
-/// with their multipliers' smallest value.
+/// with their multipliers' smallest value; `--from` that gait reaches a nearby target under
+/// the same limit, again on arcs of it.
 #[test]
 fn a_joint_limit_gives_a_gait_within_it_with_its_arcs() {
     let dir = tempfile::tempdir().unwrap();
@@ -141,6 +142,30 @@ fn a_joint_limit_gives_a_gait_within_it_with_its_arcs() {
     assert!(r["min_eta"].as_f64().unwrap() >= 0.0);
     assert!(r["kkt_residual"].as_f64().unwrap() <= 1e-8);
     assert_eq!(r["local_min"].as_bool(), Some(true));
+    let near = dir.path().join("near");
+    let costate = out.join("costate.json");
+    let o = sim(
+        &[
+            "solve",
+            "--from",
+            costate.to_str().unwrap(),
+            "--target",
+            "0.1,0.12,0.05",
+            "--alpha-max",
+            "1.5",
+            "--no-plots",
+            "--out",
+            near.to_str().unwrap(),
+        ],
+        MINUTE,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&near);
+    assert!(r["max_abs_alpha"].as_f64().unwrap() <= 1.5 * (1.0 + 1e-13));
+    assert!(!r["arcs"].as_array().unwrap().is_empty());
+    assert!(r["min_eta"].as_f64().unwrap() >= 0.0);
+    assert!(r["residual"].as_f64().unwrap() <= 1e-10);
+    assert!(r["kkt_residual"].as_f64().unwrap() <= 1e-8);
 }
 
 #[test]

@@ -722,3 +722,49 @@ pub fn prolong(u: &[Vector2<f64>], steps: usize) -> Vec<Vector2<f64>> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Spec;
+
+    /// `max_step(…, 1, 0)` is where the step's rollout leaves the barrier's domain.
+    #[test]
+    fn the_wall_is_where_the_rollout_leaves_the_limit() {
+        let p = Problem::new(&Spec {
+            alpha_max: Some(1.5),
+            ..Spec::default()
+        })
+        .unwrap();
+        let mut grid = Grid::new(&p, 64, Rule::LEFT_POINT).unwrap();
+        grid.limits = Limits::Barrier {
+            alpha_max: 1.5,
+            tau: 1e-6,
+        };
+        let wave = |a: f64, b: f64| -> Vec<Vector2<f64>> {
+            (0..64)
+                .map(|k| {
+                    let t = core::f64::consts::TAU * k as f64 / 64.0;
+                    Vector2::new(a * t.cos(), b * (t + 1.0).cos())
+                })
+                .collect()
+        };
+        let u = wave(0.05, 0.04);
+        let states = grid.rollout(&u).unwrap();
+        for (a, b) in [(0.3, -0.2), (-0.5, 0.1), (0.05, 0.6)] {
+            let du = wave(a, b);
+            let wall = grid.max_step(&states, &du, 1.0, 0.0);
+            assert!(0.0 < wall && wall < 1.0, "{wall}");
+            let at = |t: f64| -> Vec<Vector2<f64>> {
+                u.iter().zip(&du).map(|(x, d)| x + d * t).collect()
+            };
+            assert!(grid.rollout(&at(wall * (1.0 - 1e-9))).is_ok());
+            assert_eq!(
+                grid.rollout(&at(wall * (1.0 + 1e-9))),
+                Err(Error::ShapeLimit)
+            );
+            let fraction = grid.max_step(&states, &du, 0.99, 0.0);
+            assert!((fraction - 0.99 * wall).abs() <= 1e-12 * wall);
+        }
+    }
+}

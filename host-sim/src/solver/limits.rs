@@ -1,9 +1,13 @@
 //! The joint limit `|α_{k,i}| ≤ α_max` as a state constraint (MODEL.md §9).
 //!
 //! 1. **Interior point.** The direct method with a logarithmic barrier ([`Limits::Barrier`]):
-//!    from strictly feasible starts ([`shrink_into`]), Newton at decreasing weights `τ`
-//!    ([`barrier_path`]); the barrier's minimisers approach the constrained minimum, resting
-//!    a distance `O(τ)` from the limit where it is active.
+//!    from strictly feasible starts ([`shrink_into`], [`clip_into`]), Newton at decreasing
+//!    weights `τ` ([`barrier_path`]); the barrier's minimisers approach the constrained
+//!    minimum, resting a distance `O(τ)` from the limit where it is active. Line-search
+//!    trials past the limit are skipped without a rollout; in the refinement every step also
+//!    stops at the fraction to the boundary ([`Settings::fraction_to_boundary`]). The search
+//!    does without the fraction rule: its plain steps, pinning states to the limit, reach the
+//!    cheapest basin at `α_max = 1.5` from 15 of 160 starts, the rule's from none.
 //! 2. **Active set.** The stretches within [`NEAR`] of the limit become arcs ([`arcs_of`]);
 //!    the problem with the limit imposed exactly on them ([`Limits::Arcs`]: controls fixed
 //!    inside an arc, the entry control set by the state) is solved by Newton
@@ -326,5 +330,68 @@ pub fn refine(
         }
         u = run.point.u;
         nu = run.point.nu;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arc(joint: usize, upper: bool, first: usize, last: usize) -> Arc {
+        Arc {
+            joint,
+            upper,
+            first,
+            last,
+        }
+    }
+
+    #[test]
+    fn touching_or_overlapping_arcs_of_one_joint_and_side_merge() {
+        let arcs = vec![
+            arc(1, true, 20, 25),
+            arc(0, true, 5, 9),
+            arc(0, true, 10, 12),
+            arc(0, false, 13, 14),
+            arc(1, true, 24, 30),
+            arc(1, true, 32, 33),
+        ];
+        assert_eq!(
+            merged(arcs),
+            vec![
+                arc(0, true, 5, 12),
+                arc(0, false, 13, 14),
+                arc(1, true, 20, 30),
+                arc(1, true, 32, 33),
+            ]
+        );
+    }
+
+    #[test]
+    fn clipping_keeps_the_path_inside_and_the_loop_closed() {
+        let h = 0.5;
+        let alpha0 = Vector2::new(0.2, -0.1);
+        let u: Vec<Vector2<f64>> = (0..40)
+            .map(|k| {
+                let t = core::f64::consts::TAU * k as f64 / 40.0;
+                Vector2::new(t.cos(), (2.0 * t).cos()) * 0.4
+            })
+            .collect();
+        let clipped = clip_into(&u, &alpha0, 1.0, h);
+        let (mut a, mut b) = (alpha0, alpha0);
+        let mut touched = false;
+        for (k, (v, w)) in u.iter().zip(&clipped).enumerate() {
+            a += v * h;
+            b += w * h;
+            if k + 1 < u.len() {
+                assert!(b.amax() <= 1.0 + 1e-15, "{k}: {b}");
+                touched |= a.amax() > 1.0;
+                if a.amax() <= 1.0 {
+                    assert!((a - b).amax() <= 1e-14, "{k}: inside, unchanged");
+                }
+            }
+        }
+        assert!(touched, "the test path must cross the bound");
+        assert!((a - b).amax() <= 1e-14, "the loop closes where it did");
     }
 }

@@ -6,8 +6,9 @@
 //!    Hessian and a Riccati step, [`riccati`], on the stage model [`stage`]) on a coarse grid
 //!    whose rule mimics the fine one; distinct local minima, cheapest first;
 //! 3. [`refine`]: the cheapest candidates carried to the problem's own grid through finer
-//!    grids, Newton converging in a few steps at each; second-order check by the inertia of
-//!    the last factorisation. With a joint limit ([`limits`]), the search and the refinement
+//!    grids, Newton converging in a few steps at each (a candidate dearer than the settled
+//!    cheapest by [`PRUNE`] on an intermediate grid stops there); second-order check by the
+//!    inertia of the last factorisation. With a joint limit ([`limits`]), the search and the refinement
 //!    run an interior-point path and the refinement ends with the limit imposed exactly on
 //!    the arcs where it is active;
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
