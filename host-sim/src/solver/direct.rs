@@ -9,7 +9,7 @@
 //! [`super::riccati`] with the stage Hessians of `λ_{k+1}ᵀf`. Per iteration: one rollout, one
 //! backward sweep (derivatives, costates, Riccati), one forward sweep — `O(N)`.
 //!
-//! Globalisation: a filter line search ([`Filter`], as IPOPT's) with one second-order
+//! Globalisation: a filter line search (Wächter–Biegler, as IPOPT's) with one second-order
 //! correction of a rejected full step (the terminal constraint is curved: without it the
 //! merit rejects good Newton steps, the Maratos effect); when the QP is not convex on the
 //! constraint's null space (wrong inertia), `δ·I` is added to the control Hessian until it is
