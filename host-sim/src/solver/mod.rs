@@ -146,6 +146,17 @@ pub enum SolveError {
         /// Smallest terminal defect reached by any start.
         best_residual: f64,
     },
+    /// The search found extremals on its coarse grid, but none could be carried to the
+    /// problem's grid.
+    #[error(
+        "{found} extremal(s) of the coarse search, none carried to the problem's grid: smallest terminal defect {best_residual:.3e}"
+    )]
+    NotRefined {
+        /// How many were tried.
+        found: usize,
+        /// Smallest terminal defect where a refinement stopped.
+        best_residual: f64,
+    },
     /// Extremals were found but none is admissible.
     #[error(
         "{found} extremal(s) found, none admissible (smallest max |alpha_i| = {best_alpha:.4} rad >= alpha-max)"
@@ -361,7 +372,7 @@ pub fn solve(
     // `J`), then the inadmissible ones cheaper than it, for the report. A candidate that
     // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]).
     let mut extremals: Vec<Extremal> = Vec::new();
-    let mut best_residual = found.best_residual;
+    let mut refine_defect = f64::INFINITY;
     let near = |a: f64| a < alpha_max + 0.05;
     let (maybe, beyond): (Vec<_>, Vec<_>) =
         found.candidates.iter().partition(|c| near(c.max_abs_alpha));
@@ -382,7 +393,7 @@ pub fn solve(
                 Ok(r) => r,
                 Err(stop) => {
                     if let Stop::Defect(d) = stop {
-                        best_residual = best_residual.min(d);
+                        refine_defect = refine_defect.min(d);
                     }
                     continue;
                 }
@@ -398,7 +409,14 @@ pub fn solve(
         }
     }
     if extremals.is_empty() {
-        return Err(unreachable(best_residual));
+        return Err(if refined == 0 {
+            unreachable(found.best_residual)
+        } else {
+            SolveError::NotRefined {
+                found: refined,
+                best_residual: refine_defect,
+            }
+        });
     }
     extremals.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     mark_twins(problem, &mut extremals);
