@@ -160,8 +160,9 @@ fn joint_limit_problems_solve_at_or_below_their_reference() {
 }
 
 /// Tight limits, where every barrier path spends long pinned to the limit: the paper's
-/// target within 1.2 rad, and a bent start `ᾱ = (0.3, 0.3)` within 1.0 rad (the search
-/// needs its second pass with more iterations per weight). Each returns a gait on arcs of
+/// target within 1.2 rad, a bent start `ᾱ = (0.3, 0.3)` within 1.0 rad (the search needs its
+/// second pass with more iterations per weight) and `ᾱ = (0.6, −0.2)` within 1.1 rad (so
+/// does the refinement's barrier path). Each returns a gait on arcs of
 /// the limit that passes the certificates and replays to the target. No reference: IPOPT was
 /// not run on these; that the cheapest is found is the joint-limit suite problems' check.
 #[test]
@@ -169,6 +170,12 @@ fn tight_limits_solve() {
     for (name, target, alpha0, limit) in [
         ("paper target within 1.2", [0.1, 0.1, 0.0], [0.0, 0.0], 1.2),
         ("bent start within 1.0", [0.05, 0.05, 0.1], [0.3, 0.3], 1.0),
+        (
+            "asymmetric start within 1.1",
+            [0.08, -0.03, 0.2],
+            [0.6, -0.2],
+            1.1,
+        ),
     ] {
         let spec = Spec {
             target,

@@ -35,6 +35,10 @@ pub const COARSE_TAU: f64 = 1e-6;
 pub fn coarse_path(index: usize) -> &'static [f64] {
     COARSE_PATHS[index % 2]
 }
+/// Newton iterations per barrier weight; the second for a path that ran out of the first (as
+/// one pinned to a tight limit can). In the search, the second pass of starts only
+/// ([`super::search`]).
+pub const PATIENCE: [usize; 2] = [100, 300];
 /// Barrier weights of the fine grid before the active set is fixed.
 pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
 /// Most active-set rounds of [`polish`] (from a barrier solution on the same grid, two
@@ -279,7 +283,8 @@ fn k_ok(n: usize, arcs: &[Arc]) -> bool {
 
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
 /// through finer grids ([`super::finer_grid`]), the first running the barrier path
-/// [`FINE_TAUS`], the others only its last weight, then [`polish`]. The barrier steps stop
+/// [`FINE_TAUS`], the others only its last weight (each with [`PATIENCE`]), then [`polish`].
+/// The barrier steps stop
 /// at the fraction to the boundary ([`Settings::fraction_to_boundary`]): from a prolonged
 /// coarse solution, unguarded steps pin states to the limit and Newton stalls there. Stops
 /// with [`Stop::Dearer`] if an intermediate grid's cost exceeds `bound`.
@@ -301,8 +306,8 @@ pub fn refine(
         // The barrier's Hessian grows like τ/d² near the limit, so its stationarity is
         // asked only to 1e-6 at the small weights: the path is there to find the arcs,
         // [`polish`] converges the constrained problem itself.
-        let settings = Settings {
-            max_iterations: 100,
+        let settings = |patience| Settings {
+            max_iterations: patience,
             tol_defect: 1e-10,
             tol_kkt: 1e-6,
             fraction_to_boundary: true,
@@ -314,7 +319,12 @@ pub fn refine(
             &FINE_TAUS
         };
         walked = true;
-        let run = barrier_path(&grid, alpha_max, taus, start, &settings).map_err(inf)?;
+        let path =
+            |patience| barrier_path(&grid, alpha_max, taus, start.clone(), &settings(patience));
+        let mut run = path(PATIENCE[0]).map_err(inf)?;
+        if !run.converged {
+            run = path(PATIENCE[1]).map_err(inf)?;
+        }
         if !run.converged {
             return Err(Stop::Defect(run.defect));
         }

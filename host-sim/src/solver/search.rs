@@ -18,10 +18,6 @@ use rayon::prelude::*;
 
 /// Starts per batch.
 pub const BATCH: usize = 32;
-/// Newton iterations per barrier weight (or per start without a limit); the second only for a
-/// search with a joint limit whose first found nothing though a start came within 1e-3 of
-/// the target's scale.
-const PATIENCE: [usize; 2] = [100, 300];
 /// How many starts must reach the cheapest admissible extremal before the search stops.
 pub const CONFIRMATIONS: usize = 3;
 
@@ -79,6 +75,9 @@ pub fn search(
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
         .chain(family.iter().enumerate().map(|(i, s)| (i + 1, Some(*s))))
         .collect();
+    // Newton iterations per start (per barrier weight with a limit): the first of
+    // [`limits::PATIENCE`]; the second for a search with a limit whose first pass found
+    // nothing though a start came within 1e-3 of the target.
     let run = |patience: usize, best_residual: f64| {
         let settings = Settings {
             max_iterations: patience,
@@ -169,12 +168,12 @@ pub fn search(
         }
         out
     };
-    let out = run(PATIENCE[0], f64::INFINITY);
+    let out = run(limits::PATIENCE[0], f64::INFINITY);
     // Nothing found, but a start ended near the target: the starts ran out of iterations, not
     // of room (with a tight limit the barrier paths spend long pinned to it).
     let near = out.best_residual <= 1e-3 * (grid.target - grid.start).amax();
     if out.candidates.is_empty() && limit.is_some() && near {
-        run(PATIENCE[1], out.best_residual)
+        run(limits::PATIENCE[1], out.best_residual)
     } else {
         out
     }
