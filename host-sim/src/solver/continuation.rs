@@ -103,7 +103,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     // rests on it) and to the barrier's minimum at its own target and the search's last
     // weight; the walk then keeps that weight, its steps stopping short of the limit.
     if let Some(a) = limit {
-        settings.max_iterations = 100;
+        settings.max_iterations = limits::PATIENCE[0];
         settings.fraction_to_boundary = true;
         let w = warm.target;
         let mut own = medium.clone();

@@ -284,10 +284,10 @@ fn k_ok(n: usize, arcs: &[Arc]) -> bool {
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
 /// through finer grids ([`super::finer_grid`]), the first running the barrier path
 /// [`FINE_TAUS`], the others only its last weight (each with [`PATIENCE`]), then [`polish`].
-/// The barrier steps stop
-/// at the fraction to the boundary ([`Settings::fraction_to_boundary`]): from a prolonged
-/// coarse solution, unguarded steps pin states to the limit and Newton stalls there. Stops
-/// with [`Stop::Dearer`] if an intermediate grid's cost exceeds `bound`.
+/// The barrier steps stop at the fraction to the boundary
+/// ([`Settings::fraction_to_boundary`]): from a prolonged coarse solution, unguarded steps
+/// pin states to the limit and Newton stalls there. Stops with [`Stop::Dearer`] if an
+/// intermediate grid's cost exceeds `bound`.
 pub fn refine(
     problem: &Problem,
     alpha_max: f64,

@@ -8,9 +8,9 @@
 //! 3. [`refine`]: the cheapest candidates carried to the problem's own grid through finer
 //!    grids, Newton converging in a few steps at each (a candidate dearer than the settled
 //!    cheapest by [`PRUNE`] on an intermediate grid stops there); second-order check by the
-//!    inertia of the last factorisation. With a joint limit ([`limits`]), the search and the refinement
-//!    run an interior-point path and the refinement ends with the limit imposed exactly on
-//!    the arcs where it is active;
+//!    inertia of the last factorisation. With a joint limit ([`limits`]), the search and the
+//!    refinement run an interior-point path and the refinement ends with the limit imposed
+//!    exactly on the arcs where it is active;
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
 //! 5. [`certificate`]: independent checks (the core's law reproduces the controls, the
 //!    controls reach the target through the core's kinematics, KKT by reverse mode).
@@ -184,8 +184,8 @@ pub fn fine_settings(problem: &Problem, controls: &[Vector2<f64>]) -> Settings {
     }
 }
 
-/// Convergence thresholds on the intermediate grids of a refinement.
-pub const COARSE_SETTINGS: Settings = Settings {
+/// Convergence thresholds on the intermediate grids of a refinement without a joint limit.
+const INTERMEDIATE_SETTINGS: Settings = Settings {
     max_iterations: 30,
     tol_defect: 1e-10,
     tol_kkt: 1e-8,
@@ -250,7 +250,7 @@ pub fn refine_free(
         let settings = if last {
             fine_settings(problem, &start.u)
         } else {
-            COARSE_SETTINGS
+            INTERMEDIATE_SETTINGS
         };
         let run = direct::newton(&grid, start, &settings).map_err(inf)?;
         if !run.converged {
