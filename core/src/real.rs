@@ -257,16 +257,15 @@ pub const SIN_COS_PAIR_F64_MAX: f64 = 2.0 * core::f64::consts::PI;
 /// NaN outside (and for NaN).
 ///
 /// The same operations on both lanes and no branch, so a host computes the pair in SIMD
-/// registers (x86-64's SSE2 holds two `f64`), with a short dependency chain (the step is
-/// latency-bound on the host). Reduce `xᵢ = q·π/2 + r` with `q = round(2xᵢ/π)` (by adding
+/// registers (x86-64's SSE2 holds two `f64`), with a short dependency chain and few
+/// instructions (on a host the step is bound by both). Reduce `xᵢ = q·π/2 + r` with `q = round(2xᵢ/π)` (by adding
 /// and subtracting `1.5·2^52`) and `π/2 = P1 + P2 + P3` (fdlibm's 33 + 33 + 53 bits: `q·P1`,
 /// `q·P2` are exact, `xᵢ − q·P1` is exact by Sterbenz's lemma, and so is `− q·P2` wherever
 /// `|r| < 2^−13`, where cancellation would otherwise cost digits); evaluate
 /// fdlibm's minimax polynomials of degree 13 (sin) and 14 (cos) on `|r| ≤ π/4` by Estrin's
 /// scheme; rotate by `qπ/2` in floating point, by factors `0` and `±1` (exact), so that no
-/// value leaves the SIMD registers (the low bits of `q` read as integers cost a host a round
-/// trip through general registers, 3.5 % of the control-law step; on the Cortex-M7 the
-/// step is 7 % cheaper too).
+/// value leaves the SIMD registers (reading `q`'s low bits as integers instead sends both
+/// lanes through general registers; see `benches/README.md`).
 #[inline(always)]
 pub fn sin_cos_pair_f64(x: [f64; 2]) -> ([f64; 2], [f64; 2]) {
     const FRAC_2_PI: f64 = core::f64::consts::FRAC_2_PI;
