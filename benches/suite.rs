@@ -45,7 +45,7 @@ fn main() {
                     b.kkt_residual.map_or("–".into(), |k| format!("{k:.1e}")),
                     if b.local_min { "yes" } else { "no" },
                     b.max_abs_alpha,
-                    s.starts,
+                    s.search.as_ref().map_or(0, |e| e.starts),
                 )
             }
             Err(e) => println!(

@@ -3,7 +3,7 @@
 use crate::costate_file::CostateFile;
 use crate::problem::{Problem, Spec};
 use crate::solver::continuation::{self, Lattice};
-use crate::solver::{Arc, Extremal, SolveOptions, solve};
+use crate::solver::{Arc, Evidence, Extremal, SolveOptions, solve};
 use crate::{output, plots, replay};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use purcell_core::Gait;
@@ -102,10 +102,14 @@ pub struct SolveArgs {
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Most start loops of the global search (run in batches of 32, in parallel; the search
-    /// stops earlier once its cheapest admissible extremal has been reached from 3 starts and
-    /// 128 starts have run; 1 to 4096).
-    #[arg(long, default_value_t = 256)]
+    /// Budget of start loops of the global search (run in batches of 32, in parallel; 1 to
+    /// 4096; the family has 1 128 loops, a larger budget runs them all). The search stops
+    /// earlier once its stopping rule is met: at least 128 starts run, an estimated chance
+    /// below 0.5 % that another start reaches a minimum not seen yet that is no dearer than
+    /// the cheapest admissible one (Good-Turing: the share of starts that alone reached such
+    /// a minimum), and that extremal reached from 3 starts. A search that spends its budget first says so on stderr and returns the
+    /// cheapest gait it found.
+    #[arg(long, default_value_t = SolveOptions::default().starts)]
     pub starts: usize,
     /// Orders the start loops (any value gives a diverse family; 0 is the default order).
     #[arg(long, default_value_t = 0)]
@@ -162,8 +166,8 @@ pub struct SweepArgs {
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Most start loops of each global search (see `solve --help`).
-    #[arg(long, default_value_t = 256)]
+    /// Budget of start loops of each global search (see `solve --help`).
+    #[arg(long, default_value_t = SolveOptions::default().starts)]
     pub starts: usize,
     /// Joint limit |alpha_i| <= alpha-max, radians, below pi (see `solve --help`).
     #[arg(long, allow_negative_numbers = true)]
@@ -400,13 +404,30 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
     let t0 = Instant::now();
     let result = match &warm {
         None => solve(&problem, &options, &tick),
-        Some(w) => continuation::solve_from(&problem, w),
+        Some(w) => {
+            let (result, failed) = continuation::solve_from(&problem, w, &options, &tick);
+            if let Some(e) = failed {
+                eprintln!(
+                    "warning: --from reached no admissible extremal of this problem ({e}); \
+                     solved by the global search instead"
+                );
+            }
+            result
+        }
     };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
     let solution = result.map_err(|e| fail(3, e))?;
     let seconds = t0.elapsed().as_secs_f64();
+    if let Some(e) = solution.search.as_ref().filter(|e| !e.satisfied) {
+        eprintln!(
+            "warning: the search used its budget of {} starts before its stopping rule was met \
+             (estimated chance that another start finds an unseen minimum no dearer than the \
+             gait returned: {:.3}); this is the cheapest gait found: raise --starts to search on",
+            e.budget, e.unseen
+        );
+    }
     let best = &solution.extremals[solution.best];
     let file = output::costate_file(&problem, best, a.checkpoint_every);
     let gait_bytes = file
@@ -428,8 +449,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         "admissible": best.admissible,
         "returned": solution.best,
         "solve_seconds": seconds,
-        "starts": solution.starts,
-        "coarse_minima": solution.coarse_minima,
+        "search": solution.search.as_ref().map(evidence_json),
         "mu": file.mu, "xi0": file.xi0,
         "problem": {"target": file.target, "horizon": problem.horizon(), "step": problem.h,
                     "steps": problem.steps, "alpha0": file.alpha0, "links": file.model.links,
@@ -573,16 +593,7 @@ fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
             if n == 0 || n > MAX_SWEEP_TARGETS {
                 return Err(bad());
             }
-            Ok((0..n)
-                .map(|i| {
-                    if n == 1 {
-                        a
-                    } else {
-                        // Symmetric in a and b, so a symmetric range gives exact negatives.
-                        (a * (n - 1 - i) as f64 + b * i as f64) / (n - 1) as f64
-                    }
-                })
-                .collect())
+            Ok(Lattice::spaced(a, b, n))
         }
         _ => Err(bad()),
     }
@@ -619,10 +630,11 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
         ..SolveOptions::default()
     };
     let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new(lattice.len() as u64);
+        // Each target ticks once when searched and once when refined.
+        let b = indicatif::ProgressBar::new(2 * lattice.len() as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template(
-                "refining {bar:30} {pos}/{len} targets ({elapsed})",
+                "sweeping {bar:30} {pos}/{len} searches and refinements ({elapsed})",
             )
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
@@ -675,6 +687,19 @@ fn extremal_json(x: &Extremal) -> serde_json::Value {
         "stationarity": x.stationarity, "law_residual": x.law_residual,
         "newton_iterations": x.iterations, "start": x.start, "hits": x.hits, "twin_of": x.twin_of,
         "mu": [x.mu.x, x.mu.y, x.mu.z], "xi0": [x.xi0.x, x.xi0.y],
+    })
+}
+
+/// The global search's evidence in `report.json` (an infinite estimate as `null`).
+fn evidence_json(e: &Evidence) -> serde_json::Value {
+    let finite = |x: f64| x.is_finite().then_some(x);
+    json!({
+        "starts": e.starts, "budget": e.budget, "rule_met": e.satisfied,
+        "unseen_estimate": e.unseen, "expected_minima": finite(e.expected_minima),
+        "distinct_minima": e.minima.len(),
+        "minima": e.minima.iter().map(|m| json!({
+            "cost": m.cost, "max_abs_alpha": m.max_abs_alpha, "hits": m.hits,
+        })).collect::<Vec<_>>(),
     })
 }
 

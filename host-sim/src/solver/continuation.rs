@@ -5,7 +5,10 @@
 //! grid (and horizon: `α(t/T)` kept, so controls scale by `T_old/T_new`), with its terminal
 //! multiplier. [`continue_to`] first tries Newton on the target itself; if that fails, it
 //! walks the target from the old one to the new one in steps that halve on failure and grow
-//! on success (natural-parameter continuation), on a medium grid, then refines.
+//! on success (natural-parameter continuation), on a medium grid, then refines. Every point
+//! it accepts is admissible (`|α_i| < π`, or within the joint limit): a branch that would
+//! leave the admissible shapes stops there, and [`solve_from`] falls back to the global
+//! search.
 
 use super::direct::{self, Grid, Point, Settings};
 use super::limits;
@@ -78,6 +81,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         let settings = super::fine_settings(problem, &p.u);
         if let Ok(run) = direct::newton(&fine, p, &settings)
             && run.converged
+            && problem.admits(direct::max_abs_alpha(&run.point.states))
         {
             return Ok(extremal(problem, &fine, &run));
         }
@@ -98,6 +102,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
         fraction_to_boundary: false,
+        trust_radius: f64::INFINITY,
     };
     // With a joint limit: the warm start pulled just inside it (a gait on arcs of the limit
     // rests on it) and to the barrier's minimum at its own target and the search's last
@@ -145,7 +150,9 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
         match direct::newton(&grid, start, &settings) {
-            Ok(run) if run.converged => {
+            Ok(run)
+                if run.converged && problem.admits(direct::max_abs_alpha(&run.point.states)) =>
+            {
                 point = run.point;
                 s = next;
                 ds *= 1.5;
@@ -162,21 +169,36 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     Ok(extremal(problem, &fine, &run))
 }
 
-/// `solve --from`: the extremal reached from a stored one, as a solution of one extremal.
-pub fn solve_from(problem: &Problem, warm: &Warm) -> Result<Solution, SolveError> {
-    let x = continue_to(problem, warm)?;
-    if !x.admissible {
-        return Err(SolveError::NoneAdmissible {
-            found: 1,
-            best_alpha: x.max_abs_alpha,
-        });
+/// `solve --from`: the extremal reached from a stored one, as a solution of one extremal;
+/// or, if none is reached within the admissible shapes, the global search's solution
+/// ([`super::solve`], with `options` and `progress`) and why the warm start failed.
+pub fn solve_from(
+    problem: &Problem,
+    warm: &Warm,
+    options: &SolveOptions,
+    progress: &(dyn Fn() + Sync),
+) -> (Result<Solution, SolveError>, Option<SolveError>) {
+    let reached = continue_to(problem, warm).and_then(|x| {
+        if x.admissible {
+            Ok(x)
+        } else {
+            Err(SolveError::NoneAdmissible {
+                found: 1,
+                best_alpha: x.max_abs_alpha,
+            })
+        }
+    });
+    match reached {
+        Ok(x) => (
+            Ok(Solution {
+                best: 0,
+                extremals: vec![x],
+                search: None,
+            }),
+            None,
+        ),
+        Err(e) => (super::solve(problem, options, progress), Some(e)),
     }
-    Ok(Solution {
-        best: 0,
-        extremals: vec![x],
-        starts: 0,
-        coarse_minima: 0,
-    })
 }
 
 /// A lattice of targets: every combination of the values on the three axes `x`, `y`, `θ`.
@@ -187,6 +209,20 @@ pub struct Lattice {
 }
 
 impl Lattice {
+    /// `count` evenly spaced values from `from` to `to` (`from` alone for one), symmetric in
+    /// the two, so that a symmetric range gives exact negatives.
+    pub fn spaced(from: f64, to: f64, count: usize) -> Vec<f64> {
+        (0..count)
+            .map(|i| {
+                if count == 1 {
+                    from
+                } else {
+                    (from * (count - 1 - i) as f64 + to * i as f64) / (count - 1) as f64
+                }
+            })
+            .collect()
+    }
+
     /// Number of targets.
     pub fn len(&self) -> usize {
         self.axes.iter().map(Vec::len).product()
@@ -235,27 +271,6 @@ impl Lattice {
         }
         out
     }
-
-    /// Every `every`-th target along each axis, and the last one of each axis.
-    pub fn seeds(&self, every: usize) -> Vec<usize> {
-        let pick = |len: usize| -> Vec<usize> {
-            let mut v: Vec<usize> = (0..len).step_by(every.max(1)).collect();
-            if len > 0 && v.last() != Some(&(len - 1)) {
-                v.push(len - 1);
-            }
-            v
-        };
-        let [a, b, c] = [0, 1, 2].map(|i| pick(self.axes[i].len()));
-        let mut out = Vec::new();
-        for &i in &a {
-            for &j in &b {
-                for &l in &c {
-                    out.push(self.index([i, j, l]));
-                }
-            }
-        }
-        out
-    }
 }
 
 /// The outcome of a sweep at one target.
@@ -267,20 +282,24 @@ pub struct SweepPoint {
     pub result: Result<Extremal, SolveError>,
 }
 
-/// Coarse extremals kept per target in a sweep ([`sweep`]): the cheapest admissible ones, distinct.
+/// Coarse extremals each target passes on to its neighbours in a sweep ([`sweep`]): its
+/// cheapest admissible ones, distinct.
 pub const KEEP: usize = 3;
 
-/// Solves every target of `lattice` (the other inputs from `spec`) by continuation from its
-/// neighbours on the coarse grid: a global search ([`search::search`]) at every third target
-/// along each axis; then passes in which every target runs Newton from its neighbours'
-/// coarse extremals (the [`KEEP`] cheapest admissible of each) and takes over the images of
-/// the extremals of the targets a symmetry of the swimmer maps onto it ([`symmetry`]),
-/// keeping its own [`KEEP`] cheapest, until no target changes (a target that still has none
-/// gets a global search of its own, and the passes resume); finally each target's cheapest
-/// coarse extremal is carried to the fine grid ([`refine`]), the next one if that fails or
-/// leaves the admissible shapes on the fine grid.
-/// Targets are solved in parallel within each phase. `progress` is called once per finished
-/// target.
+/// Solves every target of `lattice` (the other inputs from `spec`), each at least as well as
+/// [`super::solve`] would:
+/// 1. every target's own global search ([`super::search_coarse`], with `options`), run once
+///    per orbit of the swimmer's symmetries ([`symmetry`]) and mapped onto the other targets
+///    of the orbit;
+/// 2. passes in which every target runs Newton on the coarse grid from its neighbours'
+///    [`KEEP`] cheapest admissible extremals (and takes over the images of those of the
+///    targets a symmetry maps onto it), until no target's kept extremals change: a cheap
+///    basin one target found reaches the whole region where it is a minimum;
+/// 3. each target's candidates (its search's and those the passes brought) carried to the
+///    fine grid as `solve` carries them ([`super::refine_candidates`]).
+///
+/// Targets are solved in parallel within each phase. `progress` is called once per target
+/// searched and once per target refined.
 pub fn sweep(
     spec: &Spec,
     lattice: &Lattice,
@@ -315,114 +334,113 @@ pub fn sweep(
                 .collect()
         })
         .collect();
+    // 1. One search per orbit: a target whose images include an earlier target takes that
+    // target's candidates, mapped.
+    let searched: Vec<(usize, Vec<Candidate>, f64)> = (0..targets.len())
+        .filter(|&i| images[i].iter().all(|(j, _)| *j > i))
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|i| {
+            let found = super::search_coarse(&problems[i], options, &|| {});
+            progress();
+            match found {
+                Ok(s) => (i, s.candidates, s.best_residual),
+                Err(_) => (i, Vec::new(), f64::INFINITY),
+            }
+        })
+        .collect();
+    let mut own: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
+    let mut residual = vec![f64::INFINITY; targets.len()];
+    for (i, list, r) in searched {
+        own[i] = list;
+        residual[i] = r;
+    }
+    for i in 0..targets.len() {
+        if let Some((j, sym)) = images[i]
+            .iter()
+            .filter(|(j, _)| *j < i)
+            .min_by_key(|(j, _)| *j)
+        {
+            own[i] = own[*j].iter().map(|c| image(c, sym)).collect();
+            residual[i] = residual[*j];
+            progress();
+        }
+    }
+    // 2. Neighbour passes on the coarse grid.
     let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
-    let mut searched = vec![false; targets.len()];
-    let mut to_search = lattice.seeds(3);
+    let mut changed = vec![false; targets.len()];
+    for i in 0..targets.len() {
+        changed[i] = merge(
+            &mut kept[i],
+            own[i].clone(),
+            &problems[i],
+            grids[i].as_ref(),
+        );
+    }
     let settings = Settings {
         max_iterations: 40,
         tol_defect: 1e-10,
         tol_kkt: 1e-8,
         fraction_to_boundary: false,
+        trust_radius: f64::INFINITY,
     };
-    while !to_search.is_empty() {
-        let found: Vec<(usize, Vec<Candidate>)> = to_search
-            .par_iter()
-            .map(|&i| {
-                let Some(g) = grids[i].as_ref() else {
-                    return (i, Vec::new());
-                };
-                let p = &problems[i];
-                let s = search::search(
-                    g,
-                    options.min_starts,
-                    options.starts,
-                    options.seed,
-                    p.joint_limit(),
-                    &|a| p.admits(a),
-                    &|| {},
-                );
-                (i, s.candidates)
+    let mut brought: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
+    loop {
+        let updates: Vec<(usize, Vec<Candidate>)> = (0..targets.len())
+            .into_par_iter()
+            .filter_map(|i| {
+                let grid = grids[i].as_ref()?;
+                let mut new = Vec::new();
+                for j in lattice.neighbours(i) {
+                    if !changed[j] {
+                        continue;
+                    }
+                    for c in &kept[j] {
+                        if !kept[i]
+                            .iter()
+                            .any(|m| search::same_path(&m.u, &c.u, grid.h()))
+                        {
+                            new.extend(newton_from(grid, c, &settings));
+                        }
+                    }
+                }
+                for (j, sym) in &images[i] {
+                    if changed[*j] {
+                        new.extend(kept[*j].iter().map(|c| image(c, sym)));
+                    }
+                }
+                let mut list = kept[i].clone();
+                merge(&mut list, new, &problems[i], Some(grid)).then_some((i, list))
             })
             .collect();
-        // Targets whose kept extremals changed in the last phase: their neighbours try them.
-        let mut changed = vec![false; targets.len()];
-        for (i, list) in found {
-            searched[i] = true;
-            changed[i] = merge(&mut kept[i], list, &problems[i], grids[i].as_ref());
+        if updates.is_empty() {
+            break;
         }
-        loop {
-            let updates: Vec<(usize, Vec<Candidate>)> = (0..targets.len())
-                .into_par_iter()
-                .filter_map(|i| {
-                    let grid = grids[i].as_ref()?;
-                    let mut new = Vec::new();
-                    for j in lattice.neighbours(i) {
-                        if !changed[j] {
-                            continue;
-                        }
-                        for c in &kept[j] {
-                            if !kept[i]
-                                .iter()
-                                .any(|m| search::same_path(&m.u, &c.u, grid.h()))
-                            {
-                                new.extend(newton_from(grid, c, &settings));
-                            }
-                        }
-                    }
-                    for (j, sym) in &images[i] {
-                        if changed[*j] {
-                            new.extend(kept[*j].iter().map(|c| Candidate {
-                                u: c.u.iter().map(|v| sym.shape(v)).collect(),
-                                nu: sym.coordinates(&c.nu),
-                                ..c.clone()
-                            }));
-                        }
-                    }
-                    let mut list = kept[i].clone();
-                    merge(&mut list, new, &problems[i], Some(grid)).then_some((i, list))
-                })
-                .collect();
-            if updates.is_empty() {
-                break;
+        changed = vec![false; targets.len()];
+        for (i, list) in updates {
+            for c in &list {
+                let h = grids[i].as_ref().map_or(0.0, Grid::h);
+                if !own[i]
+                    .iter()
+                    .chain(&brought[i])
+                    .any(|m| search::same_path(&m.u, &c.u, h))
+                {
+                    brought[i].push(c.clone());
+                }
             }
-            changed = vec![false; targets.len()];
-            for (i, list) in updates {
-                kept[i] = list;
-                changed[i] = true;
-            }
+            kept[i] = list;
+            changed[i] = true;
         }
-        to_search = (0..targets.len())
-            .filter(|&i| kept[i].is_empty() && !searched[i])
-            .collect();
     }
-    // Refine each target's cheapest coarse extremal (the next one if that fails).
+    // 3. Each target's candidates to the fine grid, as `solve` carries them.
     Ok((0..targets.len())
         .into_par_iter()
         .map(|i| {
-            let p = &problems[i];
-            let mut result = Err(SolveError::Unreachable {
-                best_residual: f64::INFINITY,
-            });
-            for c in &kept[i] {
-                match refine(p, &c.u, &c.nu, f64::INFINITY) {
-                    Ok((g, run)) => {
-                        let x = extremal(p, &g, &run);
-                        let admissible = x.admissible;
-                        if result.as_ref().is_err() || admissible {
-                            result = Ok(x);
-                        }
-                        if admissible {
-                            break;
-                        }
-                    }
-                    Err(stop) if result.is_err() => {
-                        result = Err(SolveError::Unreachable {
-                            best_residual: stop.defect(),
-                        })
-                    }
-                    Err(_) => {}
-                }
-            }
+            let mut candidates = own[i].clone();
+            candidates.append(&mut brought[i].clone());
+            candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+            let result = super::refine_candidates(&problems[i], &candidates, options, residual[i])
+                .map(|(best, mut extremals)| extremals.swap_remove(best));
             progress();
             SweepPoint {
                 target: targets[i],
@@ -430,6 +448,15 @@ pub fn sweep(
             }
         })
         .collect())
+}
+
+/// The image of a coarse extremal under a symmetry of the swimmer.
+fn image(c: &Candidate, sym: &Symmetry) -> Candidate {
+    Candidate {
+        u: c.u.iter().map(|v| sym.shape(v)).collect(),
+        nu: sym.coordinates(&c.nu),
+        ..c.clone()
+    }
 }
 
 /// Merges `new` coarse extremals into a target's kept list (admissible, distinct, the

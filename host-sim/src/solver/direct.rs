@@ -16,8 +16,16 @@
 //! (as IPOPT corrects inertia). Near a local minimum no correction is needed and the
 //! iteration is Newton's method on the KKT system: quadratic convergence.
 //!
-//! A rollout that leaves the admissible shapes (`|α_i| ≥ π`) fails, and the line search
-//! treats the trial point as infeasible: every iterate stays admissible.
+//! An optional trust radius bounds how far one iteration moves the shape path
+//! ([`Settings::trust_radius`]): the line search then starts at the step that moves no
+//! `α_k` by more than the radius. Far from a solution a full Newton step can jump across the
+//! shape plane, so the minimum a start reaches has little to do with the start; with the
+//! radius the iterates deform the start loop, and a start placed in a region of the shape
+//! plane reaches a minimum there (the global search relies on this, [`super::search`]).
+//! Near a minimum the steps are short and the iteration is Newton's.
+//!
+//! The angles wrap at `±π` ([`super::stage::wrap`]): an iterate may swing a joint past the
+//! links' overlap; whether an extremal is admissible is decided afterwards.
 
 use super::riccati::Factor;
 use super::stage::{Linearised, Rule, StageModel, StageState};
@@ -438,6 +446,21 @@ pub struct Settings {
     /// ([`Grid::max_step`]) rather than at the full step, so that no state comes closer to
     /// the limit than 1 % of its distance in one step (IPOPT's rule).
     pub fraction_to_boundary: bool,
+    /// Largest change of any shape `α_{k,i}` in one iteration, radians (`f64::INFINITY`:
+    /// none); see the module docs.
+    pub trust_radius: f64,
+}
+
+/// The largest `|Σ_{j<k} h·du_j|` over `k` and both joints: how far a step `du` moves the
+/// shape path.
+fn shape_reach(du: &[Vector2<f64>], h: f64) -> f64 {
+    let mut offset = Vector2::zeros();
+    let mut reach = 0.0f64;
+    for d in du {
+        offset += d * h;
+        reach = reach.max(offset.amax());
+    }
+    reach
 }
 
 /// Outcome of [`newton`].
@@ -556,6 +579,10 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         } else {
             1.0
         };
+        let reach = shape_reach(&du, h);
+        if reach * t > settings.trust_radius {
+            t = settings.trust_radius / reach;
+        }
         // A trial that takes a state past the limit (by more than rounding) would fail in its
         // rollout: it is skipped without one.
         let wall = grid.max_step(&pt.states, &du, 1.0, 1e-12);

@@ -311,6 +311,7 @@ pub fn refine(
             tol_defect: 1e-10,
             tol_kkt: 1e-6,
             fraction_to_boundary: true,
+            trust_radius: f64::INFINITY,
         };
         // The path once, on the first finer grid; a later grid only its last weight.
         let taus: &[f64] = if walked {

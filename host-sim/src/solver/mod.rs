@@ -39,8 +39,8 @@ use stage::Rule;
 /// Solver settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveOptions {
-    /// Most start loops of the global search (it stops earlier once its cheapest admissible
-    /// extremal has been reached from several starts and `min_starts` have run).
+    /// Most start loops of the global search, its budget (it stops earlier once its stopping
+    /// rule is met, [`search`]).
     pub starts: usize,
     /// Fewest start loops of the global search (unless `starts` is smaller).
     pub min_starts: usize,
@@ -55,7 +55,7 @@ pub struct SolveOptions {
 impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
-            starts: 256,
+            starts: 512,
             min_starts: 128,
             seed: 0,
             coarse_steps: 64,
@@ -131,10 +131,59 @@ pub struct Solution {
     pub best: usize,
     /// Every distinct extremal carried to the fine grid, cheapest first.
     pub extremals: Vec<Extremal>,
-    /// Start loops run by the global search.
+    /// What the global search saw (`None` for a solve from a warm start).
+    pub search: Option<Evidence>,
+}
+
+/// The global search's evidence for its answer ([`search`]'s stopping rule).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evidence {
+    /// Start loops run.
     pub starts: usize,
-    /// Distinct local minima of the coarse problem.
-    pub coarse_minima: usize,
+    /// The budget ([`SolveOptions::starts`]).
+    pub budget: usize,
+    /// The distinct minima of the coarse problem, cheapest first.
+    pub minima: Vec<Minimum>,
+    /// Estimated chance that a further start reaches an unseen minimum no dearer than the
+    /// cheapest admissible one ([`search::Search::unseen`]).
+    pub unseen: f64,
+    /// Boender and Rinnooy Kan's estimate of the number of minima
+    /// ([`search::Search::expected_minima`]).
+    pub expected_minima: f64,
+    /// Whether the stopping rule was met within the budget.
+    pub satisfied: bool,
+}
+
+/// One distinct minimum of the coarse problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Minimum {
+    /// `J` on the coarse grid.
+    pub cost: f64,
+    /// Largest `|α_i|` along it.
+    pub max_abs_alpha: f64,
+    /// How many starts reached it.
+    pub hits: usize,
+}
+
+impl Evidence {
+    fn of(found: &search::Search, budget: usize) -> Self {
+        Evidence {
+            starts: found.starts,
+            budget,
+            minima: found
+                .candidates
+                .iter()
+                .map(|c| Minimum {
+                    cost: c.cost,
+                    max_abs_alpha: c.max_abs_alpha,
+                    hits: c.hits,
+                })
+                .collect(),
+            unseen: found.unseen,
+            expected_minima: found.expected_minima(),
+            satisfied: found.satisfied,
+        }
+    }
 }
 
 /// Why no extremal was returned.
@@ -181,6 +230,7 @@ pub fn fine_settings(problem: &Problem, controls: &[Vector2<f64>]) -> Settings {
         tol_defect: (1e-11 * scale).clamp(1e-15, 1e-12),
         tol_kkt: (1e-10 * umax).max(1e-13),
         fraction_to_boundary: false,
+        trust_radius: f64::INFINITY,
     }
 }
 
@@ -190,6 +240,7 @@ const INTERMEDIATE_SETTINGS: Settings = Settings {
     tol_defect: 1e-10,
     tol_kkt: 1e-8,
     fraction_to_boundary: false,
+    trust_radius: f64::INFINITY,
 };
 
 /// Relative margin by which an extremal on the intermediate grid of a refinement must cost
@@ -353,19 +404,47 @@ pub fn solve(
     options: &SolveOptions,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Solution, SolveError> {
-    let unreachable = |best_residual| SolveError::Unreachable { best_residual };
-    let grid = coarse_grid(problem, options).ok_or(unreachable(f64::INFINITY))?;
-    let alpha_max = problem.alpha_max;
-    let limit = problem.joint_limit();
-    let found = search::search(
+    let found = search_coarse(problem, options, progress)?;
+    let (best, extremals) =
+        refine_candidates(problem, &found.candidates, options, found.best_residual)?;
+    Ok(Solution {
+        best,
+        extremals,
+        search: Some(Evidence::of(&found, options.starts)),
+    })
+}
+
+/// The global search of `problem` on its coarse grid ([`coarse_grid`], [`search::search`]).
+pub fn search_coarse(
+    problem: &Problem,
+    options: &SolveOptions,
+    progress: &(dyn Fn() + Sync),
+) -> Result<search::Search, SolveError> {
+    let grid = coarse_grid(problem, options).ok_or(SolveError::Unreachable {
+        best_residual: f64::INFINITY,
+    })?;
+    Ok(search::search(
         &grid,
         options.min_starts,
         options.starts,
         options.seed,
-        limit,
+        problem.joint_limit(),
         &|a| problem.admits(a),
         progress,
-    );
+    ))
+}
+
+/// Carries coarse `candidates` (cheapest first) to the fine grid: the index of the cheapest
+/// admissible fine extremal and every distinct one refined, cheapest first (see the comments
+/// for which). `best_residual` is the search's smallest defect, for the error when no
+/// candidate was tried.
+pub fn refine_candidates(
+    problem: &Problem,
+    candidates: &[search::Candidate],
+    options: &SolveOptions,
+    best_residual: f64,
+) -> Result<(usize, Vec<Extremal>), SolveError> {
+    let alpha_max = problem.alpha_max;
     // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
     // the coarse grid's error in `|α|`) until the cheapest admissible fine extremal is settled
     // (every remaining candidate costs more, with a margin for the coarse grid's error in
@@ -374,8 +453,7 @@ pub fn solve(
     let mut extremals: Vec<Extremal> = Vec::new();
     let mut refine_defect = f64::INFINITY;
     let near = |a: f64| a < alpha_max + 0.05;
-    let (maybe, beyond): (Vec<_>, Vec<_>) =
-        found.candidates.iter().partition(|c| near(c.max_abs_alpha));
+    let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
     let mut refined = 0;
     for (pass, list) in [maybe, beyond].into_iter().enumerate() {
         for c in list {
@@ -410,7 +488,7 @@ pub fn solve(
     }
     if extremals.is_empty() {
         return Err(if refined == 0 {
-            unreachable(found.best_residual)
+            SolveError::Unreachable { best_residual }
         } else {
             SolveError::NotRefined {
                 found: refined,
@@ -429,12 +507,7 @@ pub fn solve(
                 .fold(f64::INFINITY, f64::min),
         });
     };
-    Ok(Solution {
-        best,
-        extremals,
-        starts: found.starts,
-        coarse_minima: found.candidates.len(),
-    })
+    Ok((best, extremals))
 }
 
 /// Marks each extremal whose image under a symmetry of the problem is also in the list.

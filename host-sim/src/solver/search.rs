@@ -2,13 +2,25 @@
 //!
 //! Each start ([`super::starts`]) runs [`direct::newton`] on a grid of `M ≪ N` steps whose rule
 //! mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so its local minima and their
-//! costs match the fine problem's to about 1e-3 and cost a hundredth of a fine solve. Starts run
-//! in batches (in parallel); converged points are grouped into distinct extremals (same shape
-//! path to 1e-6 rad); the search stops when the cheapest admissible extremal has been reached
-//! from [`CONFIRMATIONS`] starts (its basin is not a lucky hit) and at least a given number of
-//! starts have run, when three batches found
-//! nothing, or when the starts are used up. A converged point whose motion the coarse grid
-//! does not resolve ([`Grid::resolves`]) is dropped.
+//! costs match the fine problem's to about 1e-3 and cost a hundredth of a fine solve. Without a
+//! joint limit each start runs with a trust radius ([`TRUST_RADIUS`]), so that it reaches a
+//! minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
+//! into distinct extremals (same shape path to 1e-6 rad). A converged point whose motion the
+//! coarse grid does not resolve ([`Grid::resolves`]) is dropped.
+//!
+//! **Stopping rule.** After each batch, with `n` starts run and `b` the cheapest admissible
+//! extremal so far, the minima that matter are those no dearer than `b` (`b` and cheaper
+//! inadmissible ones). By the Good–Turing estimate, the chance that the next start reaches a
+//! minimum not seen yet is about the share of starts that reached a minimum no other start
+//! reached; restricted to the minima that matter, `f₁/n` with `f₁` the number of them
+//! reached by exactly one start ([`Search::unseen`]). The search stops once at least
+//! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (from 128 starts on: none of them, from
+//! 256 on: one) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin is not a
+//! lucky hit); it also stops when the zero loop solves the problem (`J = 0`), when three
+//! batches found nothing, or when `max_starts` (the budget) have run ([`Search::satisfied`]
+//! is then false). Boender and Rinnooy Kan's Bayesian estimate of the number of minima,
+//! `w(n−1)/(n−w−2)` for
+//! `w` distinct minima, is reported beside it ([`Search::expected_minima`]).
 
 use super::direct::{self, Grid, Point, Settings};
 use super::limits;
@@ -20,6 +32,11 @@ use rayon::prelude::*;
 pub const BATCH: usize = 32;
 /// How many starts must reach the cheapest admissible extremal before the search stops.
 pub const CONFIRMATIONS: usize = 3;
+/// Largest estimated chance that a further start reaches a minimum not seen yet that is no
+/// dearer than the cheapest admissible one, for the search to stop (see the module docs).
+pub const UNSEEN: f64 = 0.005;
+/// Trust radius of the starts without a joint limit, radians ([`Settings::trust_radius`]).
+pub const TRUST_RADIUS: f64 = 0.3;
 
 /// A distinct local minimum of the coarse problem.
 #[derive(Clone, Debug)]
@@ -45,13 +62,45 @@ pub struct Candidate {
 pub struct Search {
     /// Distinct converged extremals, cheapest first.
     pub candidates: Vec<Candidate>,
-    /// Starts run (including the zero loop).
+    /// Start loops run (the zero loop, tried first, not counted).
     pub starts: usize,
     /// Smallest terminal defect among the starts that did not converge.
     pub best_residual: f64,
     /// Converged starts dropped because their motion was not resolved by the coarse grid
     /// ([`Grid::resolves`]).
     pub unresolved: usize,
+    /// The stopping rule's estimate `f₁/n` when the search stopped (see the module docs).
+    pub unseen: f64,
+    /// Whether the stopping rule was met (otherwise the budget ran out first, or nothing was
+    /// found).
+    pub satisfied: bool,
+}
+
+impl Search {
+    /// Boender and Rinnooy Kan's posterior estimate of the number of distinct minima,
+    /// `w(n−1)/(n−w−2)` (`∞` while `n ≤ w + 2`).
+    pub fn expected_minima(&self) -> f64 {
+        let (w, n) = (self.candidates.len() as f64, self.starts as f64);
+        if n > w + 2.0 {
+            w * (n - 1.0) / (n - w - 2.0)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The stopping rule's estimate `f₁/n` after `self.starts` starts, and whether the
+    /// cheapest admissible candidate `b` is confirmed (see the module docs).
+    fn rule(&self, admissible: &(dyn Fn(f64) -> bool + Sync)) -> (f64, bool) {
+        let b = cheapest_admissible(&self.candidates, admissible);
+        let bound = b.map_or(f64::INFINITY, |b| b.cost);
+        let once = self
+            .candidates
+            .iter()
+            .filter(|c| c.cost <= bound && c.hits == 1)
+            .count();
+        let confirmed = b.is_some_and(|b| b.hits >= CONFIRMATIONS);
+        (once as f64 / self.starts.max(1) as f64, confirmed)
+    }
 }
 
 /// Runs at least `min_starts` (at most `max_starts`) start loops and the zero loop on `grid`;
@@ -69,7 +118,8 @@ pub fn search(
     progress: &(dyn Fn() + Sync),
 ) -> Search {
     let size = starts::reference_size(grid);
-    let family = starts::family(size, seed, max_starts);
+    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+    let family = starts::family(size, &alpha0, seed, max_starts);
     // The zero loop first: the solution when the target is the start (J = 0); for any other
     // target its Newton step is singular and it stops at once.
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
@@ -84,18 +134,24 @@ pub fn search(
             tol_defect: 1e-10,
             tol_kkt: 1e-8,
             fraction_to_boundary: false,
+            trust_radius: if limit.is_none() {
+                TRUST_RADIUS
+            } else {
+                f64::INFINITY
+            },
         };
         let mut out = Search {
             best_residual,
             ..Search::default()
         };
-        for batch in all.chunks(BATCH) {
+        // The zero loop rides with the first batch of start loops.
+        let (first, rest) = all.split_at((1 + BATCH).min(all.len()));
+        for batch in core::iter::once(first).chain(rest.chunks(BATCH)) {
             let results: Vec<_> = batch
                 .par_iter()
                 .map(|&(index, start_loop)| {
                     let u = start_loop
                         .map_or_else(|| vec![Vector2::zeros(); grid.steps], |s| s.controls(grid));
-                    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
                     let r = match limit {
                         None => Point::new(grid, u, Vector5::zeros())
                             .and_then(|p| direct::newton(grid, p, &settings)),
@@ -116,9 +172,8 @@ pub fn search(
                     (index, start_loop, r)
                 })
                 .collect();
-            let before = cheapest_admissible(&out.candidates, admissible).map(|c| c.cost);
             for (index, start_loop, r) in results {
-                out.starts += 1;
+                out.starts += usize::from(index > 0);
                 let Ok(run) = r else { continue };
                 if !run.converged {
                     out.best_residual = out.best_residual.min(run.defect);
@@ -154,15 +209,17 @@ pub fn search(
                 });
             }
             out.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-            let after = cheapest_admissible(&out.candidates, admissible);
-            let confirmed = after
-                .is_some_and(|c| c.hits >= CONFIRMATIONS && before.is_some_and(|b| b <= c.cost));
+            let (unseen, confirmed) = out.rule(admissible);
+            out.unseen = unseen;
+            out.satisfied = confirmed && unseen <= UNSEEN && out.starts >= min_starts;
             // The zero target is solved by the zero loop; nothing can be cheaper.
-            let trivial = after.is_some_and(|c| c.cost == 0.0);
+            let trivial =
+                cheapest_admissible(&out.candidates, admissible).is_some_and(|c| c.cost == 0.0);
+            out.satisfied |= trivial;
             // Nothing at all after three batches: the target is out of reach (or needs more
             // starts than the default; `--starts` bounds the search, not this rule).
             let hopeless = out.candidates.is_empty() && out.starts >= 3 * BATCH;
-            if (confirmed && out.starts >= min_starts) || trivial || hopeless {
+            if out.satisfied || hopeless {
                 break;
             }
         }

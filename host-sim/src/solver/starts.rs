@@ -13,13 +13,23 @@
 //! of the shape plane away from `ᾱ` several times; an ellipse through `ᾱ` cannot reach it.
 //!
 //! turning number `n ∈ {1, 2, 3}`, orientation `ψ`, phase `φ₀` (where on the loop `ᾱ` sits),
-//! aspect `ρ` (its sign is the direction of travel) and size `s`. Sizes come from the problem's
-//! geometry: the net displacement of a small loop is about the curvature of the connection
-//! times the enclosed area, so the loop that moves the body as far as the target asks is found
-//! by a few rollouts of a circle of growing size ([`reference_size`]); the family uses half,
-//! once and twice that size. The list is ordered so that any prefix is diverse: the
-//! axis-aligned ellipses a direct transcription is usually started from come first, then the
-//! rest in an order mixed by a hash of the seed.
+//! aspect `ρ` (its sign is the direction of travel) and size `s`. Two families:
+//!
+//! - **scaled loops**: sizes from the problem's geometry. The net displacement of a small
+//!   loop is about the curvature of the connection times the enclosed area, so the loop that
+//!   moves the body as far as the target asks is found by a few rollouts of a circle of
+//!   growing size ([`reference_size`]); ellipses, figure-eights and lollipops of half, once
+//!   and twice that size.
+//! - **box loops**: thin ellipses (`ρ = ±0.1, ±0.2`, `n = 1`) with `ᾱ` in the middle of a long
+//!   side (`φ₀ = π/2, 3π/2`), in eight orientations, as long as the admissible shapes allow
+//!   (reaching 75 %, 90 % and 100 % of `|α_i| ≤ 0.9π`). The cheapest admissible gaits for far
+//!   targets are such loops: they enclose the strong regions of the curvature towards the
+//!   corners of the shape plane on both sides of `ᾱ`, as far out as the links' overlap
+//!   allows, and no loop sized from a circle reaches them.
+//!
+//! The list is ordered so that any prefix is diverse: the axis-aligned ellipses a direct
+//! transcription is usually started from come first, then three box loops to one scaled loop
+//! until the box loops run out, each kind in an order mixed by a hash of the seed.
 
 use super::direct::Grid;
 use nalgebra::Vector2;
@@ -141,9 +151,55 @@ pub fn reference_size(grid: &Grid) -> f64 {
     best.1
 }
 
-/// The first `count` start loops of the family for a problem whose [`reference_size`] is
-/// `size`, ordered by `seed` (see the module docs).
-pub fn family(size: f64, seed: u64, count: usize) -> Vec<StartLoop> {
+/// Box loops reach at most this `|α_i|` (radians).
+const BOX: f64 = 0.9 * core::f64::consts::PI;
+/// Box loops per scaled loop in the mixed part of the family.
+const BOX_SHARE: usize = 3;
+
+/// The box loops for the start shape `alpha0` (see the module docs).
+fn box_loops(alpha0: &Vector2<f64>) -> Vec<StartLoop> {
+    let pi = core::f64::consts::PI;
+    let mut out = Vec::new();
+    for k in 0..8 {
+        let psi = pi * f64::from(k) / 8.0;
+        for aspect in [0.1, -0.1, 0.2, -0.2] {
+            for phase in [0.5 * pi, 1.5 * pi] {
+                let unit = StartLoop {
+                    shape: Shape::Ellipse,
+                    size: 1.0,
+                    aspect,
+                    psi,
+                    phase,
+                    turns: 1,
+                };
+                // The largest size with |ᾱ_i + s·o_i| ≤ BOX at 64 points o of the unit loop.
+                let mut room = f64::INFINITY;
+                for j in 0..64 {
+                    let o = unit.offset(f64::from(j) / 64.0);
+                    for i in 0..2 {
+                        if o[i] != 0.0 {
+                            room = room.min((BOX - alpha0[i] * o[i].signum()) / o[i].abs());
+                        }
+                    }
+                }
+                if !(room.is_finite() && room > 0.0) {
+                    continue;
+                }
+                for fill in [0.75, 0.9, 1.0] {
+                    out.push(StartLoop {
+                        size: fill * room,
+                        ..unit
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The first `count` start loops for a problem whose [`reference_size`] is `size` and whose
+/// start shape is `alpha0`, ordered by `seed` (see the module docs).
+pub fn family(size: f64, alpha0: &Vector2<f64>, seed: u64, count: usize) -> Vec<StartLoop> {
     let pi = core::f64::consts::PI;
     let mut first = Vec::new();
     let mut rest = Vec::new();
@@ -206,17 +262,28 @@ pub fn family(size: f64, seed: u64, count: usize) -> Vec<StartLoop> {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     };
-    let mut keyed: Vec<(u64, StartLoop)> = rest
-        .into_iter()
-        .enumerate()
-        .map(|(i, s)| (mix(i as u64), s))
-        .collect();
-    keyed.sort_by_key(|(k, _)| *k);
-    first
-        .into_iter()
-        .chain(keyed.into_iter().map(|(_, s)| s))
-        .take(count)
-        .collect()
+    let mixed = |list: Vec<StartLoop>, salt: u64| {
+        let mut keyed: Vec<(u64, StartLoop)> = list
+            .into_iter()
+            .enumerate()
+            .map(|(i, s)| (mix((i as u64) ^ salt), s))
+            .collect();
+        keyed.sort_by_key(|(k, _)| *k);
+        keyed.into_iter().map(|(_, s)| s)
+    };
+    let mut boxes = mixed(box_loops(alpha0), 1 << 40);
+    let mut scaled = mixed(rest, 0);
+    let mut out = first;
+    while out.len() < count {
+        let before = out.len();
+        out.extend(boxes.by_ref().take(BOX_SHARE));
+        out.extend(scaled.next());
+        if out.len() == before {
+            break;
+        }
+    }
+    out.truncate(count);
+    out
 }
 
 #[cfg(test)]
@@ -229,7 +296,7 @@ mod tests {
     fn every_start_is_a_closed_loop_through_alpha0() {
         let p = Problem::paper();
         let grid = Grid::new(&p, 64, Rule::LEFT_POINT).unwrap();
-        for s in family(0.5, 3, 500) {
+        for s in family(0.5, &Vector2::new(0.3, -0.2), 3, 500) {
             let u = s.controls(&grid);
             assert_eq!(u.len(), 64);
             let closure: Vector2<f64> = u.iter().sum::<Vector2<f64>>() * grid.h();
@@ -240,9 +307,10 @@ mod tests {
 
     #[test]
     fn the_family_is_deterministic_in_the_seed_and_diverse_early() {
-        assert_eq!(family(0.5, 1, 40), family(0.5, 1, 40));
-        assert_ne!(family(0.5, 1, 40), family(0.5, 2, 40));
-        let f = family(0.5, 0, 64);
+        let a = Vector2::zeros();
+        assert_eq!(family(0.5, &a, 1, 40), family(0.5, &a, 1, 40));
+        assert_ne!(family(0.5, &a, 1, 40), family(0.5, &a, 2, 40));
+        let f = family(0.5, &a, 0, 64);
         assert!(f.iter().any(|s| s.turns == 3) && f.iter().any(|s| s.shape == Shape::Eight));
         assert!(f.iter().any(|s| s.aspect < 0.0) && f.iter().any(|s| s.aspect > 0.0));
     }
