@@ -6,13 +6,14 @@
 //! [`output`] and [`plots`] the outputs, [`replay`] replays a costate file through the core in
 //! `f64`/`f32`; [`curvature`] is the shape-space view of the model (the curvature of the
 //! connection) that `purcell-sim field` draws; [`problem`] holds the validated inputs, [`dual`] dual numbers for exact
-//! derivatives, [`cli`] the command line.
+//! derivatives, [`input`] how input files are read, [`cli`] the command line.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod costate_file;
 pub mod curvature;
 pub mod dual;
+pub mod input;
 pub mod output;
 pub mod plots;
 pub mod problem;
