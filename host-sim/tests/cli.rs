@@ -801,3 +801,149 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
         );
     }
 }
+
+/// `solve` of the quick problem with `target` into a fresh directory: its report.
+fn quick_report(target: &str, extra: &[&str]) -> (Output, Option<serde_json::Value>) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec!["solve", "--out", out.to_str().unwrap(), "--no-plots"];
+    args.extend_from_slice(&["--horizon", "10", "--step", "0.1", "--starts", "1"]);
+    args.extend_from_slice(&["--target", target]);
+    args.extend_from_slice(extra);
+    let o = sim(&args);
+    let report = std::fs::read(out.join("report.json"))
+        .ok()
+        .map(|b| serde_json::from_slice(&b).unwrap());
+    (o, report)
+}
+
+/// Issue 21 (lower): `--target 0.1,0.1,6.283185307179586` exited 3; the angle is taken
+/// modulo 2π into ]−π, π], and `--help` says so.
+#[test]
+fn the_target_angle_is_taken_modulo_two_pi() {
+    let (o, zero) = quick_report("0.01,0.01,0", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (o, turn) = quick_report("0.01,0.01,6.283185307179586", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (zero, turn) = (zero.unwrap(), turn.unwrap());
+    assert_eq!(turn["problem"]["target"][2], 0.0);
+    assert_eq!(turn["cost"], zero["cost"]);
+    let help = String::from_utf8_lossy(&sim(&["solve", "--help"]).stdout).into_owned();
+    assert!(help.contains("modulo 2 pi into ]-pi, pi]"), "{help}");
+}
+
+/// Issue 21 (lower): `--checkpoint-every` ≥ N silently wrote no checkpoints. Given, it must
+/// be below N (or 0); the default gives none on a short horizon; and no spacing may make
+/// the costate file too large to read back.
+#[test]
+fn an_explicit_checkpoint_spacing_is_below_the_horizon() {
+    for every in ["100", "150"] {
+        let (o, report) = quick_report("0.01,0.01,0", &["--checkpoint-every", every]);
+        assert_eq!(o.status.code(), Some(2), "{every}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!(
+                "--checkpoint-every {every} is not below the horizon's 100 steps"
+            )),
+            "{}",
+            stderr(&o)
+        );
+        assert!(report.is_none());
+    }
+    for every in [
+        &["--checkpoint-every", "0"][..],
+        &["--checkpoint-every", "50"],
+        &[],
+    ] {
+        let (o, _) = quick_report("0.01,0.01,0", every);
+        assert_eq!(o.status.code(), Some(0), "{every:?}: {}", stderr(&o));
+    }
+    refused_before_work(
+        &["--horizon", "10000", "--checkpoint-every", "1"],
+        "more than the limit 100000",
+    );
+}
+
+/// Issue 21 (lower): a flag given twice was concatenated (`--alpha 0.1 --alpha 0.2` was
+/// the shape `0.1,0.2`). It is a usage error now, lists and numbers alike.
+#[test]
+fn a_flag_given_twice_is_refused() {
+    for args in [
+        &["connection", "--alpha", "0.1", "--alpha", "0.2"][..],
+        &[
+            "connection",
+            "--alpha",
+            "0.1,0.2",
+            "--links",
+            "1,1",
+            "--links",
+            "1",
+        ],
+        &[
+            "connection",
+            "--alpha",
+            "0.1,0.2",
+            "--drag",
+            "1",
+            "--drag",
+            "2",
+        ],
+    ] {
+        let o = sim(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("cannot be used multiple times"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+}
+
+/// Issue 21 (lower): a system that refuses threads made the search panic (exit 101). It is
+/// exit 1 with the reason. (Run as `nobody` limited to one process, where the test is root
+/// and util-linux's `prlimit` and `setpriv` are there.)
+#[test]
+#[cfg(target_os = "linux")]
+fn no_worker_threads_is_exit_1_not_a_panic() {
+    use std::os::unix::fs::PermissionsExt;
+    let have = |tool: &str| {
+        std::process::Command::new(tool)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if unsafe { libc::geteuid() } != 0 || !have("prlimit") || !have("setpriv") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
+    let out = dir.path().join("out");
+    let mut c = std::process::Command::new("prlimit");
+    c.args([
+        "--nproc=1",
+        "setpriv",
+        "--reuid=65534",
+        "--regid=65534",
+        "--clear-groups",
+    ])
+    .arg(env!("CARGO_BIN_EXE_purcell-sim"))
+    .args([
+        "solve",
+        "--out",
+        out.to_str().unwrap(),
+        "--no-plots",
+        "--horizon",
+        "10",
+    ])
+    .args(["--step", "0.1", "--starts", "1", "--target", "0.01,0.01,0"])
+    .stdin(Stdio::null())
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped());
+    let o = wait(c.spawn().unwrap(), LIMIT, "solve without threads");
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("cannot start worker threads"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}

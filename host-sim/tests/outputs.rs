@@ -395,3 +395,94 @@ fn unusable_outs_are_refused_before_the_work() {
         .collect();
     assert!(names.is_empty(), "staging left behind: {names:?}");
 }
+
+/// Issue 21 (lower): a Ctrl-C left a hidden staging folder beside the output, and nothing
+/// cleaned old ones. The next run in that directory removes those of processes that are
+/// gone, and leaves a running one's alone.
+#[test]
+fn staging_left_by_a_killed_run_is_removed_by_the_next() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut gone = std::process::Command::new("true").spawn().unwrap();
+    let dead = gone.id();
+    gone.wait().unwrap();
+    let stale = tmp.path().join(format!(".purcell-sim-{dead}-0.tmp"));
+    std::fs::create_dir(&stale).unwrap();
+    std::fs::write(stale.join("trajectory.csv"), "half").unwrap();
+    let stale_file = tmp.path().join(format!(".purcell-sim-{dead}-1.tmp"));
+    std::fs::write(&stale_file, "half").unwrap();
+    let live = tmp
+        .path()
+        .join(format!(".purcell-sim-{}-0.tmp", std::process::id()));
+    std::fs::create_dir(&live).unwrap();
+    solved(&tmp.path().join("out"));
+    assert!(!stale.exists() && !stale_file.exists());
+    assert!(live.exists());
+}
+
+/// Issue 21 (lower): names over about 230 bytes were refused because of the staging name's
+/// suffix.
+#[test]
+fn an_output_name_of_255_bytes_is_written() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("r".repeat(255));
+    solved(&out);
+    let report = tmp.path().join(format!("{}.json", "r".repeat(250)));
+    let costate = out.join("costate.json");
+    let args = [
+        "replay",
+        "--costate",
+        costate.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ];
+    let o = sim(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Issue 21 (lower): replacing an output reset its permissions (700 became 755).
+#[test]
+#[cfg(unix)]
+fn a_replaced_output_keeps_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o7777;
+    let out = tmp.path().join("out");
+    solved(&out);
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o700)).unwrap();
+    solved(&out);
+    assert_eq!(mode(&out), 0o700);
+    let report = tmp.path().join("r.json");
+    let costate = out.join("costate.json");
+    let replay = [
+        "replay",
+        "--costate",
+        costate.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ];
+    assert_eq!(sim(&replay).status.code(), Some(0));
+    std::fs::set_permissions(&report, std::fs::Permissions::from_mode(0o600)).unwrap();
+    assert_eq!(sim(&replay).status.code(), Some(0));
+    assert_eq!(mode(&report), 0o600);
+}
+
+/// Issue 21 (lower): `solve --out` silently replaced a previous `sweep` result. A result of
+/// another subcommand is replaced only with `--force`.
+#[test]
+fn a_result_of_another_subcommand_is_replaced_only_with_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sim(&["field", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let before = snapshot(&out);
+    let o = quick_solve(&out, &["--no-plots"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is a result of `purcell-sim field`"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(snapshot(&out), before);
+    let o = quick_solve(&out, &["--no-plots", "--force"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
