@@ -47,9 +47,9 @@ pub enum Command {
 }
 
 /// `--checkpoint-every` when not given.
-pub const CHECKPOINT_EVERY: u32 = 100;
-/// Most periodic checkpoints `solve` writes (about 0.4 kB each in the costate file), so that
-/// its files stay below [`input::MAX_INPUT_BYTES`] and can be read back.
+const CHECKPOINT_EVERY: u32 = 100;
+/// Most periodic checkpoints `solve` writes (0.33 kB each in the costate file), so that its
+/// files stay below [`input::MAX_INPUT_BYTES`] and can be read back.
 pub const MAX_CHECKPOINTS: u32 = 100_000;
 
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
@@ -359,7 +359,10 @@ fn start_threads() -> Result<(), Failure> {
 
 /// Runs a parsed command; the output to print on stdout on success.
 pub fn run(cli: Cli) -> Result<String, Failure> {
-    if !matches!(cli.command, Command::Connection(_)) {
+    if matches!(
+        cli.command,
+        Command::Solve(_) | Command::Sweep(_) | Command::Field(_)
+    ) {
         start_threads()?;
     }
     match cli.command {

@@ -22,11 +22,10 @@
 //!   may have changed during the work), and swaps it in with one rename: a directory by
 //!   `renameat2(RENAME_EXCHANGE)`, after which the old contents (now under the staging name)
 //!   are removed; a file by `rename`, which replaces atomically. The new entry keeps the
-//!   permissions of the one it replaces. Where the filesystem cannot
-//!   exchange, the new files are renamed into the existing directory one by one under a
-//!   manifest that lists the old and the new files at every moment: the path never goes
-//!   missing, and a run interrupted half-way leaves a directory that the next run recognises
-//!   as ours.
+//!   permissions of the one it replaces. Where the filesystem cannot exchange, the new files
+//!   are renamed into the existing directory one by one under a manifest that lists the old
+//!   and the new files at every moment: the path never goes missing, and a run interrupted
+//!   half-way leaves a directory that the next run recognises as ours.
 
 use serde::{Deserialize, Serialize};
 use std::ffi::OsString;
@@ -902,8 +901,13 @@ fn classify_file(
     }
     let kind = meta.file_type();
     Ok(if kind.is_file() {
-        // A file too large to be read is not ours.
-        if crate::input::read(path).is_ok_and(|bytes| recognise(&bytes)) {
+        let recognised = match crate::input::read(path) {
+            Ok(bytes) => recognise(&bytes),
+            // Too large to be ours.
+            Err(e) if e.kind() == io::ErrorKind::FileTooLarge => false,
+            Err(e) => return Err(e),
+        };
+        if recognised {
             Existing::Ours(None)
         } else {
             foreign("holds data that purcell-sim did not write", true)
