@@ -1,15 +1,15 @@
 //! The `purcell-sim` command line (clap): `solve`, `replay`, `connection`.
 
 use crate::costate_file::CostateFile;
-use crate::problem::{Problem, Spec};
+use crate::problem::{InputError, Problem, Spec, check_gait_precision};
 use crate::solver::continuation::{self, Lattice};
 use crate::solver::{Arc, Evidence, Extremal, SolveOptions, solve};
-use crate::{output, plots, replay};
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use crate::{input, output, plots, replay};
+use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
 use purcell_core::Gait;
 use serde_json::json;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Exact optimal control of the planar three-link Purcell swimmer: solve offline, replay
@@ -46,6 +46,12 @@ pub enum Command {
     Field(FieldArgs),
 }
 
+/// `--checkpoint-every` when not given.
+const CHECKPOINT_EVERY: u32 = 100;
+/// Most periodic checkpoints `solve` writes (0.33 kB each in the costate file), so that its
+/// files stay below [`input::MAX_INPUT_BYTES`] and can be read back.
+pub const MAX_CHECKPOINTS: u32 = 100_000;
+
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
 pub const MAX_STARTS: usize = 4096;
 /// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
@@ -53,7 +59,8 @@ pub const MAX_STARTS: usize = 4096;
 pub const MAX_SOLVE_STEPS: u32 = 1_000_000;
 
 // Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), and list
-// their defaults as they can be typed back (`0.1,0.1,0`).
+// their defaults as they can be typed back (`0.1,0.1,0`). A flag given twice is refused
+// (clap's usage error), lists included: `--target 1,2 --target 3` is not `1,2,3`.
 
 /// Swimmer parameters shared by the subcommands.
 #[derive(Debug, Args)]
@@ -62,6 +69,7 @@ pub struct ModelArgs {
     #[arg(
         long,
         value_delimiter = ',',
+        action = ArgAction::Set,
         default_value = "1,1,1",
         allow_hyphen_values = true
     )]
@@ -77,10 +85,12 @@ pub struct ModelArgs {
 /// `solve` flags.
 #[derive(Debug, Args)]
 pub struct SolveArgs {
-    /// Target position g_bar = X,Y,THETA (metres, metres, radians), reached from the origin.
+    /// Target position g_bar = X,Y,THETA (metres, metres, radians), reached from the origin;
+    /// THETA is taken modulo 2 pi into ]-pi, pi].
     #[arg(
         long,
         value_delimiter = ',',
+        action = ArgAction::Set,
         default_value = "0.1,0.1,0",
         allow_hyphen_values = true
     )]
@@ -95,6 +105,7 @@ pub struct SolveArgs {
     #[arg(
         long,
         value_delimiter = ',',
+        action = ArgAction::Set,
         default_value = "0,0",
         allow_hyphen_values = true
     )]
@@ -119,10 +130,11 @@ pub struct SolveArgs {
     /// limit active on arcs where that is cheaper.
     #[arg(long, allow_hyphen_values = true)]
     pub alpha_max: Option<f64>,
-    /// Costate checkpoint spacing M in steps (0: none; a gait on its joint limit also has
-    /// one at each arc's last step, which its replay needs).
-    #[arg(long, default_value_t = 100)]
-    pub checkpoint_every: u32,
+    /// Costate checkpoint spacing M in steps, below the horizon's N steps (0: none; a gait
+    /// on its joint limit also has one at each arc's last step, which its replay needs)
+    /// [default: 100, none if N is not above it].
+    #[arg(long)]
+    pub checkpoint_every: Option<u32>,
     /// Skip the figures (SVG and PNG) and field.csv.
     #[arg(long)]
     pub no_plots: bool,
@@ -161,7 +173,13 @@ pub struct SweepArgs {
     #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
     pub step: f64,
     /// Start and end shape alpha_bar = A1,A2 in radians (each |A_i| < pi).
-    #[arg(long, value_delimiter = ',', default_values_t = [0.0, 0.0], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        action = ArgAction::Set,
+        default_value = "0,0",
+        allow_hyphen_values = true
+    )]
     pub alpha0: Vec<f64>,
     /// Swimmer parameters.
     #[command(flatten)]
@@ -245,6 +263,7 @@ pub struct ConnectionArgs {
     #[arg(
         long,
         value_delimiter = ',',
+        action = ArgAction::Set,
         allow_hyphen_values = true,
         required = true
     )]
@@ -328,8 +347,28 @@ fn arr<const N: usize>(name: &str, v: &[f64]) -> Result<[f64; N], Failure> {
     })
 }
 
+/// Starts the worker threads of the search and the figures (rayon's global pool) once: a
+/// system that refuses threads is exit 1, not a panic in the middle of the work.
+fn start_threads() -> Result<(), Failure> {
+    static STARTED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    STARTED
+        .get_or_init(|| {
+            rayon::ThreadPoolBuilder::new()
+                .build_global()
+                .map_err(|e| e.to_string())
+        })
+        .clone()
+        .map_err(|e| fail(1, format!("cannot start worker threads: {e}")))
+}
+
 /// Runs a parsed command; the output to print on stdout on success.
 pub fn run(cli: Cli) -> Result<String, Failure> {
+    if matches!(
+        cli.command,
+        Command::Solve(_) | Command::Sweep(_) | Command::Field(_)
+    ) {
+        start_threads()?;
+    }
     match cli.command {
         Command::Solve(a) => run_solve(a),
         Command::Replay(a) => run_replay(a),
@@ -361,9 +400,46 @@ fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `theta` modulo 2π in `]−π, π]` (as given if it is there already; NaN if not finite).
+fn wrap_angle(theta: f64) -> f64 {
+    use core::f64::consts::{PI, TAU};
+    if -PI < theta && theta <= PI {
+        return theta;
+    }
+    let t = theta.rem_euclid(TAU);
+    if t > PI { t - TAU } else { t }
+}
+
+/// The checkpoint spacing of a solve of `steps` steps: as given, below `steps` (or 0), with
+/// at most [`MAX_CHECKPOINTS`] checkpoints; [`CHECKPOINT_EVERY`] if not given (exit 2).
+fn checkpoint_spacing(given: Option<u32>, steps: u32) -> Result<u32, Failure> {
+    let every = given.unwrap_or(CHECKPOINT_EVERY);
+    if given.is_some() && every != 0 && every >= steps {
+        return Err(fail(
+            2,
+            format!(
+                "--checkpoint-every {every} is not below the horizon's {steps} steps: the \
+                 costate file would have no checkpoint (0 for none)"
+            ),
+        ));
+    }
+    if every != 0 && (steps - 1) / every > MAX_CHECKPOINTS {
+        return Err(fail(
+            2,
+            format!(
+                "--checkpoint-every {every} gives {} checkpoints over {steps} steps, more than \
+                 the limit {MAX_CHECKPOINTS}",
+                (steps - 1) / every
+            ),
+        ));
+    }
+    Ok(every)
+}
+
 fn run_solve(a: SolveArgs) -> Result<String, Failure> {
+    let [x, y, theta] = arr("target", &a.target)?;
     let spec = Spec {
-        target: arr("target", &a.target)?,
+        target: [x, y, wrap_angle(theta)],
         horizon: a.horizon,
         step: a.step,
         alpha0: arr("alpha0", &a.alpha0)?,
@@ -378,7 +454,10 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         .check_precision::<f32>("f32")
         .map_err(|e| fail(2, e))?;
     search_limits(&problem, a.starts)?;
-    let out = output::OutputDir::prepare(&a.out, "solve", a.force).map_err(output_failure(true))?;
+    let checkpoint_every = checkpoint_spacing(a.checkpoint_every, problem.steps)?;
+    let inputs: Vec<&Path> = a.from.iter().map(PathBuf::as_path).collect();
+    let out = output::OutputDir::prepare(&a.out, "solve", a.force, &inputs)
+        .map_err(output_failure(true))?;
     let options = SolveOptions {
         starts: a.starts,
         seed: a.seed,
@@ -429,7 +508,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         );
     }
     let best = &solution.extremals[solution.best];
-    let file = output::costate_file(&problem, best, a.checkpoint_every);
+    let file = output::costate_file(&problem, best, checkpoint_every);
     let gait_bytes = file
         .to_gait()
         .map_err(|e| fail(1, format!("the solution's gait: {e}")))?;
@@ -535,7 +614,9 @@ fn run_field(a: FieldArgs) -> Result<String, Failure> {
         Some(FieldComponent::Y) => vec![plots::field::Component::Y],
         Some(FieldComponent::Theta) => vec![plots::field::Component::Theta],
     };
-    let out = output::OutputDir::prepare(&a.out, "field", a.force).map_err(output_failure(true))?;
+    let inputs: Vec<&Path> = a.gait.iter().map(PathBuf::as_path).collect();
+    let out = output::OutputDir::prepare(&a.out, "field", a.force, &inputs)
+        .map_err(output_failure(true))?;
     let options = plots::Options { degrees: a.degrees };
     let gait = states.as_deref().map(|states| plots::FieldGait {
         problem: &problem,
@@ -547,14 +628,14 @@ fn run_field(a: FieldArgs) -> Result<String, Failure> {
     out.commit(&files).map_err(output_failure(false))?;
     let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
     Ok(
-        serde_json::to_string_pretty(&json!({ "out": a.out, "files": names }))
+        serde_json::to_string_pretty(&json!({ "out": a.out.to_string_lossy(), "files": names }))
             .map_err(|e| fail(1, e))?
             + "\n",
     )
 }
 
 /// The stored extremal of `path` as a start for `problem`: same swimmer required.
-fn warm_start(path: &std::path::Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
+fn warm_start(path: &Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
     let file = read_costate(path)?;
     let stored = file
         .problem()
@@ -624,7 +705,8 @@ fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
     };
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
     search_limits(&problem, a.starts)?;
-    let out = output::OutputDir::prepare(&a.out, "sweep", a.force).map_err(output_failure(true))?;
+    let out =
+        output::OutputDir::prepare(&a.out, "sweep", a.force, &[]).map_err(output_failure(true))?;
     let options = SolveOptions {
         starts: a.starts,
         ..SolveOptions::default()
@@ -709,11 +791,33 @@ fn arcs_json(arcs: &[Arc]) -> serde_json::Value {
     arcs.iter().map(|a| json!(output::arc_record(a))).collect()
 }
 
+/// Reads an input file, at most [`input::MAX_INPUT_BYTES`] (exit 2 if unreadable).
+fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
+    input::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))
+}
+
 /// Reads a costate file (exit 2 if unreadable or invalid).
-fn read_costate(path: &std::path::Path) -> Result<CostateFile, Failure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?;
+fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
+    let text = String::from_utf8(read_input(path)?).map_err(|e| {
+        fail(
+            2,
+            format!("{}: malformed costate file: {e}", path.display()),
+        )
+    })?;
     CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
+}
+
+/// What every route to a replay checks in a stored gait of `path` (`replay --costate`,
+/// `replay --gait`, `export`), besides the core's own validation: its problem as
+/// command-line input ([`Problem::of_gait`], the step limit included) and, where it is
+/// replayed in `f32`, every number there ([`crate::problem::check_gait_precision`]); exit 2.
+fn check_stored(path: &Path, gait: &Gait<'_>, f32: bool) -> Result<(), Failure> {
+    let refused = |e: InputError| fail(2, format!("{}: {e}", path.display()));
+    Problem::of_gait(gait.params()).map_err(refused)?;
+    if f32 {
+        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32").map_err(refused)?;
+    }
+    Ok(())
 }
 
 /// The `format` tag of the `replay` report, by which `replay --out` recognises its own.
@@ -721,7 +825,7 @@ const REPLAY_REPORT: &str = "purcell-replay";
 
 /// Whether `bytes` are a `replay` report.
 fn is_replay_report(bytes: &[u8]) -> bool {
-    serde_json::from_slice::<serde_json::Value>(bytes)
+    input::json::<serde_json::Value>(bytes)
         .is_ok_and(|v| v.get("format").and_then(|f| f.as_str()) == Some(REPLAY_REPORT))
 }
 
@@ -731,30 +835,19 @@ fn is_gait_file(bytes: &[u8]) -> bool {
 }
 
 fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
-    let (path, bytes, file) = match (&a.costate, &a.gait) {
+    let (path, bytes) = match (&a.costate, &a.gait) {
         (Some(path), _) => {
             let file = read_costate(path)?;
             let bytes = file
                 .to_gait()
                 .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-            (path, bytes, Some(file))
+            (path, bytes)
         }
-        (None, Some(path)) => (
-            path,
-            std::fs::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))?,
-            None,
-        ),
+        (None, Some(path)) => (path, read_input(path)?),
         (None, None) => return Err(fail(2, "replay needs --costate or --gait")),
     };
-    let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
-    let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
-    if let Some(file) = &file {
-        file.problem().map_err(|e| refused(&e))?;
-        if !matches!(a.precision, Some(Precision::F64)) {
-            file.check_precision::<f32>("f32")
-                .map_err(|e| refused(&e))?;
-        }
-    }
+    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    check_stored(path, &gait, !matches!(a.precision, Some(Precision::F64)))?;
     let out = match &a.out {
         Some(out) => Some(
             output::OutputFile::prepare(out, is_replay_report, a.force, &[path.as_path()])
@@ -814,6 +907,8 @@ fn run_export(a: ExportArgs) -> Result<String, Failure> {
         .to_gait()
         .map_err(|e| fail(2, format!("{}: {e}", a.costate.display())))?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(1, e))?;
+    // The gait is for the f32 firmware.
+    check_stored(&a.costate, &gait, true)?;
     let out = output::OutputFile::prepare(&a.out, is_gait_file, a.force, &[a.costate.as_path()])
         .map_err(output_failure(true))?;
     out.commit(&bytes).map_err(output_failure(false))?;

@@ -33,7 +33,7 @@
 //! `purcell_core::gait::check` refuses (non-finite values, shapes at the overlap limit,
 //! rotations off unit length, arcs out of order or off the limit, checkpoints anywhere but at
 //! every multiple of `checkpoint_every` below `steps` and at the arcs' exits) are typed errors.
-//! A file replayed in `f32` must also fit `f32` ([`CostateFile::check_precision`]).
+//! A file replayed in `f32` must also fit `f32` ([`crate::problem::check_gait_precision`]).
 
 pub use purcell_core::Arc;
 pub use purcell_core::gait::{CheckpointRecord, GaitParams, Model};
@@ -107,7 +107,7 @@ impl CostateFile {
     pub fn parse(text: &str) -> Result<Self, CostateFileError> {
         use serde_json::Value;
         let mut object: serde_json::Map<String, Value> =
-            serde_json::from_str(text).map_err(CostateFileError::Malformed)?;
+            crate::input::json(text.as_bytes()).map_err(CostateFileError::Malformed)?;
         // Check the tag and version first, so a newer file says so instead of a field error.
         match object.get("format") {
             Some(Value::String(s)) if s == FORMAT => {}
@@ -176,42 +176,13 @@ impl CostateFile {
         Ok(bytes)
     }
 
-    /// `Ok` if the file is also valid when replayed in scalar `T` (named `precision` in
-    /// messages): its problem ([`crate::problem::Problem::check_precision`]), and every
-    /// costate and checkpoint number finite there.
-    pub fn check_precision<T: purcell_core::Real>(
-        &self,
-        precision: &'static str,
-    ) -> Result<(), crate::problem::InputError> {
-        use crate::problem::check_fits;
-        self.problem()?.check_precision::<T>(precision)?;
-        check_fits::<T>("mu", &self.mu, false, precision)?;
-        check_fits::<T>("xi0", &self.xi0, false, precision)?;
-        for c in &self.checkpoints {
-            let at = |what| format!("{what} of the checkpoint at k = {}", c.k);
-            check_fits::<T>(&at("alpha"), &c.alpha, false, precision)?;
-            check_fits::<T>(&at("g"), &c.g, false, precision)?;
-            check_fits::<T>(&at("xi"), &c.xi, false, precision)?;
-        }
-        Ok(())
-    }
-
     /// Serialises (pretty JSON, shortest round-trip numbers).
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
     }
 
-    /// The problem this file belongs to (validated like command-line input).
+    /// The problem this file belongs to ([`crate::problem::Problem::of_gait`]).
     pub fn problem(&self) -> Result<crate::problem::Problem, crate::problem::InputError> {
-        crate::problem::Problem::new(&crate::problem::Spec {
-            target: self.target,
-            horizon: self.h * f64::from(self.steps),
-            step: self.h,
-            alpha0: self.alpha0,
-            links: self.model.links,
-            drag: self.model.drag,
-            ratio: self.model.ratio,
-            alpha_max: self.alpha_max,
-        })
+        crate::problem::Problem::of_gait(&self.gait)
     }
 }

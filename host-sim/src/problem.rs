@@ -4,6 +4,7 @@
 //! `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of steps.
 
 use nalgebra::{Vector2, Vector3};
+use purcell_core::gait::{CheckpointRecord, GaitParams};
 use purcell_core::{Kinematics, Real, Se2, Swimmer};
 
 /// Largest horizon accepted, in steps (the replay is linear in `N`; this keeps a run bounded).
@@ -111,6 +112,26 @@ pub fn check_fits<T: Real>(
             precision,
         })
     }
+}
+
+/// `Ok` if a stored gait (`params` and `checkpoints`) is also valid replayed in scalar `T`
+/// (named `precision` in messages): its problem ([`Problem::check_precision`]), and every
+/// costate and checkpoint number finite there.
+pub fn check_gait_precision<T: Real>(
+    params: &GaitParams,
+    checkpoints: impl IntoIterator<Item = CheckpointRecord>,
+    precision: &'static str,
+) -> Result<(), InputError> {
+    Problem::of_gait(params)?.check_precision::<T>(precision)?;
+    check_fits::<T>("mu", &params.mu, false, precision)?;
+    check_fits::<T>("xi0", &params.xi0, false, precision)?;
+    for c in checkpoints {
+        let at = |what| format!("{what} of the checkpoint at k = {}", c.k);
+        check_fits::<T>(&at("alpha"), &c.alpha, false, precision)?;
+        check_fits::<T>(&at("g"), &c.g, false, precision)?;
+        check_fits::<T>(&at("xi"), &c.xi, false, precision)?;
+    }
+    Ok(())
 }
 
 /// The inputs of a solve, as given by a user (SI units, radians).
@@ -249,6 +270,21 @@ impl Problem {
         })
     }
 
+    /// The problem a stored gait (a costate or gait file) belongs to, validated like
+    /// command-line input: its `N` within [`MAX_STEPS`] included.
+    pub fn of_gait(p: &GaitParams) -> Result<Self, InputError> {
+        Problem::new(&Spec {
+            target: p.target,
+            horizon: p.h * f64::from(p.steps),
+            step: p.h,
+            alpha0: p.alpha0,
+            links: p.model.links,
+            drag: p.model.drag,
+            ratio: p.model.ratio,
+            alpha_max: p.alpha_max,
+        })
+    }
+
     /// The paper's experiment (MODEL.md §4).
     pub fn paper() -> Self {
         match Problem::new(&Spec::default()) {
@@ -357,7 +393,7 @@ pub fn read_suite(text: &str) -> Result<Vec<SuiteProblem>, String> {
         reference: Option<f64>,
         expect: Option<String>,
     }
-    let entries: Vec<Entry> = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    let entries: Vec<Entry> = crate::input::json(text.as_bytes()).map_err(|e| e.to_string())?;
     let d = Spec::default();
     Ok(entries
         .into_iter()

@@ -575,3 +575,375 @@ fn a_closed_or_full_stdout_does_not_panic() {
         assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
     }
 }
+
+/// [`GOOD`] as a binary gait file, after `edit`.
+fn gait_of(edit: impl FnOnce(&mut host_sim::costate_file::CostateFile)) -> Vec<u8> {
+    let mut file = host_sim::costate_file::CostateFile::parse(GOOD).unwrap();
+    edit(&mut file);
+    file.to_gait().expect("the core's own check accepts it")
+}
+
+/// Issue 21, defect 2: `replay --gait` had no step limit (a gait patched to 2^32 − 1 steps
+/// ran for 90 minutes; 10 000 001 steps were accepted). Now the costate route's limit,
+/// refused at once with exit 2.
+#[test]
+fn gait_files_are_held_to_the_step_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    for steps in [10_000_001, u32::MAX] {
+        let p = dir.path().join(format!("{steps}.gait"));
+        std::fs::write(
+            &p,
+            gait_of(|f| {
+                f.gait.steps = steps;
+                f.gait.checkpoint_every = 0;
+                f.checkpoints.clear();
+            }),
+        )
+        .unwrap();
+        let t0 = Instant::now();
+        let o = sim(&[
+            "replay",
+            "--gait",
+            p.to_str().unwrap(),
+            "--precision",
+            "f64",
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{steps}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("more than the limit 10000000"),
+            "{steps}: {}",
+            stderr(&o)
+        );
+        assert!(t0.elapsed() < Duration::from_secs(10), "{steps} steps ran");
+    }
+}
+
+/// Issue 21, defect 4: `export` wrote gait files the f32 firmware cannot fly (exit 0), and
+/// `replay --gait` of them exited 3 with wrong reasons. Both now refuse them with exit 2 and
+/// the costate route's reason; an f64-only replay of such a gait still runs.
+#[test]
+fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
+    type Edit = fn(&mut host_sim::costate_file::CostateFile);
+    let cases: [(Edit, &str); 6] = [
+        (|f| f.gait.model.links[0] = 1e39, "links = 1e39,1.0,1.0"),
+        (|f| f.gait.model.links[1] = 1e-50, "links = 1.0,1e-50,1.0"),
+        (|f| f.gait.mu[1] = 1e39, "mu = 0.1,1e39,0.0"),
+        (|f| f.gait.h = 1e-50, "step h = 1e-50"),
+        (
+            |f| f.checkpoints[0].xi[0] = 1e39,
+            "xi of the checkpoint at k = 100",
+        ),
+        (|f| f.gait.model.drag = 1e39, "drag k = 1e39"),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (i, (edit, needle)) in cases.into_iter().enumerate() {
+        let mut file = host_sim::costate_file::CostateFile::parse(GOOD).unwrap();
+        edit(&mut file);
+        let json = write(dir.path(), &format!("{i}.json"), &file.to_json());
+        let out = dir.path().join(format!("{i}.gait"));
+        let o = sim(&["export", "--costate", &json, "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
+        assert!(!out.exists(), "{needle}");
+
+        std::fs::write(&out, file.to_gait().unwrap()).unwrap();
+        let o = sim(&["replay", "--gait", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
+        let o = sim(&[
+            "replay",
+            "--gait",
+            out.to_str().unwrap(),
+            "--precision",
+            "f64",
+        ]);
+        assert_ne!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
+    }
+}
+
+/// Issue 21, defect 5: duplicate keys were accepted (the last one won), and `export` turned
+/// such a file into a gait with a fresh checksum.
+#[test]
+fn duplicate_keys_are_refused() {
+    let cases = [
+        GOOD.replace("\"version\":2", "\"version\":2,\"version\":3"),
+        GOOD.replace(
+            "\"version\":2",
+            "\"format\":\"purcell-costate\",\"version\":2",
+        ),
+        GOOD.replace("\"xi0\"", "\"mu\":[0.1,0.2,0.0],\"xi0\""),
+        GOOD.replace("\"drag\":1", "\"links\":[2,2,2],\"drag\":1"),
+        GOOD.replace("\"k\":100", "\"k\":100,\"k\":100"),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for text in &cases {
+        refused_file("dup.json", text, "duplicate key");
+        let p = write(dir.path(), "dup.json", text);
+        let out = dir.path().join("dup.gait");
+        let o = sim(&["export", "--costate", &p, "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
+        assert!(stderr(&o).contains("duplicate key"), "{}", stderr(&o));
+        assert!(!out.exists());
+    }
+}
+
+/// Issue 21, defect 7: `sweep --alpha0 -0.5,0.3` was refused ("unexpected argument '-0'"),
+/// and its help showed a default `0 0` that could not be typed back.
+#[test]
+fn sweep_takes_negative_shapes_and_shows_defaults_that_paste_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sweep");
+    let help = String::from_utf8_lossy(&sim(&["sweep", "--help"]).stdout).into_owned();
+    assert!(help.contains("[default: 0,0]"), "{help}");
+    for alpha0 in ["-0.5,0.3", "0,0"] {
+        // Parsed (the refusal is about --step, after parsing every flag).
+        let o = sim(&[
+            "sweep",
+            "--alpha0",
+            alpha0,
+            "--step",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("step h must be positive"),
+            "{alpha0}: {}",
+            stderr(&o)
+        );
+    }
+    assert!(!out.exists());
+}
+
+/// The limits as the binary states them, digits grouped by spaces as in the README.
+fn grouped(n: u64) -> String {
+    let digits = n.to_string();
+    let mut s = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            s.push(' ');
+        }
+        s.push(c);
+    }
+    s
+}
+
+/// Issue 21, defect 8: the README's exit-code table said `--starts` ≤ 100 and named a
+/// `--segments` flag the binary does not have. Every limit it states is the binary's, and
+/// every flag it names exists.
+#[test]
+fn the_readme_exit_code_table_states_the_binary_limits() {
+    use host_sim::cli::{MAX_SOLVE_STEPS, MAX_STARTS, MAX_SWEEP_TARGETS};
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md"))
+            .unwrap();
+    let row = readme
+        .lines()
+        .find(|l| l.starts_with("| 2 | bad input"))
+        .expect("the exit-code table has a row for 2");
+    for limit in [
+        format!("`--starts` 1 to {}", grouped(MAX_STARTS as u64)),
+        format!(
+            "`solve` ≤ {} steps and ≤ {} checkpoints",
+            grouped(u64::from(MAX_SOLVE_STEPS)),
+            grouped(u64::from(host_sim::cli::MAX_CHECKPOINTS))
+        ),
+        format!(
+            "`replay` and `export` ≤ {} steps",
+            grouped(host_sim::problem::MAX_STEPS)
+        ),
+        format!("`sweep` ≤ {} targets", grouped(MAX_SWEEP_TARGETS as u64)),
+        format!(
+            "input files ≤ {} MiB",
+            host_sim::input::MAX_INPUT_BYTES >> 20
+        ),
+    ] {
+        assert!(
+            row.contains(&limit),
+            "README's exit code 2 lacks {limit:?}: {row}"
+        );
+    }
+    // Every number in the row is one of those, the exit code, or a float width.
+    let mut known: Vec<String> = ["2", "32", "64", "1"].map(String::from).to_vec();
+    known.extend([
+        grouped(MAX_STARTS as u64),
+        grouped(u64::from(MAX_SOLVE_STEPS)),
+        grouped(u64::from(host_sim::cli::MAX_CHECKPOINTS)),
+        grouped(host_sim::problem::MAX_STEPS),
+        grouped(MAX_SWEEP_TARGETS as u64),
+    ]);
+    for number in row
+        .split(|c: char| !(c.is_ascii_digit() || c == ' '))
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+    {
+        assert!(
+            known.iter().any(|k| k == number),
+            "README states {number:?}: {row}"
+        );
+    }
+    // Every flag it names is a flag of some subcommand.
+    let helps: String = ["solve", "sweep", "replay", "export", "field", "connection"]
+        .iter()
+        .map(|c| String::from_utf8_lossy(&sim(&[c, "--help"]).stdout).into_owned())
+        .collect();
+    for flag in row
+        .split('`')
+        .filter(|s| s.starts_with("--"))
+        .filter_map(|s| s.split(' ').next())
+    {
+        assert!(
+            helps.contains(&format!("{flag} ")),
+            "README names {flag}, which no subcommand has"
+        );
+    }
+}
+
+/// `solve` of the quick problem with `target` into a fresh directory: its report.
+fn quick_report(target: &str, extra: &[&str]) -> (Output, Option<serde_json::Value>) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec!["solve", "--out", out.to_str().unwrap(), "--no-plots"];
+    args.extend_from_slice(&["--horizon", "10", "--step", "0.1", "--starts", "1"]);
+    args.extend_from_slice(&["--target", target]);
+    args.extend_from_slice(extra);
+    let o = sim(&args);
+    let report = std::fs::read(out.join("report.json"))
+        .ok()
+        .map(|b| serde_json::from_slice(&b).unwrap());
+    (o, report)
+}
+
+/// Issue 21 (lower): `--target 0.1,0.1,6.283185307179586` exited 3; the angle is taken
+/// modulo 2π into ]−π, π], and `--help` says so.
+#[test]
+fn the_target_angle_is_taken_modulo_two_pi() {
+    let (o, zero) = quick_report("0.01,0.01,0", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (o, turn) = quick_report("0.01,0.01,6.283185307179586", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (zero, turn) = (zero.unwrap(), turn.unwrap());
+    assert_eq!(turn["problem"]["target"][2], 0.0);
+    assert_eq!(turn["cost"], zero["cost"]);
+    let help = String::from_utf8_lossy(&sim(&["solve", "--help"]).stdout).into_owned();
+    assert!(help.contains("modulo 2 pi into ]-pi, pi]"), "{help}");
+}
+
+/// Issue 21 (lower): `--checkpoint-every` ≥ N silently wrote no checkpoints. Given, it must
+/// be below N (or 0); the default gives none on a short horizon; and no spacing may make
+/// the costate file too large to read back.
+#[test]
+fn an_explicit_checkpoint_spacing_is_below_the_horizon() {
+    for every in ["100", "150"] {
+        let (o, report) = quick_report("0.01,0.01,0", &["--checkpoint-every", every]);
+        assert_eq!(o.status.code(), Some(2), "{every}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!(
+                "--checkpoint-every {every} is not below the horizon's 100 steps"
+            )),
+            "{}",
+            stderr(&o)
+        );
+        assert!(report.is_none());
+    }
+    for every in [
+        &["--checkpoint-every", "0"][..],
+        &["--checkpoint-every", "50"],
+        &[],
+    ] {
+        let (o, _) = quick_report("0.01,0.01,0", every);
+        assert_eq!(o.status.code(), Some(0), "{every:?}: {}", stderr(&o));
+    }
+    refused_before_work(
+        &["--horizon", "10000", "--checkpoint-every", "1"],
+        "more than the limit 100000",
+    );
+}
+
+/// Issue 21 (lower): a flag given twice was concatenated (`--alpha 0.1 --alpha 0.2` was
+/// the shape `0.1,0.2`). It is a usage error now, lists and numbers alike.
+#[test]
+fn a_flag_given_twice_is_refused() {
+    for args in [
+        &["connection", "--alpha", "0.1", "--alpha", "0.2"][..],
+        &[
+            "connection",
+            "--alpha",
+            "0.1,0.2",
+            "--links",
+            "1,1",
+            "--links",
+            "1",
+        ],
+        &[
+            "connection",
+            "--alpha",
+            "0.1,0.2",
+            "--drag",
+            "1",
+            "--drag",
+            "2",
+        ],
+    ] {
+        let o = sim(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("cannot be used multiple times"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+}
+
+/// Issue 21 (lower): a system that refuses threads made the search panic (exit 101). It is
+/// exit 1 with the reason. (Run as `nobody` limited to one process, where the test is root
+/// and util-linux's `prlimit` and `setpriv` are there.)
+#[test]
+#[cfg(target_os = "linux")]
+fn no_worker_threads_is_exit_1_not_a_panic() {
+    use std::os::unix::fs::PermissionsExt;
+    let have = |tool: &str| {
+        std::process::Command::new(tool)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if unsafe { libc::geteuid() } != 0 || !have("prlimit") || !have("setpriv") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
+    let out = dir.path().join("out");
+    let mut c = std::process::Command::new("prlimit");
+    c.args([
+        "--nproc=1",
+        "setpriv",
+        "--reuid=65534",
+        "--regid=65534",
+        "--clear-groups",
+    ])
+    .arg(env!("CARGO_BIN_EXE_purcell-sim"))
+    .args([
+        "solve",
+        "--out",
+        out.to_str().unwrap(),
+        "--no-plots",
+        "--horizon",
+        "10",
+    ])
+    .args(["--step", "0.1", "--starts", "1", "--target", "0.01,0.01,0"])
+    .stdin(Stdio::null())
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped());
+    let o = wait(c.spawn().unwrap(), LIMIT, "solve without threads");
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("cannot start worker threads"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}

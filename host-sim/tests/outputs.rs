@@ -239,3 +239,250 @@ fn replay_out_never_overwrites_its_input_or_a_foreign_file() {
     let names: Vec<String> = snapshot(tmp.path()).into_iter().map(|(n, _)| n).collect();
     assert_eq!(names, ["alias.json", "c.json", "r.json"]);
 }
+
+/// `solve` of [`QUICK`] (no figures) into `out`, which must succeed.
+fn solved(out: &Path) {
+    let o = quick_solve(out, &["--no-plots"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Issue 21, defect 1: `solve --from c.json --out c.json --force` and `field --gait c.json
+/// --out c.json --force` replaced their input by a directory. An output that names or
+/// contains an input (by any name) is refused with exit 2, with or without `--force`.
+#[test]
+#[cfg(target_os = "linux")]
+fn no_output_names_or_contains_an_input_even_with_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let res = tmp.path().join("res");
+    solved(&res);
+    let costate = res.join("costate.json");
+    let c = tmp.path().join("c.json");
+    std::fs::copy(&costate, &c).unwrap();
+    let alias = tmp.path().join("alias.json");
+    std::os::unix::fs::symlink(&costate, &alias).unwrap();
+    let before = snapshot(tmp.path());
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let cases = [
+        (&c, s(&c)),
+        (&costate, s(&res)),
+        (&alias, s(&res)),
+        (&c, s(tmp.path())),
+        (&costate, format!("{}/./res/", s(tmp.path()))),
+    ];
+    for (input, out) in &cases {
+        for force in [&[][..], &["--force"][..]] {
+            let mut solve = vec!["solve", "--from", input.to_str().unwrap(), "--out", out];
+            solve.extend_from_slice(QUICK);
+            let mut field = vec!["field", "--gait", input.to_str().unwrap(), "--out", out];
+            for args in [&mut solve, &mut field] {
+                args.extend_from_slice(force);
+                let o = sim(args);
+                assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+                assert!(
+                    stderr(&o).contains("is or holds an input of this command"),
+                    "{args:?}: {}",
+                    stderr(&o)
+                );
+            }
+        }
+    }
+    assert_eq!(snapshot(tmp.path()), before);
+}
+
+/// Issue 21, defect 3: `field` panicked (exit 101) on a non-UTF-8 `--out` after writing its
+/// files.
+#[test]
+#[cfg(target_os = "linux")]
+fn field_takes_a_non_utf8_out() {
+    use std::os::unix::ffi::OsStrExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join(std::ffi::OsStr::from_bytes(b"field\xff"));
+    let mut c = command(&["field", "--out"]);
+    c.arg(&out);
+    let o = wait(c.spawn().unwrap(), LIMIT, "field --out field\\xff");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(out.join("field.csv").exists());
+    let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(printed["out"].as_str().unwrap().ends_with("field\u{fffd}"));
+}
+
+/// Issue 21, defect 6: some unusable `--out` paths were found only after the whole solve
+/// (exit 1): a mount point, an immutable directory, another user's result in a sticky
+/// directory, and `--out LINK/` (blamed on a change "while the command ran"). All are
+/// refused with exit 2 before the work, and nothing is left behind.
+#[test]
+#[cfg(target_os = "linux")]
+fn unusable_outs_are_refused_before_the_work() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let tmp = tempfile::tempdir().unwrap();
+    let refused = |out: &str, needle: &str, user: Option<u32>| {
+        let mut args = vec!["solve", "--out", out, "--force", "--no-plots"];
+        args.extend_from_slice(QUICK);
+        let mut c = command(&args);
+        if let Some(uid) = user {
+            std::os::unix::process::CommandExt::uid(&mut c, uid);
+        }
+        let o = wait(c.spawn().unwrap(), LIMIT, out);
+        assert_eq!(o.status.code(), Some(2), "{out}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{out}: {}", stderr(&o));
+    };
+
+    // A mount point (its device differs from its parent's).
+    let dev = |p: &str| std::fs::metadata(p).unwrap().dev();
+    if dev("/proc") != dev("/") {
+        refused("/proc", "is a mount point", None);
+    }
+
+    // `LINK/`, LINK a symbolic link to a result of ours: the link, not a change.
+    let real = tmp.path().join("real");
+    solved(&real);
+    let link = tmp.path().join("link");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    refused(
+        &format!("{}/", link.to_str().unwrap()),
+        "is a symbolic link",
+        None,
+    );
+
+    // An immutable result of ours (where chattr works: root on a filesystem with flags).
+    let frozen = tmp.path().join("frozen");
+    solved(&frozen);
+    let chattr = |flag: &str| {
+        std::process::Command::new("chattr")
+            .args([flag, frozen.to_str().unwrap()])
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if chattr("+i") {
+        refused(frozen.to_str().unwrap(), "cannot be replaced", None);
+        assert!(chattr("-i"));
+    }
+
+    // Another user's result in a sticky directory (run as `nobody` where the test is root).
+    if unsafe { libc::geteuid() } == 0 {
+        let nobody = 65534;
+        std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+        let sticky = tmp.path().join("sticky");
+        std::fs::create_dir(&sticky).unwrap();
+        std::fs::set_permissions(&sticky, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        let theirs = sticky.join("theirs");
+        solved(&theirs);
+        refused(theirs.to_str().unwrap(), "another user's", Some(nobody));
+        // And a result of one's own that one cannot write into.
+        let mine = sticky.join("mine");
+        solved(&mine);
+        let files: Vec<_> = std::fs::read_dir(&mine)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        std::os::unix::fs::lchown(&mine, Some(nobody), Some(nobody)).unwrap();
+        for f in &files {
+            std::os::unix::fs::lchown(f, Some(nobody), Some(nobody)).unwrap();
+        }
+        std::fs::set_permissions(&mine, std::fs::Permissions::from_mode(0o555)).unwrap();
+        refused(mine.to_str().unwrap(), "cannot be replaced", Some(nobody));
+        std::fs::set_permissions(&mine, std::fs::Permissions::from_mode(0o755)).unwrap();
+        assert_eq!(
+            std::fs::read_dir(&sticky).unwrap().count(),
+            2,
+            "staging left behind"
+        );
+    }
+    let names: Vec<String> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(names.is_empty(), "staging left behind: {names:?}");
+}
+
+/// Issue 21 (lower): a Ctrl-C left a hidden staging folder beside the output, and nothing
+/// cleaned old ones. The next run in that directory removes those of processes that are
+/// gone, and leaves a running one's alone.
+#[test]
+fn staging_left_by_a_killed_run_is_removed_by_the_next() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut gone = std::process::Command::new("true").spawn().unwrap();
+    let dead = gone.id();
+    gone.wait().unwrap();
+    let stale = tmp.path().join(format!(".purcell-sim-{dead}-0.tmp"));
+    std::fs::create_dir(&stale).unwrap();
+    std::fs::write(stale.join("trajectory.csv"), "half").unwrap();
+    let stale_file = tmp.path().join(format!(".purcell-sim-{dead}-1.tmp"));
+    std::fs::write(&stale_file, "half").unwrap();
+    let live = tmp
+        .path()
+        .join(format!(".purcell-sim-{}-0.tmp", std::process::id()));
+    std::fs::create_dir(&live).unwrap();
+    solved(&tmp.path().join("out"));
+    assert!(!stale.exists() && !stale_file.exists());
+    assert!(live.exists());
+}
+
+/// Issue 21 (lower): names over about 230 bytes were refused because of the staging name's
+/// suffix.
+#[test]
+fn an_output_name_of_255_bytes_is_written() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("r".repeat(255));
+    solved(&out);
+    let report = tmp.path().join(format!("{}.json", "r".repeat(250)));
+    let costate = out.join("costate.json");
+    let args = [
+        "replay",
+        "--costate",
+        costate.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ];
+    let o = sim(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Issue 21 (lower): replacing an output reset its permissions (700 became 755).
+#[test]
+#[cfg(unix)]
+fn a_replaced_output_keeps_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o7777;
+    let out = tmp.path().join("out");
+    solved(&out);
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o700)).unwrap();
+    solved(&out);
+    assert_eq!(mode(&out), 0o700);
+    let report = tmp.path().join("r.json");
+    let costate = out.join("costate.json");
+    let replay = [
+        "replay",
+        "--costate",
+        costate.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ];
+    assert_eq!(sim(&replay).status.code(), Some(0));
+    std::fs::set_permissions(&report, std::fs::Permissions::from_mode(0o600)).unwrap();
+    assert_eq!(sim(&replay).status.code(), Some(0));
+    assert_eq!(mode(&report), 0o600);
+}
+
+/// Issue 21 (lower): `solve --out` silently replaced a previous `sweep` result. A result of
+/// another subcommand is replaced only with `--force`.
+#[test]
+fn a_result_of_another_subcommand_is_replaced_only_with_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sim(&["field", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let before = snapshot(&out);
+    let o = quick_solve(&out, &["--no-plots"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is a result of `purcell-sim field`"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(snapshot(&out), before);
+    let o = quick_solve(&out, &["--no-plots", "--force"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

@@ -6,22 +6,26 @@
 //!   result of ours: it holds our manifest ([`MANIFEST`], which names every file we wrote with
 //!   its length and FNV-1a hash) and nothing else than those files, byte for byte as we wrote
 //!   them (an empty directory holds nothing to lose and is replaced too). An existing single
-//!   file is replaced only if its caller recognises the contents as its own format. Anything
-//!   else is refused before any work ([`OutputError::Refused`]), unless `force`; symbolic
-//!   links, device nodes and other special files, a directory where a file goes, and an
-//!   input of the command are refused even then.
+//!   file is replaced only if its caller recognises the contents as its own format, and a
+//!   directory only by the subcommand that wrote it. Anything else is refused before any
+//!   work ([`OutputError::Refused`]), unless `force`; symbolic links (`LINK/` included),
+//!   device nodes and other special files, a directory where a file goes, a mount point,
+//!   what this process cannot replace (another user's entry in a sticky directory, an
+//!   immutable or unwritable directory) and a path that is or holds an input of the command
+//!   (after symbolic links, `.` and `..`) are refused even then.
 //! - **Checked before the work.** `prepare` creates the staging directory or file next to
 //!   the path (and any missing parent directories), which proves the path can be written
 //!   before a long computation; if the command fails, dropping the value removes what it
-//!   created.
+//!   created. Staging entries of runs that were killed (their process is gone) are removed
+//!   then too.
 //! - **Atomic.** `commit` writes everything into the staging entry, re-checks the path (it
 //!   may have changed during the work), and swaps it in with one rename: a directory by
 //!   `renameat2(RENAME_EXCHANGE)`, after which the old contents (now under the staging name)
-//!   are removed; a file by `rename`, which replaces atomically. Where the filesystem cannot
-//!   exchange, the new files are renamed into the existing directory one by one under a
-//!   manifest that lists the old and the new files at every moment: the path never goes
-//!   missing, and a run interrupted half-way leaves a directory that the next run recognises
-//!   as ours.
+//!   are removed; a file by `rename`, which replaces atomically. The new entry keeps the
+//!   permissions of the one it replaces. Where the filesystem cannot exchange, the new files
+//!   are renamed into the existing directory one by one under a manifest that lists the old
+//!   and the new files at every moment: the path never goes missing, and a run interrupted
+//!   half-way leaves a directory that the next run recognises as ours.
 
 use serde::{Deserialize, Serialize};
 use std::ffi::OsString;
@@ -35,8 +39,11 @@ pub const MANIFEST: &str = "purcell-sim-manifest.json";
 const FORMAT: &str = "purcell-sim-output";
 /// The only manifest version this build reads and writes.
 const VERSION: u64 = 1;
-/// An existing single file larger than this is not read to recognise it (not ours).
-const MAX_RECOGNISED_BYTES: u64 = 64 << 20;
+/// Staging entries are named `.purcell-sim-PID-N.tmp` (this prefix, the process id, a
+/// counter, this suffix): short, so any output name fits beside them.
+const STAGING: [&str; 2] = [".purcell-sim-", ".tmp"];
+/// Why an output is refused when it is or holds an input.
+const INPUT: &str = "is or holds an input of this command";
 
 /// Why an output was refused or could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -119,7 +126,7 @@ impl Manifest {
 
     /// The manifest in `bytes`, if it is one of ours of this version.
     fn parse(bytes: &[u8]) -> Option<Self> {
-        serde_json::from_slice::<Manifest>(bytes)
+        crate::input::json::<Manifest>(bytes)
             .ok()
             .filter(|m| m.format == FORMAT && m.version == VERSION)
     }
@@ -180,15 +187,22 @@ fn foreign(reason: impl Into<String>, force_overrides: bool) -> Existing {
     }
 }
 
-/// Classifies an output directory path (symbolic links are not followed).
-fn classify_dir(path: &Path) -> io::Result<Existing> {
+/// Classifies the output directory path `parent/name` of subcommand `command` (symbolic links
+/// are not followed).
+fn classify_dir(path: &Path, command: &str, inputs: &[PathBuf]) -> io::Result<Existing> {
+    if holds_input(path, inputs) {
+        return Ok(foreign(INPUT, false));
+    }
     let meta = match fs::symlink_metadata(path) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Existing::Missing),
         r => r?,
     };
     let kind = meta.file_type();
+    if let Some(reason) = unreplaceable(path, &meta)? {
+        return Ok(foreign(reason, false));
+    }
     Ok(if kind.is_dir() {
-        ownership(path)?
+        ownership(path, command)?
     } else if kind.is_file() {
         foreign("is a file, not a directory", true)
     } else if kind.is_symlink() {
@@ -198,12 +212,12 @@ fn classify_dir(path: &Path) -> io::Result<Existing> {
     })
 }
 
-/// Whether the directory `dir` is a previous result of ours.
-fn ownership(dir: &Path) -> io::Result<Existing> {
+/// Whether the directory `dir` is a previous result of subcommand `command`.
+fn ownership(dir: &Path, command: &str) -> io::Result<Existing> {
     if fs::read_dir(dir)?.next().is_none() {
         return Ok(Existing::Ours(None));
     }
-    let manifest = match fs::read(dir.join(MANIFEST)) {
+    let manifest = match crate::input::read(&dir.join(MANIFEST)) {
         Ok(bytes) => match Manifest::parse(&bytes) {
             Some(m) => m,
             None => {
@@ -221,10 +235,73 @@ fn ownership(dir: &Path) -> io::Result<Existing> {
         }
         Err(e) => return Err(e),
     };
+    if manifest.command != command {
+        return Ok(foreign(
+            format!("is a result of `purcell-sim {}`", manifest.command),
+            true,
+        ));
+    }
     Ok(match first_stranger(dir, "", &manifest)? {
         Some(stranger) => foreign(stranger, true),
         None => Existing::Ours(Some(manifest)),
     })
+}
+
+/// Whether `path` is one of `inputs` (the same file by any name) or a directory that holds
+/// one (after symbolic links, `.` and `..`).
+fn holds_input(path: &Path, inputs: &[PathBuf]) -> bool {
+    let Ok(out) = fs::canonicalize(path) else {
+        return false;
+    };
+    inputs
+        .iter()
+        .any(|i| same_file(path, i) || fs::canonicalize(i).is_ok_and(|i| i.starts_with(&out)))
+}
+
+/// The directory an output path `parent/name` is in.
+fn parent_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Why the existing `path` (`meta`, a directory or a file) cannot be replaced by this
+/// process, even with `force`: a mount point (on another device than its directory),
+/// another user's entry in a sticky directory, or one that cannot be written (immutable, on
+/// a read-only filesystem, or for a directory, whose old contents are removed after the
+/// swap, without write permission).
+#[cfg(target_os = "linux")]
+fn unreplaceable(path: &Path, meta: &fs::Metadata) -> io::Result<Option<String>> {
+    use std::os::unix::{ffi::OsStrExt, fs::MetadataExt};
+    if !(meta.is_dir() || meta.is_file()) {
+        return Ok(None);
+    }
+    let up = fs::metadata(parent_of(path))?;
+    // SAFETY: geteuid has no preconditions and cannot fail.
+    let euid = unsafe { libc::geteuid() };
+    if meta.dev() != up.dev() {
+        return Ok(Some("is a mount point".into()));
+    }
+    if up.mode() & libc::S_ISVTX != 0 && euid != 0 && meta.uid() != euid && up.uid() != euid {
+        return Ok(Some(
+            "is another user's, in a sticky directory where only they can replace it".into(),
+        ));
+    }
+    let c = std::ffi::CString::new(path.as_os_str().as_bytes())?;
+    // SAFETY: a valid NUL-terminated path; the call reads it and nothing else.
+    if unsafe { libc::access(c.as_ptr(), libc::W_OK) } == 0 {
+        return Ok(None);
+    }
+    let e = io::Error::last_os_error();
+    // A file is replaced by a rename in its directory: its own mode does not matter.
+    Ok((meta.is_dir() || e.raw_os_error() != Some(libc::EACCES))
+        .then(|| format!("cannot be replaced ({e})")))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn unreplaceable(_: &Path, _: &fs::Metadata) -> io::Result<Option<String>> {
+    Ok(None)
 }
 
 /// The first entry under `dir` that the manifest does not account for, described.
@@ -315,14 +392,12 @@ fn remove_empty_dirs(dirs: &[PathBuf]) {
     }
 }
 
-/// A fresh staging directory or file next to the output, named after it.
-fn create_staging(parent: &Path, name: &OsString, directory: bool) -> io::Result<PathBuf> {
-    let name = name.to_string_lossy();
+/// A fresh staging directory or file in `parent`, after removing the stale ones there.
+fn create_staging(parent: &Path, directory: bool) -> io::Result<PathBuf> {
+    remove_stale_staging(parent);
+    let [prefix, suffix] = STAGING;
     for n in 0..1000 {
-        let p = parent.join(format!(
-            ".{name}.purcell-sim-{}-{n}.tmp",
-            std::process::id()
-        ));
+        let p = parent.join(format!("{prefix}{}-{n}{suffix}", std::process::id()));
         let made = if directory {
             fs::create_dir(&p)
         } else {
@@ -342,6 +417,59 @@ fn create_staging(parent: &Path, name: &OsString, directory: bool) -> io::Result
         io::ErrorKind::AlreadyExists,
         "no free temporary name",
     ))
+}
+
+/// Removes the staging entries in `parent` whose process is gone (a run killed before it
+/// could clean up); best effort.
+fn remove_stale_staging(parent: &Path) {
+    let Ok(entries) = fs::read_dir(parent) else {
+        return;
+    };
+    let [prefix, suffix] = STAGING;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let pid = name
+            .to_str()
+            .and_then(|n| {
+                n.strip_prefix(prefix)?
+                    .strip_suffix(suffix)?
+                    .split_once('-')
+            })
+            .filter(|(_, n)| n.parse::<u32>().is_ok())
+            .and_then(|(pid, _)| pid.parse::<u32>().ok());
+        if let Some(pid) = pid
+            && !running(pid)
+        {
+            let _ = remove_any(&entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` exists (assumed, where that cannot be asked).
+#[cfg(target_os = "linux")]
+fn running(pid: u32) -> bool {
+    let Ok(pid) = libc::pid_t::try_from(pid) else {
+        return true;
+    };
+    // SAFETY: signal 0 sends nothing; it only asks whether `pid` (> 0: one process) exists.
+    pid <= 0
+        || unsafe { libc::kill(pid, 0) } == 0
+        || io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn running(_: u32) -> bool {
+    true
+}
+
+/// Gives `staging` the permissions of `old`, the entry it replaces, if of the same kind (best
+/// effort).
+fn keep_permissions(staging: &Path, old: &Path) {
+    if let (Ok(old), Ok(new)) = (fs::symlink_metadata(old), fs::symlink_metadata(staging))
+        && old.file_type() == new.file_type()
+    {
+        let _ = fs::set_permissions(staging, old.permissions());
+    }
 }
 
 fn write_synced(path: &Path, bytes: &[u8]) -> io::Result<()> {
@@ -439,20 +567,29 @@ pub struct OutputDir {
     path: PathBuf,
     command: &'static str,
     force: bool,
+    inputs: Vec<PathBuf>,
     staging: Option<PathBuf>,
     created_parents: Vec<PathBuf>,
 }
 
 impl OutputDir {
     /// Checks that `path` may be written by subcommand `command` (missing, empty, a previous
-    /// result of ours, or anything replaceable with `force`) and creates the staging
-    /// directory next to it, before any work.
-    pub fn prepare(path: &Path, command: &'static str, force: bool) -> Result<Self, OutputError> {
+    /// result of `command`, or anything replaceable with `force`), and never holds one of
+    /// `inputs`; then creates the staging directory next to it, before any work.
+    pub fn prepare(
+        path: &Path,
+        command: &'static str,
+        force: bool,
+        inputs: &[&Path],
+    ) -> Result<Self, OutputError> {
         let (parent, name) = split(path)?;
+        let inputs: Vec<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
+        // The path as `parent/name`: `LINK/` is the link, not the directory it points to.
         if let Existing::Foreign {
             reason,
             force_overrides,
-        } = classify_dir(path).map_err(io_error(path, "cannot inspect"))?
+        } = classify_dir(&parent.join(&name), command, &inputs)
+            .map_err(io_error(path, "cannot inspect"))?
             && !(force && force_overrides)
         {
             return Err(OutputError::Refused {
@@ -468,12 +605,12 @@ impl OutputDir {
             path: parent.join(&name),
             command,
             force,
+            inputs,
             staging: None,
             created_parents,
         };
-        out.staging = Some(
-            create_staging(&parent, &name, true).map_err(io_error(path, "cannot be created"))?,
-        );
+        out.staging =
+            Some(create_staging(&parent, true).map_err(io_error(path, "cannot be created"))?);
         Ok(out)
     }
 
@@ -483,7 +620,9 @@ impl OutputDir {
         let staging = self.staging.clone().unwrap_or_default();
         let manifest = self.stage(&staging, files)?;
         let shown = self.shown.clone();
-        match classify_dir(&self.path).map_err(io_error(&shown, "cannot inspect"))? {
+        let existing = classify_dir(&self.path, self.command, &self.inputs)
+            .map_err(io_error(&shown, "cannot inspect"))?;
+        match existing {
             Existing::Missing => {
                 fs::rename(&staging, &self.path).map_err(io_error(&shown, "cannot create"))?
             }
@@ -502,6 +641,7 @@ impl OutputDir {
                     Existing::Ours(m) => m,
                     _ => None,
                 };
+                keep_permissions(&staging, &self.path);
                 match exchange(&staging, &self.path) {
                     Ok(()) => remove_any(&staging)
                         .map_err(io_error(&staging, "replaced; cannot remove the old copy"))?,
@@ -660,7 +800,7 @@ impl OutputFile {
     ) -> Result<Self, OutputError> {
         let (parent, name) = split(path)?;
         let mut out = OutputFile {
-            path: path.to_path_buf(),
+            path: parent.join(&name),
             recognise,
             force,
             inputs: inputs.iter().map(|p| p.to_path_buf()).collect(),
@@ -670,9 +810,8 @@ impl OutputFile {
         out.check()?;
         out.created_parents =
             create_parents(&parent).map_err(io_error(path, "cannot create its directory"))?;
-        out.staging = Some(
-            create_staging(&parent, &name, false).map_err(io_error(path, "cannot be created"))?,
-        );
+        out.staging =
+            Some(create_staging(&parent, false).map_err(io_error(path, "cannot be created"))?);
         Ok(out)
     }
 
@@ -706,7 +845,10 @@ impl OutputFile {
                 }
                 r => r,
             },
-            _ => fs::rename(&staging, &self.path),
+            _ => {
+                keep_permissions(&staging, &self.path);
+                fs::rename(&staging, &self.path)
+            }
         };
         placed.map_err(io_error(&self.path, "cannot write"))?;
         self.staging = None;
@@ -747,16 +889,25 @@ fn classify_file(
     recognise: fn(&[u8]) -> bool,
     inputs: &[PathBuf],
 ) -> io::Result<Existing> {
-    if inputs.iter().any(|i| same_file(path, i)) {
-        return Ok(foreign("is an input of this command", false));
+    if holds_input(path, inputs) {
+        return Ok(foreign(INPUT, false));
     }
     let meta = match fs::symlink_metadata(path) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Existing::Missing),
         r => r?,
     };
+    if let Some(reason) = unreplaceable(path, &meta)? {
+        return Ok(foreign(reason, false));
+    }
     let kind = meta.file_type();
     Ok(if kind.is_file() {
-        if meta.len() <= MAX_RECOGNISED_BYTES && recognise(&fs::read(path)?) {
+        let recognised = match crate::input::read(path) {
+            Ok(bytes) => recognise(&bytes),
+            // Too large to be ours.
+            Err(e) if e.kind() == io::ErrorKind::FileTooLarge => false,
+            Err(e) => return Err(e),
+        };
+        if recognised {
             Existing::Ours(None)
         } else {
             foreign("holds data that purcell-sim did not write", true)
@@ -801,7 +952,7 @@ mod tests {
     }
 
     fn is_ours(dir: &Path) -> bool {
-        matches!(classify_dir(dir).unwrap(), Existing::Ours(_))
+        matches!(classify_dir(dir, "solve", &[]).unwrap(), Existing::Ours(_))
     }
 
     #[test]
@@ -809,7 +960,7 @@ mod tests {
         let tmp = tempfile::tempdir().unwrap();
         let out = tmp.path().join("out");
         let new = files(&[("a.csv", "1,2\n"), ("fig/b.svg", "<svg/>")]);
-        OutputDir::prepare(&out, "solve", false)
+        OutputDir::prepare(&out, "solve", false, &[])
             .unwrap()
             .commit(&new)
             .unwrap();
@@ -847,21 +998,21 @@ mod tests {
             let tmp = tempfile::tempdir().unwrap();
             let out = tmp.path().join("out");
             let old = files(&[("a.csv", "old"), ("old-only.svg", "x"), ("d/e.txt", "e")]);
-            OutputDir::prepare(&out, "solve", false)
+            OutputDir::prepare(&out, "solve", false, &[])
                 .unwrap()
                 .commit(&old)
                 .unwrap();
             let new = files(&[("a.csv", "new"), ("b.png", "png")]);
             if exchange {
-                OutputDir::prepare(&out, "solve", false)
+                OutputDir::prepare(&out, "solve", false, &[])
                     .unwrap()
                     .commit(&new)
                     .unwrap();
             } else {
-                let staged = OutputDir::prepare(&out, "solve", false).unwrap();
+                let staged = OutputDir::prepare(&out, "solve", false, &[]).unwrap();
                 let staging = staged.staging.clone().unwrap();
                 let manifest = staged.stage(&staging, &new).unwrap();
-                let Existing::Ours(old_manifest) = classify_dir(&out).unwrap() else {
+                let Existing::Ours(old_manifest) = classify_dir(&out, "solve", &[]).unwrap() else {
                     panic!("not ours")
                 };
                 replace_file_by_file(&staging, &out, &manifest, old_manifest).unwrap();
@@ -885,11 +1036,11 @@ mod tests {
     fn a_half_done_file_by_file_update_is_still_ours() {
         let tmp = tempfile::tempdir().unwrap();
         let out = tmp.path().join("out");
-        OutputDir::prepare(&out, "solve", false)
+        OutputDir::prepare(&out, "solve", false, &[])
             .unwrap()
             .commit(&files(&[("a.csv", "old"), ("b.csv", "old")]))
             .unwrap();
-        let Existing::Ours(Some(old)) = classify_dir(&out).unwrap() else {
+        let Existing::Ours(Some(old)) = classify_dir(&out, "solve", &[]).unwrap() else {
             panic!("not ours")
         };
         // Step 1 and half of step 2: the transition manifest, one file renamed.
@@ -917,7 +1068,7 @@ mod tests {
             (file.join("below"), false),
             (PathBuf::from("/"), false),
         ] {
-            match OutputDir::prepare(&path, "solve", false) {
+            match OutputDir::prepare(&path, "solve", false, &[]) {
                 Err(OutputError::Refused {
                     force_overrides: f, ..
                 }) => assert_eq!(f, force_overrides, "{path:?}"),
@@ -929,12 +1080,15 @@ mod tests {
         {
             let link = tmp.path().join("link");
             std::os::unix::fs::symlink(&dir, &link).unwrap();
-            assert!(refused(OutputDir::prepare(&link, "solve", true), false));
+            assert!(refused(
+                OutputDir::prepare(&link, "solve", true, &[]),
+                false
+            ));
             fs::remove_file(&link).unwrap();
         }
         #[cfg(unix)]
         assert!(refused(
-            OutputDir::prepare(Path::new("/dev/null"), "solve", true),
+            OutputDir::prepare(Path::new("/dev/null"), "solve", true, &[]),
             false
         ));
         assert_eq!(
@@ -955,7 +1109,7 @@ mod tests {
         let file = tmp.path().join("file");
         fs::write(&file, "x").unwrap();
         for path in [&dir, &file] {
-            OutputDir::prepare(path, "solve", true)
+            OutputDir::prepare(path, "solve", true, &[])
                 .unwrap()
                 .commit(&files(&[("a", "1")]))
                 .unwrap();
@@ -963,7 +1117,7 @@ mod tests {
         }
         // Prepared then dropped (the command failed): staging and new parents removed.
         let deep = tmp.path().join("x/y/out");
-        drop(OutputDir::prepare(&deep, "solve", false).unwrap());
+        drop(OutputDir::prepare(&deep, "solve", false, &[]).unwrap());
         drop(OutputFile::prepare(&deep, |_| false, false, &[]).unwrap());
         assert!(!tmp.path().join("x").exists());
         assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
