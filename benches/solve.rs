@@ -6,7 +6,9 @@
 //! - `coarse_search`: the global search alone;
 //! - `joint_limit_1.5`, `joint_limit_2.5`: the default `solve` with `--alpha-max 1.5` and
 //!   `2.5` (interior-point search, active-set refinement; issue target ≤ 2 s each on one
-//!   core, `RAYON_NUM_THREADS=1`).
+//!   core, `RAYON_NUM_THREADS=1`);
+//! - `far_target`: the default `solve` toward `ḡ = (0.25, 0.2, 0)` (the public problem
+//!   `far-diag-a`; target ≤ 10 s on one core).
 use criterion::{Criterion, criterion_group, criterion_main};
 use host_sim::problem::{Problem, Spec};
 use host_sim::solver::{SolveOptions, coarse_grid, refine, search, solve};
@@ -54,6 +56,14 @@ fn bench(c: &mut Criterion) {
             b.iter(|| solve(&limited, &options, &|| {}).unwrap())
         });
     }
+    let far = Problem::new(&Spec {
+        target: [0.25, 0.2, 0.0],
+        ..Spec::default()
+    })
+    .unwrap();
+    g.bench_function("far_target", |b| {
+        b.iter(|| solve(&far, &options, &|| {}).unwrap())
+    });
     g.finish();
 }
 

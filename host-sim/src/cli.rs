@@ -114,7 +114,8 @@ pub struct SolveArgs {
     #[command(flatten)]
     pub model: ModelArgs,
     /// Budget of start loops of the global search (run in batches of 32, in parallel; 1 to
-    /// 4096; the family has 1 128 loops, a larger budget runs them all). The search stops
+    /// 4096; the family has 1 128 loops, 936 with --alpha-max, a larger budget runs them
+    /// all). The search stops
     /// earlier once its stopping rule is met: at least 128 starts run, an estimated chance
     /// below 0.5 % that another start reaches a minimum not seen yet that is no dearer than
     /// the cheapest admissible one (Good-Turing: the share of starts that alone reached such

@@ -209,6 +209,8 @@ fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
     assert!(r["kkt_residual"].as_f64().unwrap() <= 1e-8);
     assert_eq!(r["problem"]["target"][0].as_f64(), Some(0.13));
     assert_eq!(r["problem"]["steps"].as_u64(), Some(8000));
+    // Reached by continuation, not by the fall-back search.
+    assert!(r["search"].is_null(), "{}", r["search"]);
     // Another swimmer: refused before any work.
     let o = sim(
         &[
@@ -224,6 +226,100 @@ fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
     );
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("another swimmer"));
+}
+
+/// The search's evidence in `report.json`; a budget below what the stopping rule needs is
+/// spent, said on stderr, and the cheapest gait found returned (exit 0).
+#[test]
+fn the_search_reports_its_evidence_and_a_spent_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["solve", "--target", "0.1,0,0", "--no-plots", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let o = sim(&args, MINUTE);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (
+            report(&out),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (r, stderr) = run("default", &[]);
+    let e = &r["search"];
+    assert_eq!(e["rule_met"].as_bool(), Some(true), "{e}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+    let starts = e["starts"].as_u64().unwrap();
+    assert!((128..=512).contains(&starts), "{e}");
+    assert_eq!(e["budget"].as_u64(), Some(512));
+    assert!(e["unseen_estimate"].as_f64().unwrap() <= 0.005, "{e}");
+    let minima = e["minima"].as_array().unwrap();
+    assert_eq!(e["distinct_minima"].as_u64(), Some(minima.len() as u64));
+    // Each start reaches at most one minimum (the zero loop reaches none here).
+    let hits: u64 = minima.iter().map(|m| m["hits"].as_u64().unwrap()).sum();
+    assert!(hits <= starts, "{hits} hits from {starts} starts");
+    // The returned gait is the cheapest admissible coarse minimum, refined.
+    let coarse = minima
+        .iter()
+        .find(|m| m["max_abs_alpha"].as_f64().unwrap() < std::f64::consts::PI)
+        .unwrap();
+    let (fine, c) = (
+        r["cost"].as_f64().unwrap(),
+        coarse["cost"].as_f64().unwrap(),
+    );
+    assert!((fine / c - 1.0).abs() < 1e-2, "fine {fine}, coarse {c}");
+
+    let (r, stderr) = run("budget", &["--starts", "32"]);
+    let e = &r["search"];
+    assert_eq!(e["rule_met"].as_bool(), Some(false), "{e}");
+    assert_eq!(e["starts"].as_u64(), Some(32));
+    assert!(
+        stderr.contains("warning: the search used its budget of 32 starts"),
+        "{stderr}"
+    );
+}
+
+/// `--from` a gait whose branch leaves the admissible shapes on the way (the paper's gait,
+/// near the links' overlap, towards a far target): said on stderr, and the global search's
+/// gait returned instead, the same as `solve` alone gives.
+#[test]
+fn solve_from_falls_back_to_the_search_off_the_admissible_shapes() {
+    let dir = tempfile::tempdir().unwrap();
+    let paper = dir.path().join("paper");
+    let o = sim(
+        &["solve", "--no-plots", "--out", paper.to_str().unwrap()],
+        MINUTE,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let solve = |name: &str, from: bool| {
+        let out = dir.path().join(name);
+        let costate = paper.join("costate.json");
+        let mut args = vec!["solve", "--target", "0.35,0,0", "--no-plots", "--out"];
+        args.push(out.to_str().unwrap());
+        if from {
+            args.extend_from_slice(&["--from", costate.to_str().unwrap()]);
+        }
+        let o = sim(&args, MINUTE);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (
+            report(&out),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (warm, stderr) = solve("warm", true);
+    assert!(
+        stderr.contains("--from reached no admissible extremal")
+            && stderr.contains("solved by the global search instead"),
+        "{stderr}"
+    );
+    assert!(!warm["search"].is_null());
+    assert_eq!(warm["admissible"].as_bool(), Some(true));
+    let (alone, _) = solve("alone", false);
+    let (a, b) = (
+        warm["cost"].as_f64().unwrap(),
+        alone["cost"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() <= 1e-9 * b, "{a} vs {b}");
 }
 
 /// A small sweep: every target solved, the file lists each with its cost, and the map is

@@ -139,9 +139,19 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     let (from, to) = (warm.target, problem.target);
     let (mut s, mut ds) = (0.0f64, 0.25f64);
     let mut best_residual = f64::INFINITY;
+    // The smallest largest |α_i| of the converged steps refused for leaving the admissible
+    // shapes: why the walk stopped, if it did there.
+    let mut left = f64::INFINITY;
     while s < 1.0 {
         if ds < 1e-3 {
-            return Err(unreachable(best_residual));
+            return Err(if left.is_finite() {
+                SolveError::NoneAdmissible {
+                    found: 1,
+                    best_alpha: left,
+                }
+            } else {
+                unreachable(best_residual)
+            });
         }
         let next = (s + ds).min(1.0);
         let t = from + (to - from) * next;
@@ -158,7 +168,11 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
                 ds *= 1.5;
             }
             Ok(run) => {
-                best_residual = best_residual.min(run.defect);
+                if run.converged {
+                    left = left.min(direct::max_abs_alpha(&run.point.states));
+                } else {
+                    best_residual = best_residual.min(run.defect);
+                }
                 ds *= 0.5;
             }
             Err(_) => ds *= 0.5,

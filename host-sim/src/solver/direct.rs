@@ -755,6 +755,41 @@ mod tests {
     use super::*;
     use crate::problem::Spec;
 
+    /// One iteration from a loop far from any solution: with a trust radius no `α_k` moves
+    /// by more than it; without, the same step moves the path further.
+    #[test]
+    fn the_trust_radius_bounds_each_iteration() {
+        let p = Problem::new(&Spec {
+            target: [0.3, 0.3, 0.0],
+            ..Spec::default()
+        })
+        .unwrap();
+        let grid = Grid::new(&p, 64, Rule::LEFT_POINT).unwrap();
+        let u: Vec<Vector2<f64>> = (0..64)
+            .map(|k| {
+                let phi = 2.0 * core::f64::consts::PI * k as f64 / 64.0;
+                Vector2::new(-phi.sin(), phi.cos()) * 0.02
+            })
+            .collect();
+        let moved = |radius: f64| {
+            let settings = Settings {
+                max_iterations: 1,
+                tol_defect: 1e-10,
+                tol_kkt: 1e-8,
+                fraction_to_boundary: false,
+                trust_radius: radius,
+            };
+            let start = Point::new(&grid, u.clone(), Vector5::zeros()).unwrap();
+            let run = newton(&grid, start, &settings).unwrap();
+            assert_eq!(run.iterations, 1);
+            let du: Vec<Vector2<f64>> = run.point.u.iter().zip(&u).map(|(a, b)| a - b).collect();
+            shape_reach(&du, grid.h())
+        };
+        let (bounded, free) = (moved(0.1), moved(f64::INFINITY));
+        assert!(bounded > 0.0 && bounded <= 0.1 * (1.0 + 1e-12), "{bounded}");
+        assert!(free > 0.3, "{free}");
+    }
+
     /// `max_step(…, 1, 0)` is where the step's rollout leaves the barrier's domain.
     #[test]
     fn the_wall_is_where_the_rollout_leaves_the_limit() {

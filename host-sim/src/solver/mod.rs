@@ -208,7 +208,7 @@ pub enum SolveError {
     },
     /// Extremals were found but none is admissible.
     #[error(
-        "{found} extremal(s) found, none admissible (smallest max |alpha_i| = {best_alpha:.4} rad >= alpha-max)"
+        "{found} extremal(s) found, none admissible: the smallest largest |alpha_i| is {best_alpha:.4} rad, at or past the joint limit (or the links' overlap at pi)"
     )]
     NoneAdmissible {
         /// How many.

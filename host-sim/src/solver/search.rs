@@ -119,7 +119,7 @@ pub fn search(
 ) -> Search {
     let size = starts::reference_size(grid);
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let family = starts::family(size, &alpha0, seed, max_starts);
+    let family = starts::family(size, &alpha0, seed, max_starts, limit.is_none());
     // The zero loop first: the solution when the target is the start (J = 0); for any other
     // target its Newton step is singular and it stops at once.
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
