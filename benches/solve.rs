@@ -10,8 +10,8 @@
 //! - `far_target`: the default `solve` toward `ḡ = (0.25, 0.2, 0)` (the public problem
 //!   `far-diag-a`; target ≤ 10 s on one core).
 use criterion::{Criterion, criterion_group, criterion_main};
-use host_sim::problem::{Problem, Spec};
-use host_sim::solver::{SolveOptions, coarse_grid, refine, search, solve};
+use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::{SolveOptions, coarse_grid, refine, search, solve};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

@@ -2,8 +2,9 @@
 //! against the reference, residuals, certificates, time. Not criterion (one run each is the
 //! figure a user sees); run with `cargo bench -p purcell-benches --bench suite [-- FILE]`
 //! (default: the public suite, `tests/problems/public.json`).
-use host_sim::problem::{Problem, read_suite};
-use host_sim::solver::{SolveOptions, solve};
+use purcell_sim::suite::read_suite;
+use purcell_solver::problem::Problem;
+use purcell_solver::solver::{SolveOptions, solve};
 use std::time::Instant;
 
 fn main() {

@@ -2,7 +2,7 @@
 //! f64 → f32 conversion of core types, and a full replay into a vector.
 //!
 //! The costates are extremals of MODEL.md §4 (the paper's problem: `h = 0.01`, `N = 10 000`,
-//! `ᾱ = 0`, `ḡ = (0.1, 0.1, 0)`) found by `purcell-sim` (host-sim); they are inputs here, not
+//! `ᾱ = 0`, `ḡ = (0.1, 0.1, 0)`) found by `purcell-sim`; they are inputs here, not
 //! expected results: every test derives what it asserts from the core itself.
 
 use nalgebra::{Vector2, Vector3};

@@ -33,14 +33,14 @@ step "board example (STM32F4-Discovery): format, lints, firmware build"
 step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
 bash benches/mcu/check.sh
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
-step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/fuzz, nightly)"
+step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs
 # about 4 000 inputs/s. New inputs go to a scratch corpus, not into the tree; the gait
 # reader starts from the core's test gaits.
-for target in "costate_file fuzz/seeds fuzz/costate.dict" "gait_file ../core/tests/data fuzz/gait.dict"; do
+for target in "costate_file fuzz/seeds fuzz/costate.dict" "gait_file ../../core/tests/data fuzz/gait.dict"; do
   read -r name seeds dict <<<"$target"
   corpus=$(mktemp -d)
-  (cd host-sim && cargo +nightly fuzz run "$name" --dev --sanitizer none "$corpus" "$seeds" \
+  (cd host-sim/purcell-sim && cargo +nightly fuzz run "$name" --dev --sanitizer none "$corpus" "$seeds" \
     -- -dict="$dict" -max_total_time="$fuzz_seconds" -max_len=4096 -rss_limit_mb=1024)
   rm -rf "$corpus"
 done

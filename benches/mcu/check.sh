@@ -37,7 +37,7 @@ done
 
 tool() { cargo run -q -p purcell-mcu -- "$@"; }
 # purcell-sim in the test profile (optimised; `cargo test` has built it already).
-sim() { cargo run -q --profile test -p host-sim -- "$@"; }
+sim() { cargo run -q --profile test -p purcell-sim -- "$@"; }
 m4f_run() { cargo run -q -p purcell-mcu --target thumbv7em-none-eabihf --release; }
 
 # $1 name, $2 the line the log must contain; then the command that must fail with exit 1.

@@ -16,7 +16,7 @@ use crate::Error;
 
 /// A joint-limit arc: joint `joint` rests at `sign·α_max` for the states `k = first ..= last`.
 ///
-/// The record of a gait's arc table, in the binary gait file and in host-sim's JSON costate
+/// The record of a gait's arc table, in the binary gait file and in purcell-sim's JSON costate
 /// file alike (with the `serde` feature).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

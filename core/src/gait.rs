@@ -12,7 +12,7 @@
 //! so that an `f32` replay restores a checkpoint with integer loads: no `f64` arithmetic, which
 //! is soft-float on a Cortex-M4F).
 //!
-//! [`GaitParams`], [`CheckpointRecord`] and [`Arc`] are also the schema of host-sim's JSON
+//! [`GaitParams`], [`CheckpointRecord`] and [`Arc`] are also the schema of purcell-sim's JSON
 //! costate file (with the `serde` feature), and [`check`] is the one validation both formats go
 //! through.
 //!

@@ -351,7 +351,7 @@ proptest! {
     }
 }
 
-/// `data/tiny-limit.gait` (written by `purcell-sim export` from host-sim's
+/// `data/tiny-limit.gait` (written by `purcell-sim export` from purcell-sim's
 /// `tests/data/tiny-limit.costate.json`: a 300-step gait to `ḡ = (0.01, 0.005, 0)` within
 /// `|α_i| ≤ 0.8`, two arcs, checkpoints at 100 and 200 and at the arcs' exits 137 and 185) is
 /// read as these numbers and written back byte for byte, and its header, directory and

@@ -1,6 +1,6 @@
 //! The costates of the paper's problem that the tests start from, in one place: extremals of
 //! MODEL.md §4 (`h = 0.01`, `N = 10 000`, `ᾱ = 0`, `ḡ = (0.1, 0.1, 0)`) found by
-//! `purcell-sim` (host-sim). They are inputs, not expected results.
+//! `purcell-sim`. They are inputs, not expected results.
 //!
 //! A module of the core's test helpers (`core/tests/common`), so the published crate's tests
 //! are self-contained; the workspace tests (`purcell-tests`, not published) include this file

@@ -81,7 +81,7 @@ mod fixtures;
 #[allow(unused_imports)] // not every test binary uses it
 pub use fixtures::costate_mu13;
 
-/// A costate with `|μ| ≈ 4`: the `|μ| ≈ 6.4` extremal of the paper's problem (host-sim)
+/// A costate with `|μ| ≈ 4`: the `|μ| ≈ 6.4` extremal of the paper's problem (purcell-solver)
 /// scaled by `4/6.4`; its loop is not an extremal but its states are of the same kind.
 pub fn costate_mu4() -> Costate<f64> {
     let c = fixtures::costate_mu6();

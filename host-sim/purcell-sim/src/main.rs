@@ -4,8 +4,8 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = host_sim::cli::Cli::parse();
-    let (stdout, failure) = match host_sim::cli::run(cli) {
+    let cli = purcell_sim::cli::Cli::parse();
+    let (stdout, failure) = match purcell_sim::cli::run(cli) {
         Ok(out) => (out, None),
         Err(mut f) => (std::mem::take(&mut f.stdout), Some(f)),
     };

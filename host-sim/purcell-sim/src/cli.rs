@@ -1,12 +1,12 @@
 //! The `purcell-sim` command line (clap): `solve`, `replay`, `connection`.
 
 use crate::costate_file::CostateFile;
-use crate::problem::{InputError, Problem, Spec, check_gait_precision};
-use crate::solver::continuation::{self, Lattice};
-use crate::solver::{Arc, Evidence, Extremal, SolveOptions, solve};
 use crate::{input, output, plots, replay};
 use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
 use purcell_core::Gait;
+use purcell_solver::problem::{InputError, Problem, Spec, check_gait_precision};
+use purcell_solver::solver::continuation::{self, Lattice};
+use purcell_solver::solver::{Arc, Evidence, Extremal, SolveOptions, solve};
 use serde_json::json;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -55,7 +55,7 @@ pub const MAX_CHECKPOINTS: u32 = 100_000;
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
 pub const MAX_STARTS: usize = 4096;
 /// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
-/// start); `replay` accepts up to [`crate::problem::MAX_STEPS`].
+/// start); `replay` accepts up to [`purcell_solver::problem::MAX_STEPS`].
 pub const MAX_SOLVE_STEPS: u32 = 1_000_000;
 
 // Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), and list
@@ -811,7 +811,7 @@ fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
 /// What every route to a replay checks in a stored gait of `path` (`replay --costate`,
 /// `replay --gait`, `export`), besides the core's own validation: its problem as
 /// command-line input ([`Problem::of_gait`], the step limit included) and, where it is
-/// replayed in `f32`, every number there ([`crate::problem::check_gait_precision`]); exit 2.
+/// replayed in `f32`, every number there ([`purcell_solver::problem::check_gait_precision`]); exit 2.
 fn check_stored(path: &Path, gait: &Gait<'_>, f32: bool) -> Result<(), Failure> {
     let refused = |e: InputError| fail(2, format!("{}: {e}", path.display()));
     Problem::of_gait(gait.params()).map_err(refused)?;

@@ -428,7 +428,7 @@ fn export_writes_the_gait_that_replays_like_its_costate_file() {
         stdout(&o)
     );
     let committed =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny-limit.gait");
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../core/tests/data/tiny-limit.gait");
     assert_eq!(
         std::fs::read(&gait).unwrap(),
         std::fs::read(committed).unwrap()
@@ -481,7 +481,7 @@ fn export_writes_the_gait_that_replays_like_its_costate_file() {
 fn previous_versions_are_still_read() {
     let dir = tempfile::tempdir().unwrap();
     let json = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tiny.costate.json");
-    let v1 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny-v1.gait");
+    let v1 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../core/tests/data/tiny-v1.gait");
     let v2 = dir.path().join("tiny.gait");
     let o = sim(&[
         "export",
@@ -510,7 +510,7 @@ fn previous_versions_are_still_read() {
 fn corrupted_gaits_are_refused_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
     let good = std::fs::read(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/tests/data/tiny-limit.gait"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../core/tests/data/tiny-limit.gait"),
     )
     .unwrap();
     let mut flipped = good.clone();
@@ -577,8 +577,8 @@ fn a_closed_or_full_stdout_does_not_panic() {
 }
 
 /// [`GOOD`] as a binary gait file, after `edit`.
-fn gait_of(edit: impl FnOnce(&mut host_sim::costate_file::CostateFile)) -> Vec<u8> {
-    let mut file = host_sim::costate_file::CostateFile::parse(GOOD).unwrap();
+fn gait_of(edit: impl FnOnce(&mut purcell_sim::costate_file::CostateFile)) -> Vec<u8> {
+    let mut file = purcell_sim::costate_file::CostateFile::parse(GOOD).unwrap();
     edit(&mut file);
     file.to_gait().expect("the core's own check accepts it")
 }
@@ -623,7 +623,7 @@ fn gait_files_are_held_to_the_step_limit() {
 /// the costate route's reason; an f64-only replay of such a gait still runs.
 #[test]
 fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
-    type Edit = fn(&mut host_sim::costate_file::CostateFile);
+    type Edit = fn(&mut purcell_sim::costate_file::CostateFile);
     let cases: [(Edit, &str); 6] = [
         (|f| f.gait.model.links[0] = 1e39, "links = 1e39,1.0,1.0"),
         (|f| f.gait.model.links[1] = 1e-50, "links = 1.0,1e-50,1.0"),
@@ -637,7 +637,7 @@ fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
     ];
     let dir = tempfile::tempdir().unwrap();
     for (i, (edit, needle)) in cases.into_iter().enumerate() {
-        let mut file = host_sim::costate_file::CostateFile::parse(GOOD).unwrap();
+        let mut file = purcell_sim::costate_file::CostateFile::parse(GOOD).unwrap();
         edit(&mut file);
         let json = write(dir.path(), &format!("{i}.json"), &file.to_json());
         let out = dir.path().join(format!("{i}.gait"));
@@ -736,9 +736,9 @@ fn grouped(n: u64) -> String {
 /// every flag it names exists.
 #[test]
 fn the_readme_exit_code_table_states_the_binary_limits() {
-    use host_sim::cli::{MAX_SOLVE_STEPS, MAX_STARTS, MAX_SWEEP_TARGETS};
+    use purcell_sim::cli::{MAX_SOLVE_STEPS, MAX_STARTS, MAX_SWEEP_TARGETS};
     let readme =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md"))
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
             .unwrap();
     let row = readme
         .lines()
@@ -749,16 +749,16 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
         format!(
             "`solve` ≤ {} steps and ≤ {} checkpoints",
             grouped(u64::from(MAX_SOLVE_STEPS)),
-            grouped(u64::from(host_sim::cli::MAX_CHECKPOINTS))
+            grouped(u64::from(purcell_sim::cli::MAX_CHECKPOINTS))
         ),
         format!(
             "`replay` and `export` ≤ {} steps",
-            grouped(host_sim::problem::MAX_STEPS)
+            grouped(purcell_solver::problem::MAX_STEPS)
         ),
         format!("`sweep` ≤ {} targets", grouped(MAX_SWEEP_TARGETS as u64)),
         format!(
             "input files ≤ {} MiB",
-            host_sim::input::MAX_INPUT_BYTES >> 20
+            purcell_sim::input::MAX_INPUT_BYTES >> 20
         ),
     ] {
         assert!(
@@ -771,8 +771,8 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
     known.extend([
         grouped(MAX_STARTS as u64),
         grouped(u64::from(MAX_SOLVE_STEPS)),
-        grouped(u64::from(host_sim::cli::MAX_CHECKPOINTS)),
-        grouped(host_sim::problem::MAX_STEPS),
+        grouped(u64::from(purcell_sim::cli::MAX_CHECKPOINTS)),
+        grouped(purcell_solver::problem::MAX_STEPS),
         grouped(MAX_SWEEP_TARGETS as u64),
     ]);
     for number in row

@@ -7,11 +7,11 @@ use super::plane::{Drawing, Overlay, Path, PlaneFigure, Square, Stretches};
 use super::style::*;
 use super::time::{Level, Mark, Panel, Series, Spans, TimeFigure};
 use super::{PlotError, Units};
-use crate::problem::Problem;
-use crate::solver::{Arc, Trajectory};
 use nalgebra::{Vector2, Vector3};
 use plotters::style::RGBColor;
 use purcell_core::se2::ExpCoefficients;
+use purcell_solver::problem::Problem;
+use purcell_solver::solver::{Arc, Trajectory};
 
 /// Points kept per curve (the figures are 1 500 pixels wide).
 pub const POINTS: usize = 2500;

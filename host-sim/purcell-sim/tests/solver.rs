@@ -2,16 +2,17 @@
 //! suite) and on the paper's problem: cost at or below the reference, residuals, the
 //! certificates, and the costate file landing on the target.
 
-use host_sim::output;
-use host_sim::problem::{Problem, Spec, SuiteProblem, read_suite};
-use host_sim::replay;
-use host_sim::solver::{
+use purcell_core::OnArcs;
+use purcell_sim::output;
+use purcell_sim::replay;
+use purcell_sim::suite::{SuiteProblem, read_suite};
+use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::{
     Extremal, PRUNE, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
 };
-use purcell_core::OnArcs;
 
 fn public_problems() -> Vec<SuiteProblem> {
-    let text = include_str!("../../tests/problems/public.json");
+    let text = include_str!("../../../tests/problems/public.json");
     read_suite(text).expect("problems file parses")
 }
 

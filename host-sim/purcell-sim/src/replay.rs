@@ -3,9 +3,9 @@
 //! final state's bits and the terminal error (`purcell_core::TerminalError`).
 
 use crate::costate_file::CostateFile;
-use crate::solver::Trajectory;
 use purcell_core::gait::Stored;
 use purcell_core::{Flight, Gait};
+use purcell_solver::solver::Trajectory;
 use serde::Serialize;
 use std::fmt::Write as _;
 

@@ -2,10 +2,10 @@
 //! search there, a small lattice agrees with a large one where they share targets, and no
 //! neighbour's gait, carried to a target, improves on it.
 
-use host_sim::problem::{Problem, Spec};
-use host_sim::solver::continuation::{Lattice, SweepPoint, Warm, continue_to, sweep};
-use host_sim::solver::{SolveOptions, solve};
 use nalgebra::Vector3;
+use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::continuation::{Lattice, SweepPoint, Warm, continue_to, sweep};
+use purcell_solver::solver::{SolveOptions, solve};
 
 fn atlas(x: (f64, f64, usize), y: (f64, f64, usize)) -> Vec<SweepPoint> {
     let lattice = Lattice {

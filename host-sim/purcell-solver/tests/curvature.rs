@@ -1,9 +1,9 @@
 //! The curvature of the connection against the core's exact kinematics: the net motion of a
 //! small shape loop, divided by the area it encloses, tends to `F` at its centre.
 
-use host_sim::curvature::{Field, curvature};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{Kinematics, State, Swimmer};
+use purcell_solver::curvature::{Field, curvature};
 use std::f64::consts::PI;
 
 /// Relative tolerance of motion/area against `F` for loops of radius 1e-3 (measured: at most

@@ -4,16 +4,16 @@
 //! are drawn (dashed bound, shaded spans, highlighted stretches, legend entries) exactly when
 //! the gait has them. (How they look is checked by looking at them.)
 
-use host_sim::costate_file::{CheckpointRecord, CostateFile, GaitParams, Model};
-use host_sim::plots::field::Component;
-use host_sim::plots::style::{
-    JOINT_LIMIT, LINE, ON_LIMIT, ON_LIMIT_LABEL, ON_LIMIT_LINE, ON_LIMIT_SHADE,
-};
-use host_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
-use host_sim::problem::Problem;
-use host_sim::solver::{Arc, Trajectory};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{Costate, Kinematics, Replay, State, Swimmer};
+use purcell_sim::costate_file::{CheckpointRecord, CostateFile, GaitParams, Model};
+use purcell_sim::plots::field::Component;
+use purcell_sim::plots::style::{
+    JOINT_LIMIT, LINE, ON_LIMIT, ON_LIMIT_LABEL, ON_LIMIT_LINE, ON_LIMIT_SHADE,
+};
+use purcell_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
+use purcell_solver::problem::Problem;
+use purcell_solver::solver::{Arc, Trajectory};
 use std::collections::BTreeMap;
 
 /// A gait of 1 000 steps from an arbitrary costate (figures do not need an extremal), its
@@ -471,7 +471,7 @@ fn solve_and_field_commands_write_every_figure() {
     let files = read_dir(&field);
     // field.svg, field.png, field.csv and the output manifest.
     assert_eq!(files.len(), 4);
-    assert!(files.contains_key(host_sim::output::MANIFEST));
+    assert!(files.contains_key(purcell_sim::output::MANIFEST));
     check_figures(&files, &["field"]);
     let o = sim(&["field", "--ratio", "3", "--out", field.to_str().unwrap()]);
     assert_eq!(

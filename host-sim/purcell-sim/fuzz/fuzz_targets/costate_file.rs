@@ -3,7 +3,7 @@
 //! through the core with finite results or a typed failure.
 #![no_main]
 
-use host_sim::costate_file::CostateFile;
+use purcell_sim::costate_file::CostateFile;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -17,14 +17,14 @@ fuzz_target!(|data: &[u8]| {
     assert_eq!(again, file);
     let checkpoints = file.checkpoints.iter().copied();
     if file.problem().is_err()
-        || host_sim::problem::check_gait_precision::<f32>(&file.gait, checkpoints, "f32").is_err()
+        || purcell_solver::problem::check_gait_precision::<f32>(&file.gait, checkpoints, "f32").is_err()
     {
         return;
     }
     if file.steps <= 1000 {
         let bytes = file.to_gait().expect("an accepted file encodes");
         let gait = purcell_core::Gait::from_bytes(&bytes).expect("its gait decodes");
-        for r in host_sim::replay::standard_replays(&gait) {
+        for r in purcell_sim::replay::standard_replays(&gait) {
             match (&r.failure, r.alpha_error, r.g_error) {
                 (None, Some(a), Some(g)) => assert!(a.is_finite() && g.is_finite(), "{r:?}"),
                 (Some(_), None, None) => {}

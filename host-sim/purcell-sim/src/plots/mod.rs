@@ -25,16 +25,16 @@ pub mod sweep;
 pub mod time;
 
 use crate::costate_file::CostateFile;
-use crate::curvature::Field;
-use crate::problem::Problem;
-use crate::solver::continuation::{Lattice, SweepPoint};
-use crate::solver::{Arc, Trajectory};
 use field::{Component, FieldFigure};
 use gait::Gait;
 use nalgebra::{Vector2, Vector3};
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
 use purcell_core::{State, Swimmer};
+use purcell_solver::curvature::Field;
+use purcell_solver::problem::Problem;
+use purcell_solver::solver::continuation::{Lattice, SweepPoint};
+use purcell_solver::solver::{Arc, Trajectory};
 use rayon::prelude::*;
 use render::{Figure, render};
 

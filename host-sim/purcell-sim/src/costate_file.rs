@@ -33,7 +33,7 @@
 //! `purcell_core::gait::check` refuses (non-finite values, shapes at the overlap limit,
 //! rotations off unit length, arcs out of order or off the limit, checkpoints anywhere but at
 //! every multiple of `checkpoint_every` below `steps` and at the arcs' exits) are typed errors.
-//! A file replayed in `f32` must also fit `f32` ([`crate::problem::check_gait_precision`]).
+//! A file replayed in `f32` must also fit `f32` ([`purcell_solver::problem::check_gait_precision`]).
 
 pub use purcell_core::Arc;
 pub use purcell_core::gait::{CheckpointRecord, GaitParams, Model};
@@ -181,8 +181,10 @@ impl CostateFile {
         serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
     }
 
-    /// The problem this file belongs to ([`crate::problem::Problem::of_gait`]).
-    pub fn problem(&self) -> Result<crate::problem::Problem, crate::problem::InputError> {
-        crate::problem::Problem::of_gait(&self.gait)
+    /// The problem this file belongs to ([`purcell_solver::problem::Problem::of_gait`]).
+    pub fn problem(
+        &self,
+    ) -> Result<purcell_solver::problem::Problem, purcell_solver::problem::InputError> {
+        purcell_solver::problem::Problem::of_gait(&self.gait)
     }
 }

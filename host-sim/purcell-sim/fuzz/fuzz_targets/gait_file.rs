@@ -4,7 +4,7 @@
 //! with its length field and checksum rewritten, so that mutations reach past the CRC.
 #![no_main]
 
-use host_sim::problem::{Problem, check_gait_precision};
+use purcell_solver::problem::{Problem, check_gait_precision};
 use libfuzzer_sys::fuzz_target;
 use purcell_core::{Gait, gait};
 
@@ -41,7 +41,7 @@ fn read(bytes: &[u8]) {
         return;
     }
     if params.steps <= 1000 {
-        for r in host_sim::replay::standard_replays(&gait) {
+        for r in purcell_sim::replay::standard_replays(&gait) {
             match (&r.failure, r.alpha_error, r.g_error) {
                 (None, Some(a), Some(g)) => assert!(a.is_finite() && g.is_finite(), "{r:?}"),
                 (Some(_), None, None) => {}

@@ -3,10 +3,10 @@
 
 use super::render::{DrawResult, Figure};
 use super::style::*;
-use crate::solver::continuation::{Lattice, SweepPoint};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+use purcell_solver::solver::continuation::{Lattice, SweepPoint};
 
 /// Plotting-area side.
 const PANEL: f64 = 1000.0;

@@ -1,8 +1,8 @@
 //! Results: `trajectory.csv`, the costate file, and ([`target`]) where every output goes:
 //! never over anything the tool did not write, checked before the work, atomically.
 
-use crate::problem::Problem;
-use crate::solver::{Arc, Extremal, Trajectory};
+use purcell_solver::problem::Problem;
+use purcell_solver::solver::{Arc, Extremal, Trajectory};
 use std::fmt::Write as _;
 
 pub mod target;
@@ -110,7 +110,7 @@ pub fn costate_file(
 /// `sweep.csv`: `x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status`
 /// (m, m, rad, –, m/rad, rad, bool, bool, rad/s, text), one row per target; for a target
 /// without an extremal the numbers are empty and `status` says why.
-pub fn sweep_csv(points: &[crate::solver::continuation::SweepPoint]) -> String {
+pub fn sweep_csv(points: &[purcell_solver::solver::continuation::SweepPoint]) -> String {
     let mut s = String::from(
         "x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status\n",
     );

@@ -1,14 +1,14 @@
-//! The curvature of the connection over the shape plane ([`crate::curvature`]): one colour
+//! The curvature of the connection over the shape plane ([`purcell_solver::curvature`]): one colour
 //! field per chosen body direction, with a colour bar, and a gait drawn on top.
 
 use super::Units;
 use super::plane::Overlay;
 use super::render::{DrawResult, Figure};
 use super::style::*;
-use crate::curvature::Field;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
+use purcell_solver::curvature::Field;
 
 /// A row of `F`: a body direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,0 +1,17 @@
+//! The `purcell-sim` command line over [`purcell_solver`]: the files it reads and writes and
+//! the figures.
+//!
+//! [`cli`] is the command line; [`costate_file`] the file format the firmware flies (and its
+//! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
+//! [`replay`] replays a costate file through the core in `f64`/`f32`; [`input`] reads input
+//! files (bounded, JSON without repeated keys); [`suite`] the problems file of the public
+//! solver suite.
+#![deny(missing_docs)]
+
+pub mod cli;
+pub mod costate_file;
+pub mod input;
+pub mod output;
+pub mod plots;
+pub mod replay;
+pub mod suite;

@@ -1,0 +1,31 @@
+//! Offline solver for the cheapest gait of the Purcell swimmer and its initial costate
+//! (MODEL.md §4): no command line, no files, no figures.
+//!
+//! [`problem`] holds the validated inputs; [`solver`] finds the cheapest admissible extremal
+//! (global search on a coarse grid, Newton–SQP with a Riccati step on the problem's own grid,
+//! joint limits as state constraints, the costate from the multipliers, certificates through
+//! the core); [`curvature`] is the curvature of the connection over the shape plane; [`dual`]
+//! dual numbers for exact derivatives.
+//!
+//! The paper's problem (`ḡ = (0.1, 0.1, 0)`, `T = 100 s`, `h = 0.01 s`, unit links, `k = 1`,
+//! `r = 2`):
+//!
+//! ```
+//! use purcell_solver::problem::{Problem, Spec};
+//! use purcell_solver::solver::{SolveOptions, solve};
+//!
+//! let problem = Problem::new(&Spec::default())?;
+//! let solution = solve(&problem, &SolveOptions::default(), &|| {})?;
+//! let gait = &solution.extremals[solution.best];
+//! assert!((gait.cost - 0.6817478).abs() < 1e-7);
+//! assert!(gait.admissible && gait.local_min);
+//! // The five numbers the firmware's law runs from: μ and ξ^{−1}.
+//! println!("J = {:.7}, mu = {:?}, xi0 = {:?}", gait.cost, gait.mu, gait.xi0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![deny(missing_docs)]
+
+pub mod curvature;
+pub mod dual;
+pub mod problem;
+pub mod solver;
