@@ -24,6 +24,8 @@ msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' core/Cargo.toml).0
 step "core with its minimum Rust version $msrv (host and thumbv7em; .ci/run installs it)"
 CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --features serde
 CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --target thumbv7em-none-eabihf --features defmt
+step "a program outside the workspace solves the paper's problem through purcell-solver"
+bash tests/outside.sh
 step "purcell-core packages for crates.io without a warning"
 package=$(cargo package -p purcell-core --allow-dirty 2>&1) || { echo "$package"; exit 1; }
 if grep -q '^warning' <<<"$package"; then echo "$package"; exit 1; fi
