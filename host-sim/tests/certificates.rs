@@ -121,16 +121,9 @@ fn kkt_rejects_nudged_controls_and_a_wrong_mu() {
     // The terminal multiplier ν = −ξ^{N−1} off too.
     let mut xis = t.xis.clone();
     *xis.last_mut().unwrap() += Vector2::new(1e-4 * x.mu.amax(), 0.0);
-    let wrong_nu = kkt(
-        &p,
-        &Trajectory {
-            xis,
-            ..t.clone()
-        },
-        &x.mu,
-    )
-    .unwrap()
-    .residual;
+    let wrong_nu = kkt(&p, &Trajectory { xis, ..t.clone() }, &x.mu)
+        .unwrap()
+        .residual;
     eprintln!(
         "kkt: good {:.1e}, nudged {nudge:.1e}, wrong mu {wrong:.1e}, wrong nu {wrong_nu:.1e}",
         good.residual
@@ -224,12 +217,11 @@ fn local_min_is_false_on_a_saddle() {
     // Off the saddle by 1e-3 of its controls, descent with inertia correction finds a
     // cheaper extremal.
     let d = 1e-3 * umax(&saddle.trajectory);
-    let u = pt
-        .u
-        .iter()
-        .enumerate()
-        .map(|(k, u)| u + Vector2::new(d * (k as f64 * 0.01).sin(), 0.0))
-        .collect();
+    let u =
+        pt.u.iter()
+            .enumerate()
+            .map(|(k, u)| u + Vector2::new(d * (k as f64 * 0.01).sin(), 0.0))
+            .collect();
     let start = Point::new(&grid, u, pt.nu).unwrap();
     let away = direct::newton(
         &grid,
