@@ -1,4 +1,4 @@
-//! [`proptest`] strategies for the core's types, for property tests here and downstream (as
+//! [`proptest`](https://docs.rs/proptest) strategies for the core's types, for property tests here and downstream (as
 //! nalgebra exports its own behind a feature). With the `proptest-strategies` feature.
 //!
 //! In the manif discipline: the identity and tiny perturbations of it as often as random
