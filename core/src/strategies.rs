@@ -1,5 +1,6 @@
-//! [`proptest`](https://docs.rs/proptest) strategies for the core's types, for property tests here and downstream (as
-//! nalgebra exports its own behind a feature). With the `proptest-strategies` feature.
+//! [`proptest`](https://docs.rs/proptest) strategies for the core's types, for property tests
+//! here and downstream (as nalgebra exports its own behind a feature). With the
+//! `proptest-strategies` feature.
 //!
 //! In the manif discipline: the identity and tiny perturbations of it as often as random
 //! elements, angles near `±π`, and angles on both sides of every small-angle switch of
