@@ -1,6 +1,7 @@
-//! The "no solution" paths: `solve` exits 3 when every extremal found is inadmissible
-//! (`NoneAdmissible`) and writes nothing; `sweep` reports each target it cannot solve in its
-//! CSV and still exits 0.
+//! The "no solution" paths: `solve` exits 3 and writes nothing when every extremal found is
+//! inadmissible (`NoneAdmissible`) or none of the coarse search's extremals can be carried to
+//! the problem's grid (`NotRefined`); `sweep` reports each target it cannot solve in its CSV
+//! and still exits 0.
 
 mod common;
 
@@ -27,6 +28,42 @@ fn solve_exits_3_when_no_extremal_is_admissible() {
     assert!(e.contains("rad >= alpha-max"), "{e}");
     assert!(!out.exists());
     assert!(o.stdout.is_empty());
+}
+
+/// `ḡ = (0.02, 0.02, 0)` within `|α_i| ≤ 0.62` in 20 s: at the edge of what the limit can
+/// reach (0.61 reaches nothing, 0.68 solves at 113ade5). The coarse search finds extremals
+/// on its barrier, but the refinement cannot carry any to the problem's grid with the limit
+/// imposed on arcs. (Should a better refinement carry it, this test needs another case: it
+/// guards the exit path, not the failure.)
+#[test]
+fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sim(&[
+        "solve",
+        "--target",
+        "0.02,0.02,0",
+        "--horizon",
+        "20",
+        "--step",
+        "0.02",
+        "--alpha-max",
+        "0.62",
+        "--starts",
+        "16",
+        "--no-plots",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{e}");
+    assert!(e.starts_with("error: "), "{e}");
+    assert!(
+        e.contains("extremal(s) of the coarse search, none carried to the problem's grid"),
+        "{e}"
+    );
+    assert!(e.contains("smallest terminal defect"), "{e}");
+    assert!(!out.exists());
 }
 
 /// Isotropic drag (`--ratio 1`): the swimmer cannot move, so no target of the lattice is
