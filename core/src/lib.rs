@@ -21,6 +21,8 @@ pub mod law;
 pub mod real;
 pub mod replay;
 pub mod se2;
+#[cfg(feature = "proptest-strategies")]
+pub mod strategies;
 pub mod swimmer;
 
 pub use arc::Arc;

@@ -462,6 +462,67 @@ proptest! {
         }
     }
 
+    /// Valid arc tables by construction (per joint, disjoint arcs in order; both joints
+    /// merged by `(first, joint)`; a checkpoint at every exit, plus random ones): the replay
+    /// accepts every one and runs to its end; on an arc its joint rests, and at each
+    /// checkpoint the replay stands on the checkpoint's state.
+    #[test]
+    fn valid_arc_tables_replay_with_their_joints_at_rest(
+        steps in 2u32..40,
+        runs in [
+            proptest::collection::vec((0u32..6, 0u32..6, any::<bool>()), 0..4),
+            proptest::collection::vec((0u32..6, 0u32..6, any::<bool>()), 0..4),
+        ],
+        extra in proptest::collection::vec(0u32..40, 0..4),
+    ) {
+        let mut arcs = Vec::new();
+        for (joint, runs) in (1u8..=2).zip(&runs) {
+            // Each arc starts `gap + 1` states after the previous one's last state (or after
+            // state 0), and lasts `len` steps; arcs that would reach `steps` are dropped.
+            let mut end = 0;
+            for &(gap, len, upper) in runs {
+                let first = end + gap + 1;
+                let last = first + len;
+                if last >= steps {
+                    break;
+                }
+                arcs.push(arc(joint, if upper { 1 } else { -1 }, first, last));
+                end = last;
+            }
+        }
+        arcs.sort_by_key(|a| (a.first, a.joint));
+        prop_assert_eq!(arc::check(arcs.iter().copied(), steps), Ok(()));
+        let mut ks: Vec<u32> = arcs.iter().map(|a| a.last).chain(extra).filter(|&k| k < steps).collect();
+        ks.sort_unstable();
+        ks.dedup();
+        let at = |k: u32| State::at_origin(Vector2::new(0.3f32 - 0.01 * k as f32, -0.2));
+        let cps: Vec<Checkpoint<f32>> = ks
+            .iter()
+            .map(|&k| Checkpoint { k, state: at(k), xi: Vector2::new(0.1, -0.1) })
+            .collect();
+        let costate = purcell_core::Costate { mu: Vector3::new(0.5f32, 1.0, 0.2), xi: Vector2::new(0.3, -0.1) };
+        let mut replay = Replay::with_arcs(kinematics::<f32>(), at(0), costate, steps, &cps, &arcs)
+            .expect("a valid table is accepted");
+        let mut previous: Option<purcell_core::Sample<f32>> = None;
+        let mut count = 0;
+        while let Some(s) = replay.step().expect("no step fails") {
+            let restored = cps.iter().find(|c| c.k == s.k);
+            if let Some(c) = restored {
+                prop_assert_eq!(s.state, c.state);
+            }
+            for a in arcs.iter().filter(|a| a.first <= s.k && s.k < a.last) {
+                let i = a.index_of();
+                prop_assert_eq!(s.u[i], 0.0);
+                if let Some(p) = previous.filter(|_| s.k > a.first && restored.is_none()) {
+                    prop_assert_eq!(s.state.alpha[i], p.state.alpha[i]);
+                }
+            }
+            previous = Some(*s);
+            count += 1;
+        }
+        prop_assert_eq!(count, steps);
+    }
+
     /// Any bytes in the arc table of a valid file (resealed): refused with a typed error or
     /// read and replayed, never a panic.
     #[test]

@@ -174,7 +174,9 @@ proptest! {
         prop_assert!((fd - jac).abs().max() <= 1e-8 * (1.0 + x.abs().max()).powi(2), "{fd:?} vs {jac:?}");
     }
 
-    /// The same in f32 at a perturbation of 1e-2 (manif's f32 discipline).
+    /// The same in f32 at a perturbation of 1e-2 (manif's f32 discipline). Tolerance 6e-5·n²,
+    /// `n = 1 + |X|_∞`: 10× the worst measured, 5.6e-6·n² over 200 000 cases of these
+    /// strategies (truncation `t²|X|²` and rounding `ε/t` together).
     #[test]
     fn dexp_is_the_left_jacobian_of_exp_f32(x in tangent(), d in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)) {
         let x = x.map(|v| v as f32);
@@ -186,7 +188,7 @@ proptest! {
         let fd = (plus - minus) / (2.0 * t);
         let jac = se2::dexp(&x) * d;
         let n = 1.0 + x.abs().max();
-        prop_assert!((fd - jac).abs().max() <= 1e-3 * n * n, "{fd:?} vs {jac:?}");
+        prop_assert!((fd - jac).abs().max() <= 6e-5 * n * n, "{fd:?} vs {jac:?}");
     }
 
     /// `ExpCoefficients::dexp_transpose_mul_jacobian` is the derivative of `dexp_Xᵀ m` in `X`:

@@ -5,7 +5,7 @@
 
 use nalgebra::Vector2;
 use proptest::prelude::*;
-use purcell_core::{Costate, Kinematics, Replay, Se2, State, Swimmer, Tangent};
+use purcell_core::{Costate, Kinematics, Replay, Se2, State, Swimmer};
 
 /// proptest's default 256 cases (`PROPTEST_CASES` overrides), no regression files written into the source tree (failures print their
 /// minimal input; add it as an explicit test case instead).
@@ -16,45 +16,10 @@ pub fn config() -> ProptestConfig {
     }
 }
 
-/// A twist `(vx, vy, ω)`: the zero twist, a tiny one (components ≤ 1e-8), or a random one
-/// with `|ω| < π` (so that `log(exp(X)) = X`).
-pub fn tangent() -> impl Strategy<Value = Tangent<f64>> {
-    prop_oneof![
-        1 => Just(Tangent::zeros()),
-        2 => (-1e-8..1e-8f64, -1e-8..1e-8f64, -1e-8..1e-8f64)
-            .prop_map(|(a, b, c)| Tangent::new(a, b, c)),
-        2 => (-1.0..1.0f64, -1.0..1.0f64, -1e-4..1e-4f64)
-            .prop_map(|(a, b, c)| Tangent::new(a, b, c)),
-        6 => (-5.0..5.0f64, -5.0..5.0f64, -3.1..3.1f64)
-            .prop_map(|(a, b, c)| Tangent::new(a, b, c)),
-    ]
-}
-
-/// A twist with `|ω|` within `1e-9 … 1e-3` of `π`, either sign.
-pub fn tangent_near_pi() -> impl Strategy<Value = Tangent<f64>> {
-    (-5.0..5.0f64, -5.0..5.0f64, -9.0..-3.0f64, any::<bool>()).prop_map(|(a, b, e, neg)| {
-        let w = core::f64::consts::PI - 10f64.powf(e);
-        Tangent::new(a, b, if neg { -w } else { w })
-    })
-}
-
-/// A group element: identity, a tiny perturbation of it, or random (any angle, including ±π).
-pub fn se2() -> impl Strategy<Value = Se2<f64>> {
-    prop_oneof![
-        1 => Just(Se2::identity()),
-        2 => (-1e-8..1e-8f64, -1e-8..1e-8f64, -1e-8..1e-8f64)
-            .prop_map(|(a, b, c)| Se2::new(a, b, c)),
-        1 => (-5.0..5.0f64, -5.0..5.0f64, any::<bool>()).prop_map(|(a, b, neg)| {
-            Se2::new(a, b, if neg { -core::f64::consts::PI } else { core::f64::consts::PI })
-        }),
-        6 => (-5.0..5.0f64, -5.0..5.0f64, -4.0..4.0f64).prop_map(|(a, b, c)| Se2::new(a, b, c)),
-    ]
-}
-
-/// An admissible shape, `|α_i| ≤ 3` (the overlap limit is π).
-pub fn alpha() -> impl Strategy<Value = Vector2<f64>> {
-    (-3.0..3.0f64, -3.0..3.0f64).prop_map(|(a, b)| Vector2::new(a, b))
-}
+/// The core's exported strategies (feature `proptest-strategies`), shared with host-sim's
+/// tests (each test file uses some of them).
+#[allow(unused_imports)]
+pub use purcell_core::strategies::{alpha, angle_across_switches, se2, tangent, tangent_near_pi};
 
 /// `(x, y, cos θ, sin θ)` widened to f64.
 pub fn parts<T: purcell_core::Real>(g: &Se2<T>) -> [f64; 4] {
@@ -126,3 +91,5 @@ pub fn state_f32(s: &State<f64>) -> State<f32> {
         g: Se2::new(s.g.x() as f32, s.g.y() as f32, s.g.theta() as f32),
     }
 }
+
+pub mod switch_suite;

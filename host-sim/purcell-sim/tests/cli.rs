@@ -287,7 +287,8 @@ fn costate_files_fit_f32_and_their_checkpoints_sit_where_checkpoint_every_says()
     for (text, needle) in &cases {
         refused_file("c.json", text, needle);
     }
-    // An f64-only replay of a file beyond f32 range is fine.
+    // An f64-only replay of a file beyond f32 range is not refused: it runs, and the law
+    // fails at its first step (a μ of 1e39 makes `I − h·B` singular), exit 3.
     let dir = tempfile::tempdir().unwrap();
     let p = write(
         dir.path(),
@@ -295,7 +296,12 @@ fn costate_files_fit_f32_and_their_checkpoints_sit_where_checkpoint_every_says()
         &GOOD.replace("[0.1,0.2,0.0]", "[1e-39,1e39,0.0]"),
     );
     let o = sim(&["replay", "--costate", &p, "--precision", "f64"]);
-    assert_ne!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("f64 replay with checkpoints failed at step 0"),
+        "{}",
+        stderr(&o)
+    );
     assert!(!stderr(&o).contains("f32"), "{}", stderr(&o));
 }
 
@@ -624,19 +630,26 @@ fn gait_files_are_held_to_the_step_limit() {
 #[test]
 fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
     type Edit = fn(&mut purcell_sim::costate_file::CostateFile);
-    let cases: [(Edit, &str); 6] = [
-        (|f| f.gait.model.links[0] = 1e39, "links = 1e39,1.0,1.0"),
-        (|f| f.gait.model.links[1] = 1e-50, "links = 1.0,1e-50,1.0"),
-        (|f| f.gait.mu[1] = 1e39, "mu = 0.1,1e39,0.0"),
-        (|f| f.gait.h = 1e-50, "step h = 1e-50"),
+    // With the exit code of the f64-only replay: 0 where it lands, 3 where the law fails on
+    // the way (a μ or ξ of 1e39).
+    let cases: [(Edit, &str, i32); 6] = [
+        (|f| f.gait.model.links[0] = 1e39, "links = 1e39,1.0,1.0", 0),
+        (
+            |f| f.gait.model.links[1] = 1e-50,
+            "links = 1.0,1e-50,1.0",
+            0,
+        ),
+        (|f| f.gait.mu[1] = 1e39, "mu = 0.1,1e39,0.0", 3),
+        (|f| f.gait.h = 1e-50, "step h = 1e-50", 0),
         (
             |f| f.checkpoints[0].xi[0] = 1e39,
             "xi of the checkpoint at k = 100",
+            3,
         ),
-        (|f| f.gait.model.drag = 1e39, "drag k = 1e39"),
+        (|f| f.gait.model.drag = 1e39, "drag k = 1e39", 0),
     ];
     let dir = tempfile::tempdir().unwrap();
-    for (i, (edit, needle)) in cases.into_iter().enumerate() {
+    for (i, (edit, needle, f64_code)) in cases.into_iter().enumerate() {
         let mut file = purcell_sim::costate_file::CostateFile::parse(GOOD).unwrap();
         edit(&mut file);
         let json = write(dir.path(), &format!("{i}.json"), &file.to_json());
@@ -659,7 +672,7 @@ fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
             "--precision",
             "f64",
         ]);
-        assert_ne!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
+        assert_eq!(o.status.code(), Some(f64_code), "{needle}: {}", stderr(&o));
     }
 }
 

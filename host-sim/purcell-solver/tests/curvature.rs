@@ -87,12 +87,15 @@ fn model_test_vectors() {
         (f - Vector3::new(-5.0 / 81.0, 0.0, 0.0)).amax() < 1e-15,
         "{f:?}"
     );
-    // Regression vector of MODEL.md §8 (from this implementation, checked by the loop test).
+    // At α = (0.5, −0.3) (MODEL.md §8's regression vector), from an independent
+    // implementation: CasADi's graph of the connection in benches/casadi_m4f/gen_step.py,
+    // ∂A/∂α by CasADi's AD, F = [A₁, A₂] − (∂A₂/∂α1 − ∂A₁/∂α2) (CasADi 3.8.2); it gives
+    // (−5/81, 0, 0) at α = 0 too.
     let f = curvature(&swimmer, &Vector2::new(0.5, -0.3)).unwrap();
     let want = Vector3::new(
-        -0.06900328033932958,
-        -0.007402598908354015,
-        -0.03439395500207456,
+        -0.06900328033932962,
+        -0.0074025989083540255,
+        -0.03439395500207451,
     );
     assert!((f - want).amax() < 1e-15, "{f:?}");
 }
