@@ -108,8 +108,12 @@ pub fn costate_file(
 }
 
 /// `sweep.csv`: `x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status`
-/// (m, m, rad, –, m/rad, rad, bool, bool, rad/s, text), one row per target; for a target
-/// without an extremal the numbers are empty and `status` says why.
+/// (m, m, rad, –, m/rad, rad, bool, bool, rad/s, text), one row per target. `status` is `ok`
+/// where the extremal's certificates vouch for it ([`Extremal::uncertified`]), else which
+/// one does not; for a target without an extremal the numbers are empty and `status` says
+/// why.
+///
+/// [`Extremal::uncertified`]: purcell_solver::solver::Extremal::uncertified
 pub fn sweep_csv(points: &[purcell_solver::solver::continuation::SweepPoint]) -> String {
     let mut s = String::from(
         "x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status\n",
@@ -119,7 +123,7 @@ pub fn sweep_csv(points: &[purcell_solver::solver::continuation::SweepPoint]) ->
         let _ = match &p.result {
             Ok(x) => writeln!(
                 s,
-                "{},{},{},{},{:e},{},{},{},{},ok",
+                "{},{},{},{},{:e},{},{},{},{},{}",
                 t.x,
                 t.y,
                 t.z,
@@ -128,7 +132,8 @@ pub fn sweep_csv(points: &[purcell_solver::solver::continuation::SweepPoint]) ->
                 x.max_abs_alpha,
                 x.admissible,
                 x.local_min,
-                x.kkt_residual.map_or(String::new(), |k| format!("{k:e}"))
+                x.kkt_residual.map_or(String::new(), |k| format!("{k:e}")),
+                x.uncertified().unwrap_or("ok")
             ),
             Err(e) => writeln!(s, "{},{},{},,,,,,,\"{e}\"", t.x, t.y, t.z),
         };

@@ -48,7 +48,17 @@ fn the_atlas_is_no_dearer_than_solve_and_does_not_depend_on_the_lattice() {
     let large = atlas((-0.3, 0.3, 13), (-0.3, 0.3, 13));
     let small = atlas((0.0, 0.2, 3), (0.0, 0.2, 3));
     for p in &small {
-        let here = p.result.as_ref().expect("solved").cost;
+        let x = p.result.as_ref().expect("solved");
+        assert_eq!(x.uncertified(), None, "{}", p.target);
+        // The check the sweep's `status` comes from rejects what it should.
+        let mut bad = x.clone();
+        bad.kkt_residual = Some(1e-6);
+        assert_eq!(bad.uncertified(), Some("KKT residual above 1e-8"));
+        bad.local_min = false;
+        assert_eq!(bad.uncertified(), Some("not a strict local minimum"));
+        bad.admissible = false;
+        assert_eq!(bad.uncertified(), Some("not admissible"));
+        let here = x.cost;
         let there = cost_at(&large, p.target);
         assert!(
             (here - there).abs() <= 1e-6 * here.max(1e-12),

@@ -124,6 +124,29 @@ pub struct Extremal {
     pub trajectory: Trajectory,
 }
 
+impl Extremal {
+    /// Why its certificates do not vouch for it, if they do not: it must be admissible and a
+    /// strict local minimum, land on the target through the core's kinematics within 1e-10,
+    /// satisfy KKT within 1e-8 rad/s and be reproduced by the core's law within 1e-9
+    /// (relative); the bounds the tests hold every returned extremal to.
+    pub fn uncertified(&self) -> Option<&'static str> {
+        let within = |x: Option<f64>, bound: f64| x.is_some_and(|x| x <= bound);
+        if !self.admissible {
+            Some("not admissible")
+        } else if !self.local_min {
+            Some("not a strict local minimum")
+        } else if !within(self.terminal_residual, 1e-10) {
+            Some("terminal residual above 1e-10")
+        } else if !within(self.kkt_residual, 1e-8) {
+            Some("KKT residual above 1e-8")
+        } else if !within(self.law_residual, 1e-9) {
+            Some("law residual above 1e-9")
+        } else {
+            None
+        }
+    }
+}
+
 /// Outcome of a solve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution {
