@@ -1,5 +1,5 @@
 //! One property suite over a scalar type (`f32`, `f64` here; host-sim runs it over its dual
-//! numbers too, `host-sim/tests/switches.rs`): the SE(2) coefficients the law and the KKT
+//! numbers too, `host-sim/purcell-solver/tests/switches.rs`): the SE(2) coefficients the law and the KKT
 //! certificate evaluate, on both sides of every small-angle switch
 //! ([`purcell_core::se2::SMALL_ANGLE`], [`purcell_core::se2::C3_SERIES_LIMIT`]), against
 //! their Taylor series summed in f64 (independent of the switches). Each check returns its

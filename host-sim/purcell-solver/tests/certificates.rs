@@ -2,7 +2,7 @@
 //! extremal of a small problem (the displacement `ḡ = (0.001, 0, 0)` in `T = 10 s` of
 //! `h = 0.01 s`) and rejects the same extremal perturbed (controls nudged, a wrong `μ`, a
 //! gait off its arc, a reversed costate) by at least three orders of magnitude above the
-//! tolerance the solver's tests hold it to (`host-sim/tests/solver.rs`); and `local_min` is
+//! tolerance the solver's tests hold it to (`host-sim/purcell-sim/tests/solver.rs`); and `local_min` is
 //! false on a saddle that passes every first-order certificate.
 
 use nalgebra::{Vector2, Vector3, Vector5};
@@ -14,7 +14,7 @@ use purcell_solver::solver::riccati::Factor;
 use purcell_solver::solver::stage::Rule;
 use purcell_solver::solver::{Extremal, SolveOptions, Trajectory, extremal, fine_settings, solve};
 
-/// The tolerances of `host-sim/tests/solver.rs`'s `check_extremal`.
+/// The tolerances of `host-sim/purcell-sim/tests/solver.rs`'s `check_extremal`.
 const TERMINAL_TOL: f64 = 1e-10;
 const KKT_TOL: f64 = 1e-8;
 const LAW_TOL: f64 = 1e-9;
