@@ -1,8 +1,9 @@
 //! The global search: many start loops through the direct method on a coarse grid.
 //!
-//! Each start ([`super::starts`]) runs [`direct::newton`] on a grid of `M ≪ N` steps whose rule
-//! mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so its local minima and their
-//! costs match the fine problem's to about 1e-3 and cost a hundredth of a fine solve. Without a
+//! Each start ([`super::starts`]) runs [`direct::newton`] on a grid of `M ≪ N` steps whose
+//! rule mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so its
+//! local minima and their costs match the fine problem's to about 1e-3 and cost a hundredth
+//! of a fine solve. Without a
 //! joint limit each start runs with a trust radius ([`TRUST_RADIUS`]), so that it reaches a
 //! minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
 //! into distinct extremals (same shape path to 1e-6 rad). A converged point whose motion the
@@ -14,13 +15,13 @@
 //! minimum not seen yet is about the share of starts that reached a minimum no other start
 //! reached; restricted to the minima that matter, `f₁/n` with `f₁` the number of them
 //! reached by exactly one start ([`Search::unseen`]). The search stops once at least
-//! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (from 128 starts on: none of them, from
-//! 256 on: one) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin is not a
-//! lucky hit); it also stops when the zero loop solves the problem (`J = 0`), when three
-//! batches found nothing, or when `max_starts` (the budget) have run ([`Search::satisfied`]
-//! is then false). Boender and Rinnooy Kan's Bayesian estimate of the number of minima,
-//! `w(n−1)/(n−w−2)` for
-//! `w` distinct minima, is reported beside it ([`Search::expected_minima`]).
+//! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (below 200 starts: no such minimum; from
+//! 200: one; from 400: two) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin
+//! is not a lucky hit); it also stops when the zero loop solves the problem (`J = 0`), when
+//! three batches found nothing, or when `max_starts` (the budget) have run
+//! ([`Search::satisfied`] is then false). Boender and Rinnooy Kan's Bayesian estimate of the
+//! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
+//! ([`Search::expected_minima`]).
 
 use super::direct::{self, Grid, Point, Settings};
 use super::limits;
