@@ -27,7 +27,7 @@
 //! The angles wrap at `±π` ([`super::stage::wrap`]): an iterate may swing a joint past the
 //! links' overlap; whether an extremal is admissible is decided afterwards.
 
-use super::riccati::Factor;
+use super::riccati::{ControlMap, Factor};
 use super::stage::{Linearised, Rule, StageModel, StageState};
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector5};
@@ -92,23 +92,6 @@ pub enum Limits {
         /// The arcs, in any order, disjoint per joint.
         arcs: Vec<Arc>,
     },
-}
-
-/// How the controls of one stage are tied by the arcs: per joint, free, fixed at zero (inside
-/// an arc) or set by the state (`δu_i = −δα_i/h` at an arc's entry step).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ControlMap {
-    /// `u_{k,i}` fixed at zero.
-    pub fixed: [bool; 2],
-    /// `u_{k,i} = (±α_max − α_{k,i})/h`.
-    pub entry: [bool; 2],
-}
-
-impl ControlMap {
-    /// Whether control `i` is a free variable.
-    pub fn free(&self, i: usize) -> bool {
-        !self.fixed[i] && !self.entry[i]
-    }
 }
 
 impl Grid {
