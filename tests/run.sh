@@ -15,10 +15,10 @@ step "tests (host)"
 cargo test --workspace --exclude purcell-core
 step "tests of the core, property tests with 10 000 cases each"
 PROPTEST_CASES=10000 cargo test -p purcell-core
-step "CasADi's step graph against MODEL.md §7's test vectors (benches/casadi_m4f/gen_step.py)"
+step "CasADi's step graph against MODEL.md §7's test vectors (peers/casadi_m4f/gen_step.py)"
 python=${PURCELL_PYTHON:-python3}
 if "$python" -c 'import casadi' 2>/dev/null; then
-  "$python" -c 'import sys; sys.path.insert(0, "benches/casadi_m4f"); import gen_step; gen_step.self_check()'
+  "$python" -c 'import sys; sys.path.insert(0, "peers/casadi_m4f"); import gen_step; gen_step.self_check()'
   echo "gen_step.py self_check: A(0.5, -0.3) and one f64 step match MODEL.md §7"
 else
   echo "skipped: $python cannot import casadi (.ci/run installs it in target/casadi-venv)"

@@ -1,4 +1,4 @@
-//! The IPOPT-referenced extra problems (`benches/problems-extra.json`, until now run only by
+//! The IPOPT-referenced extra problems (`tests/problems/extra.json`, until now run only by
 //! the suite bench): each solves to an admissible strict local minimum at or below its
 //! reference (1e-6 relative). And the costs where we beat IPOPT, pinned to the 7 decimals
 //! recorded in `benches/README.md` and `README.md` (IPOPT multi-start comparison, joint
@@ -9,7 +9,7 @@ use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::{Extremal, SolveOptions, solve};
 
 fn extra_problems() -> Vec<SuiteProblem> {
-    read_suite(include_str!("../../../benches/problems-extra.json")).unwrap()
+    read_suite(include_str!("../../../tests/problems/extra.json")).unwrap()
 }
 
 fn cheapest(spec: &Spec) -> Extremal {

@@ -88,7 +88,7 @@ fn model_test_vectors() {
         "{f:?}"
     );
     // At α = (0.5, −0.3) (MODEL.md §8's regression vector), from an independent
-    // implementation: CasADi's graph of the connection in benches/casadi_m4f/gen_step.py,
+    // implementation: CasADi's graph of the connection in peers/casadi_m4f/gen_step.py,
     // ∂A/∂α by CasADi's AD, F = [A₁, A₂] − (∂A₂/∂α1 − ∂A₁/∂α2) (CasADi 3.8.2); it gives
     // (−5/81, 0, 0) at α = 0 too.
     let f = curvature(&swimmer, &Vector2::new(0.5, -0.3)).unwrap();

@@ -4,7 +4,7 @@
 # counted in the same QEMU harness (SysTick under -icount shift=6) as benches/mcu, then the
 # ratio to ours. Needs: pip install casadi; apt-get install gcc-arm-none-eabi
 # libnewlib-arm-none-eabi qemu-system-arm; and what benches/mcu/README.md lists.
-#   benches/casadi_m4f/run.sh        (PYTHON selects the interpreter that has casadi)
+#   peers/casadi_m4f/run.sh        (PYTHON selects the interpreter that has casadi)
 # PURCELL_COSTATE: the costate file (default out/paper/costate.json, written by the README's
 # main job `purcell-sim solve --out out/paper`; the firmware flies the same gait, exported).
 set -euo pipefail
@@ -12,12 +12,12 @@ cd "$(dirname "$0")/../.."
 target_dir=${CARGO_TARGET_DIR:-$PWD/target}
 out=$target_dir/casadi_m4f
 mkdir -p "$out"
-"${PYTHON:-python3}" benches/casadi_m4f/gen_step.py "${PURCELL_COSTATE:-out/paper/costate.json}" "$out"
+"${PYTHON:-python3}" peers/casadi_m4f/gen_step.py "${PURCELL_COSTATE:-out/paper/costate.json}" "$out"
 
 flags=(-O2 -mcpu=cortex-m4 -mfpu=fpv4-sp-d16 -mfloat-abi=hard -mthumb -fsingle-precision-constant
   -ffunction-sections -fdata-sections -I"$out")
-arm-none-eabi-gcc "${flags[@]}" -nostartfiles -Wl,--gc-sections -T benches/casadi_m4f/m4f.ld \
-  --specs=nano.specs benches/casadi_m4f/harness.c -lm -lc -lgcc -o "$out/casadi-step.elf"
+arm-none-eabi-gcc "${flags[@]}" -nostartfiles -Wl,--gc-sections -T peers/casadi_m4f/m4f.ld \
+  --specs=nano.specs peers/casadi_m4f/harness.c -lm -lc -lgcc -o "$out/casadi-step.elf"
 
 echo "--- CasADi step (float), M4F:"
 casadi=$(timeout 300 qemu-system-arm -machine mps2-an386 -nographic -monitor none -serial none \

@@ -3,10 +3,10 @@
 CasADi + IPOPT (the paper's method), multi-start, next to purcell-sim's result. Not CI.
 
     pip install casadi
-    python3 benches/casadi_ipopt.py --check                        # transcription check
-    python3 benches/casadi_ipopt.py PROBLEMS.json [--only a,b] [--starts 8] [--guard A] \
+    python3 peers/casadi_ipopt.py --check                        # transcription check
+    python3 peers/casadi_ipopt.py PROBLEMS.json [--only a,b] [--starts 8] [--guard A] \
         [--jsonl FILE] [--ours BENCH.md] [--max-cpu 400] [--max-iter 3000]
-    python3 benches/casadi_ipopt.py PROBLEMS.json --table --jsonl FILE [--ours BENCH.md]
+    python3 peers/casadi_ipopt.py PROBLEMS.json --table --jsonl FILE [--ours BENCH.md]
 
 PROBLEMS.json is a list in the format of the public suite (tests/problems/public.json):
 `name`, `target`, and where given `horizon` (default 100), `step` (0.01), `alpha0` (0,0),

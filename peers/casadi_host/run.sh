@@ -6,7 +6,7 @@
 # CPU as well (`-C target-cpu=native`: the same flags on both sides; Rust never contracts to
 # FMA, so the results are the same bits), and built portably (the workspace's release
 # profile, as `cargo bench` measures it). Needs: pip install casadi; gcc.
-#   benches/casadi_host/run.sh        (PYTHON selects the interpreter that has casadi)
+#   peers/casadi_host/run.sh        (PYTHON selects the interpreter that has casadi)
 # PURCELL_COSTATE: the costate file (default out/paper/costate.json, written by the README's
 # main job `purcell-sim solve --out out/paper`).
 set -euo pipefail
@@ -14,10 +14,10 @@ cd "$(dirname "$0")/../.."
 target_dir=${CARGO_TARGET_DIR:-$PWD/target}
 out=$target_dir/casadi_host
 mkdir -p "$out"
-"${PYTHON:-python3}" benches/casadi_m4f/gen_step.py "${PURCELL_COSTATE:-out/paper/costate.json}" "$out" --real double
+"${PYTHON:-python3}" peers/casadi_m4f/gen_step.py "${PURCELL_COSTATE:-out/paper/costate.json}" "$out" --real double
 cc=${CC:-gcc}
 "$cc" -O2 -march=native -c "$out/step.c" -o "$out/step.o"
-"$cc" -O2 -I"$out" -c benches/casadi_host/harness.c -o "$out/harness.o"
+"$cc" -O2 -I"$out" -c peers/casadi_host/harness.c -o "$out/harness.o"
 # $1: label, $2: cargo target directory, then extra RUSTFLAGS.
 run() {
   local label=$1 dir=$2

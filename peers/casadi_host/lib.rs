@@ -1,6 +1,6 @@
 //! C entry points to the core's `f64` replay, so that `harness.c` can time its steps and a
 //! CasADi-generated step the same way, one out-of-line call per step, as `benches/mcu` and
-//! `benches/casadi_m4f` do on the Cortex-M4F (see `README.md`). Built as a static library by
+//! `peers/casadi_m4f` do on the Cortex-M4F (see `README.md`). Built as a static library by
 //! `run.sh`.
 
 use nalgebra::{Vector2, Vector3};
