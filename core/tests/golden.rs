@@ -1,9 +1,9 @@
 //! Golden digests of the committed gaits, pinned so that a change of any bit of a flight is
-//! noticed (`benches/mcu/check.sh` compares the host with the MCU only, so a change on both
+//! noticed (`firmware/check.sh` compares the host with the MCU only, so a change on both
 //! sides would pass it).
 //!
 //! Sources: the f32 digests and final-state bits are the M4F flights in QEMU as recorded in
-//! `benches/mcu/README.md` (the paper's gait: `digest: 0x8cf7ea4378b379b6`, `final_state_bits:
+//! `firmware/README.md` (the paper's gait: `digest: 0x8cf7ea4378b379b6`, `final_state_bits:
 //! 0x328b0000 0x32ec0000 0x3dcccccd 0x3dcccccd 0x3f800000 0xb2904000`; the constrained gait:
 //! `0x5b40ab4d18679a01`), which `check.sh` holds bit-identical to the host's f32 replay. The
 //! f64 digests were produced by the host replay at commit 113ade5 (the M7's f64 flight is held

@@ -1,5 +1,5 @@
 //! C entry points to the core's `f64` replay, so that `harness.c` can time its steps and a
-//! CasADi-generated step the same way, one out-of-line call per step, as `benches/mcu` and
+//! CasADi-generated step the same way, one out-of-line call per step, as `firmware` and
 //! `peers/casadi_m4f` do on the Cortex-M4F (see `README.md`). Built as a static library by
 //! `run.sh`.
 

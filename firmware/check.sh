@@ -24,7 +24,7 @@
 # and the thumbv7em-none-eabihf and thumbv7m-none-eabi targets. Logs and listings go to
 # $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 4).
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+cd "$(dirname "$0")/.."
 
 target_dir=${CARGO_TARGET_DIR:-$PWD/target}
 out=$target_dir/mcu-check
@@ -32,7 +32,7 @@ mkdir -p "$out"
 objdump=${OBJDUMP:-arm-none-eabi-objdump}
 size=${SIZE:-arm-none-eabi-size}
 for tool in "${QEMU:-qemu-system-arm}" "${DEFMT_PRINT:-defmt-print}" "$objdump" "$size"; do
-  command -v "$tool" >/dev/null || { echo "check.sh: $tool not found (see benches/mcu/README.md)" >&2; exit 1; }
+  command -v "$tool" >/dev/null || { echo "check.sh: $tool not found (see firmware/README.md)" >&2; exit 1; }
 done
 
 tool() { cargo run -q -p purcell-mcu -- "$@"; }
@@ -118,5 +118,5 @@ fly m7 "$m7" "--max-insn ${PURCELL_M7_MAX_INSN:-1200}" "" cargo -q mcu-m7
 fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mcu-m3
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
-PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' benches/mcu/qemu-run.sh "$m7"
+PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/qemu-run.sh "$m7"
 echo "mcu: 7 passed, 0 failed"

@@ -24,7 +24,7 @@ fn main() -> Result<(), String> {
         return Ok(());
     }
     let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").map_err(|e| e.to_string())?);
-    let root = manifest.join("../..");
+    let root = manifest.join("..");
     let gait = match env::var_os("PURCELL_GAIT") {
         Some(p) => root.join(p),
         None => root.join("core/examples/paper.gait"),
@@ -48,7 +48,7 @@ fn main() -> Result<(), String> {
     {
         return Err(
             "feature `m3` is the Cortex-M3 board: build it alone for thumbv7m-none-eabi \
-             with `cargo mcu-m3` (see benches/mcu/README.md)"
+             with `cargo mcu-m3` (see firmware/README.md)"
                 .into(),
         );
     }
@@ -60,7 +60,7 @@ fn main() -> Result<(), String> {
         {
             return Err(
                 "feature `m7` needs `-C target-cpu=cortex-m7` (f64 would be soft-float \
-                        otherwise): build with `cargo mcu-m7` (see benches/mcu/README.md)"
+                        otherwise): build with `cargo mcu-m7` (see firmware/README.md)"
                     .into(),
             );
         }

@@ -1,5 +1,5 @@
 //! `purcell-mcu`: on the MCU (`target_os = "none"`) the firmware; on the host the tool that
-//! checks it (see `benches/mcu/README.md`).
+//! checks it (see `firmware/README.md`).
 
 #![cfg_attr(target_os = "none", no_std, no_main)]
 

@@ -91,7 +91,7 @@ fn positionals(args: &[String]) -> Vec<&str> {
 /// The gait file's bytes: `--gait`, else `$PURCELL_GAIT`, else the paper's.
 fn gait_bytes(args: &[String]) -> Result<(PathBuf, Vec<u8>), String> {
     let default = std::env::var_os("PURCELL_GAIT").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../core/examples/paper.gait"),
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../core/examples/paper.gait"),
         PathBuf::from,
     );
     let path = flag(args, "--gait", default)?;

@@ -63,7 +63,7 @@ mod tests {
     use super::*;
 
     fn paper() -> Gait<'static> {
-        Gait::from_bytes(include_bytes!("../../../../core/examples/paper.gait")).unwrap()
+        Gait::from_bytes(include_bytes!("../../../core/examples/paper.gait")).unwrap()
     }
 
     #[test]

@@ -6,11 +6,11 @@
 # innermost `purcell_core` function it was inlined from (the ELF's line tables, through
 # `arm-none-eabi-addr2line -i`). Prints instructions per step by part; they add up to the
 # measured `insn_per_step` mean (less the two counter reads around the call).
-#   benches/mcu/profile.sh [ELF] [STEPS]
+#   firmware/profile.sh [ELF] [STEPS]
 # Default ELF: the M4F release build in $CARGO_TARGET_DIR (build it first); STEPS: 10000.
-# Needs -icount like every run (the firmware checks its counter first). For the M7 build: PURCELL_QEMU_MACHINE=mps2-an500 benches/mcu/profile.sh <mcu-m7 ELF>.
+# Needs -icount like every run (the firmware checks its counter first). For the M7 build: PURCELL_QEMU_MACHINE=mps2-an500 firmware/profile.sh <mcu-m7 ELF>.
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+cd "$(dirname "$0")/.."
 target_dir=${CARGO_TARGET_DIR:-$PWD/target}
 elf=${1:-$target_dir/thumbv7em-none-eabihf/release/purcell-mcu}
 steps=${2:-10000}

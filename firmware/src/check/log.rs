@@ -336,8 +336,7 @@ result: ok
 
     #[test]
     fn check_accepts_the_reference_and_refuses_any_difference() {
-        let gait =
-            Gait::from_bytes(include_bytes!("../../../../core/examples/paper.gait")).unwrap();
+        let gait = Gait::from_bytes(include_bytes!("../../../core/examples/paper.gait")).unwrap();
         let reference = Reference::for_scalar(&gait, "f32").unwrap();
         let budget = Budget {
             insn: 1000.0,
