@@ -97,13 +97,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     let mut point = warm
         .point(&medium, horizon)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    let mut settings = Settings {
-        max_iterations: 30,
-        tol_defect: 1e-10,
-        tol_kkt: 1e-8,
-        fraction_to_boundary: false,
-        trust_radius: f64::INFINITY,
-    };
+    let mut settings = Settings::plain(30);
     // With a joint limit: the warm start pulled just inside it (a gait on arcs of the limit
     // rests on it) and to the barrier's minimum at its own target and the search's last
     // weight; the walk then keeps that weight, its steps stopping short of the limit.
@@ -391,13 +385,7 @@ pub fn sweep(
             grids[i].as_ref(),
         );
     }
-    let settings = Settings {
-        max_iterations: 40,
-        tol_defect: 1e-10,
-        tol_kkt: 1e-8,
-        fraction_to_boundary: false,
-        trust_radius: f64::INFINITY,
-    };
+    let settings = Settings::plain(40);
     let mut brought: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
     loop {
         let updates: Vec<(usize, Vec<Candidate>)> = (0..targets.len())

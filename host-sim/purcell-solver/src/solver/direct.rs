@@ -434,12 +434,27 @@ pub struct Settings {
     pub trust_radius: f64,
 }
 
-/// The largest `|Σ_{j<k} h·du_j|` over `k` and both joints: how far a step `du` moves the
-/// shape path.
-fn shape_reach(du: &[Vector2<f64>], h: f64) -> f64 {
+impl Settings {
+    /// `max_iterations` Newton iterations to a terminal defect of 1e-10 and stationarity of
+    /// 1e-8 rad/s, plain line search, no trust radius: the coarse and intermediate grids'
+    /// settings, which callers adjust field by field.
+    pub const fn plain(max_iterations: usize) -> Self {
+        Settings {
+            max_iterations,
+            tol_defect: 1e-10,
+            tol_kkt: 1e-8,
+            fraction_to_boundary: false,
+            trust_radius: f64::INFINITY,
+        }
+    }
+}
+
+/// The largest `|Σ_{j≤k} h·v_j|` over `k` and both joints: how far controls `v` take the
+/// shape from where it starts (for a Newton step `du`: how far it moves the shape path).
+pub fn shape_reach(v: &[Vector2<f64>], h: f64) -> f64 {
     let mut offset = Vector2::zeros();
     let mut reach = 0.0f64;
-    for d in du {
+    for d in v {
         offset += d * h;
         reach = reach.max(offset.amax());
     }
@@ -562,9 +577,11 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         } else {
             1.0
         };
-        let reach = shape_reach(&du, h);
-        if reach * t > settings.trust_radius {
-            t = settings.trust_radius / reach;
+        if settings.trust_radius.is_finite() {
+            let reach = shape_reach(&du, h);
+            if reach * t > settings.trust_radius {
+                t = settings.trust_radius / reach;
+            }
         }
         // A trial that takes a state past the limit (by more than rounding) would fail in its
         // rollout: it is skipped without one.
@@ -756,11 +773,8 @@ mod tests {
             .collect();
         let moved = |radius: f64| {
             let settings = Settings {
-                max_iterations: 1,
-                tol_defect: 1e-10,
-                tol_kkt: 1e-8,
-                fraction_to_boundary: false,
                 trust_radius: radius,
+                ..Settings::plain(1)
             };
             let start = Point::new(&grid, u.clone(), Vector5::zeros()).unwrap();
             let run = newton(&grid, start, &settings).unwrap();

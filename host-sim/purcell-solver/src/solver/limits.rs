@@ -55,12 +55,7 @@ pub fn shrink_into(
     alpha_max: f64,
     h: f64,
 ) -> Vec<Vector2<f64>> {
-    let mut offset = Vector2::zeros();
-    let mut reach = 0.0f64;
-    for v in &u {
-        offset += v * h;
-        reach = reach.max(offset.amax());
-    }
+    let reach = direct::shape_reach(&u, h);
     let room = 0.95 * alpha_max - alpha0.amax();
     if reach <= room || room <= 0.0 {
         return u;
@@ -307,11 +302,9 @@ pub fn refine(
         // asked only to 1e-6 at the small weights: the path is there to find the arcs,
         // [`polish`] converges the constrained problem itself.
         let settings = |patience| Settings {
-            max_iterations: patience,
-            tol_defect: 1e-10,
             tol_kkt: 1e-6,
             fraction_to_boundary: true,
-            trust_radius: f64::INFINITY,
+            ..Settings::plain(patience)
         };
         // The path once, on the first finer grid; a later grid only its last weight.
         let taus: &[f64] = if walked {

@@ -258,13 +258,7 @@ pub fn fine_settings(problem: &Problem, controls: &[Vector2<f64>]) -> Settings {
 }
 
 /// Convergence thresholds on the intermediate grids of a refinement without a joint limit.
-const INTERMEDIATE_SETTINGS: Settings = Settings {
-    max_iterations: 30,
-    tol_defect: 1e-10,
-    tol_kkt: 1e-8,
-    fraction_to_boundary: false,
-    trust_radius: f64::INFINITY,
-};
+const INTERMEDIATE_SETTINGS: Settings = Settings::plain(30);
 
 /// Relative margin by which an extremal on the intermediate grid of a refinement must cost
 /// more than the settled cheapest one to be dropped there: that grid's cost is within 3.2e-5

@@ -131,15 +131,12 @@ pub fn search(
     // nothing though a start came within 1e-3 of the target.
     let run = |patience: usize, best_residual: f64| {
         let settings = Settings {
-            max_iterations: patience,
-            tol_defect: 1e-10,
-            tol_kkt: 1e-8,
-            fraction_to_boundary: false,
             trust_radius: if limit.is_none() {
                 TRUST_RADIUS
             } else {
                 f64::INFINITY
             },
+            ..Settings::plain(patience)
         };
         let mut out = Search {
             best_residual,
