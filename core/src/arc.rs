@@ -51,8 +51,15 @@ impl Arc {
 
     /// The joint's index in `α` (0 or 1) of a checked arc.
     #[inline]
-    pub(crate) fn index(&self) -> usize {
+    pub fn index(&self) -> usize {
         usize::from(self.joint == 2)
+    }
+
+    /// The joint (1 or 2) whose index in `α` is `index` (0 or 1): the inverse of
+    /// [`Arc::index`].
+    #[inline]
+    pub const fn joint_of(index: usize) -> u8 {
+        if index == 0 { 1 } else { 2 }
     }
 }
 

@@ -3,10 +3,10 @@
 use crate::costate_file::CostateFile;
 use crate::{input, output, plots, replay};
 use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
-use purcell_core::Gait;
+use purcell_core::{Arc, Gait};
 use purcell_solver::problem::{InputError, Problem, Spec, check_gait_precision};
 use purcell_solver::solver::continuation::{self, Lattice};
-use purcell_solver::solver::{Arc, Evidence, Extremal, SolveOptions, solve};
+use purcell_solver::solver::{Evidence, Extremal, SolveOptions, solve};
 use serde_json::json;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -584,13 +584,10 @@ fn run_field(a: FieldArgs) -> Result<String, Failure> {
             let arcs = file
                 .arcs
                 .iter()
-                .map(|a| {
-                    let a = output::solver_arc(a);
-                    Arc {
-                        first: a.first / stride,
-                        last: a.last / stride,
-                        ..a
-                    }
+                .map(|a| Arc {
+                    first: a.first / stride as u32,
+                    last: a.last / stride as u32,
+                    ..*a
                 })
                 .collect();
             (problem, Some(states), arcs)
@@ -789,7 +786,7 @@ fn evidence_json(e: &Evidence) -> serde_json::Value {
 /// Joint-limit arcs in `report.json`, as the costate file stores them (`purcell_core::Arc`:
 /// joint 1 or 2, as `α_1`, `α_2`, the limit's sign ±1, the first and last state on it).
 fn arcs_json(arcs: &[Arc]) -> serde_json::Value {
-    arcs.iter().map(|a| json!(output::arc_record(a))).collect()
+    arcs.iter().map(|a| json!(a)).collect()
 }
 
 /// Reads an input file, at most [`input::MAX_INPUT_BYTES`] (exit 2 if unreadable).

@@ -2,7 +2,7 @@
 //! never over anything the tool did not write, checked before the work, atomically.
 
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::{Arc, Extremal, Trajectory};
+use purcell_solver::solver::{Extremal, Trajectory};
 use std::fmt::Write as _;
 
 pub mod target;
@@ -30,27 +30,6 @@ pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
     s
 }
 
-/// A joint-limit arc of the solver as the gait files store it (joint 1 or 2, sign ±1).
-pub fn arc_record(a: &Arc) -> purcell_core::Arc {
-    purcell_core::Arc {
-        joint: if a.joint == 0 { 1 } else { 2 },
-        sign: if a.upper { 1 } else { -1 },
-        first: a.first as u32,
-        last: a.last as u32,
-    }
-}
-
-/// A gait file's arc as the solver and the figures index it (joint 0 or 1); the inverse of
-/// [`arc_record`].
-pub fn solver_arc(a: &purcell_core::Arc) -> Arc {
-    Arc {
-        joint: usize::from(a.joint == 2),
-        upper: a.sign > 0,
-        first: a.first as usize,
-        last: a.last as usize,
-    }
-}
-
 /// The costate file for an extremal, with checkpoints every `every` steps and at each
 /// joint-limit arc's last state (MODEL.md §9; `every = 0`: at the arcs' exits only).
 ///
@@ -69,9 +48,7 @@ pub fn costate_file(
         .then(|| (every..problem.steps).step_by(every as usize))
         .into_iter()
         .flatten();
-    let mut steps: Vec<u32> = periodic
-        .chain(x.arcs.iter().map(|a| a.last as u32))
-        .collect();
+    let mut steps: Vec<u32> = periodic.chain(x.arcs.iter().map(|a| a.last)).collect();
     steps.sort_unstable();
     steps.dedup();
     let checkpoints = steps
@@ -102,7 +79,7 @@ pub fn costate_file(
             checkpoint_every: every,
             alpha_max: problem.joint_limit(),
         },
-        x.arcs.iter().map(arc_record).collect(),
+        x.arcs.clone(),
         checkpoints,
     )
 }

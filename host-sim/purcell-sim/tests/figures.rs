@@ -5,7 +5,7 @@
 //! the gait has them. (How they look is checked by looking at them.)
 
 use nalgebra::{Vector2, Vector3};
-use purcell_core::{Costate, Kinematics, Replay, State, Swimmer};
+use purcell_core::{Arc, Costate, Kinematics, Replay, State, Swimmer};
 use purcell_sim::costate_file::{CheckpointRecord, CostateFile, GaitParams, Model};
 use purcell_sim::plots::field::Component;
 use purcell_sim::plots::style::{
@@ -13,7 +13,7 @@ use purcell_sim::plots::style::{
 };
 use purcell_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::{Arc, Trajectory};
+use purcell_solver::solver::Trajectory;
 use std::collections::BTreeMap;
 
 /// A gait of 1 000 steps from an arbitrary costate (figures do not need an extremal), its
@@ -203,17 +203,17 @@ fn limited() -> (Problem, Vec<Arc>) {
     let peak = t.states[k].alpha[joint];
     problem.alpha_max = peak.abs();
     assert!(problem.joint_limit().is_some());
-    let last = k.min(t.controls.len() - 1).max(10);
+    let last = k.min(t.controls.len() - 1).max(10) as u32;
     let arcs = vec![
         Arc {
-            joint,
-            upper: peak > 0.0,
+            joint: Arc::joint_of(joint),
+            sign: if peak > 0.0 { 1 } else { -1 },
             first: last - 10,
             last,
         },
         Arc {
-            joint: 1 - joint,
-            upper: true,
+            joint: Arc::joint_of(1 - joint),
+            sign: 1,
             first: 3,
             last: 3,
         },
@@ -277,11 +277,11 @@ fn a_joint_limit_and_its_arcs_are_drawn_only_when_the_gait_has_them() {
 #[test]
 fn arcs_outside_the_gait_are_refused() {
     let (problem, t, mu, file) = gait();
-    let n = t.states.len();
-    for (joint, first, last) in [(2, 1, 2), (0, 5, 4), (1, n - 2, n)] {
+    let n = t.states.len() as u32;
+    for (joint, first, last) in [(3, 1, 2), (1, 5, 4), (2, n - 2, n)] {
         let arc = Arc {
             joint,
-            upper: true,
+            sign: 1,
             first,
             last,
         };

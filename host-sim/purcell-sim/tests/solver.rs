@@ -54,8 +54,12 @@ fn arc_steps_reproduce_the_controls(name: &str, p: &Problem, x: &Extremal) -> f6
     let mut worst = 0.0f64;
     for (k, u) in t.controls.iter().enumerate() {
         let mut on = [false; 2];
-        for a in x.arcs.iter().filter(|a| a.first <= k && k < a.last) {
-            on[a.joint] = true;
+        for a in x
+            .arcs
+            .iter()
+            .filter(|a| a.first as usize <= k && k < a.last as usize)
+        {
+            on[a.index()] = true;
         }
         let step = kin
             .law_step_on_arcs(&t.states[k], &t.xis[k], &x.mu, OnArcs(on))
@@ -188,12 +192,13 @@ fn joint_limit_problems_solve_at_or_below_their_reference() {
         );
         assert!(best.max_abs_alpha <= limit * (1.0 + 1e-13), "{}", sp.name);
         for a in &best.arcs {
-            for st in &best.trajectory.states[a.first..=a.last] {
-                let off = (a.sign() * st.alpha[a.joint] - limit).abs();
+            let (i, first, last) = (a.index(), a.first as usize, a.last as usize);
+            for st in &best.trajectory.states[first..=last] {
+                let off = (f64::from(a.sign) * st.alpha[i] - limit).abs();
                 assert!(off <= 1e-13 * limit, "{}: {a:?} {off}", sp.name);
             }
-            for u in &best.trajectory.controls[a.first..a.last] {
-                assert_eq!(u[a.joint], 0.0, "{}: {a:?}", sp.name);
+            for u in &best.trajectory.controls[first..last] {
+                assert_eq!(u[i], 0.0, "{}: {a:?}", sp.name);
             }
         }
     }

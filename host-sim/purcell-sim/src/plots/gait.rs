@@ -9,9 +9,10 @@ use super::time::{Level, Mark, Panel, Series, Spans, TimeFigure};
 use super::{PlotError, Units};
 use nalgebra::{Vector2, Vector3};
 use plotters::style::RGBColor;
+use purcell_core::Arc;
 use purcell_core::se2::ExpCoefficients;
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::{Arc, Trajectory};
+use purcell_solver::solver::Trajectory;
 
 /// Points kept per curve (the figures are 1 500 pixels wide).
 pub const POINTS: usize = 2500;
@@ -346,7 +347,7 @@ pub fn arc_spans(arcs: &[Arc], h: f64) -> Option<Spans> {
         color: ON_LIMIT_SHADE,
         spans: arcs
             .iter()
-            .map(|a| (h * a.first as f64, h * a.last as f64))
+            .map(|a| (h * f64::from(a.first), h * f64::from(a.last)))
             .collect(),
     })
 }
@@ -371,10 +372,10 @@ pub fn shape_overlay(
     let lines: Vec<Vec<(f64, f64)>> = arcs
         .iter()
         .map(|a| {
-            let len = a.last.saturating_sub(a.first);
+            let len = a.last.saturating_sub(a.first) as usize;
             thin(len, points)
                 .into_iter()
-                .filter_map(|i| alphas.get(a.first + i))
+                .filter_map(|i| alphas.get(a.first as usize + i))
                 .map(at)
                 .collect()
         })

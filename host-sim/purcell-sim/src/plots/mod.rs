@@ -30,11 +30,11 @@ use gait::Gait;
 use nalgebra::{Vector2, Vector3};
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
-use purcell_core::{State, Swimmer};
+use purcell_core::{Arc, State, Swimmer};
 use purcell_solver::curvature::Field;
 use purcell_solver::problem::Problem;
+use purcell_solver::solver::Trajectory;
 use purcell_solver::solver::continuation::{Lattice, SweepPoint};
-use purcell_solver::solver::{Arc, Trajectory};
 use rayon::prelude::*;
 use render::{Figure, render};
 
@@ -64,22 +64,22 @@ pub enum PlotError {
     /// An arc is not a run of states of the gait.
     #[error("arc of joint {joint} over states {first}..={last} in a gait of {states} states")]
     Arc {
-        /// Its joint.
-        joint: usize,
+        /// Its joint (1 or 2).
+        joint: u8,
         /// First state.
-        first: usize,
+        first: u32,
         /// Last state.
-        last: usize,
+        last: u32,
         /// States of the gait.
         states: usize,
     },
 }
 
-/// `arcs` are runs `first..=last` of a gait's `states` states, on joint 0 or 1.
+/// `arcs` are runs `first..=last` of a gait's `states` states, on joint 1 or 2.
 fn check_arcs(arcs: &[Arc], states: usize) -> Result<(), PlotError> {
     match arcs
         .iter()
-        .find(|a| a.joint > 1 || a.first > a.last || a.last >= states)
+        .find(|a| !matches!(a.joint, 1 | 2) || a.first > a.last || a.last as usize >= states)
     {
         Some(a) => Err(PlotError::Arc {
             joint: a.joint,

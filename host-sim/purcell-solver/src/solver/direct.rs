@@ -31,7 +31,7 @@ use super::riccati::{ControlMap, Factor};
 use super::stage::{Linearised, Rule, StageModel, StageState};
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector5};
-use purcell_core::{Error, Kinematics};
+use purcell_core::{Arc, Error, Kinematics};
 
 /// One time grid of the problem: `steps` steps over the horizon `T`.
 #[derive(Clone, Debug)]
@@ -46,28 +46,6 @@ pub struct Grid {
     pub target: StageState,
     /// How the joint limit `|α_i| ≤ α_max` enters, if at all.
     pub limits: Limits,
-}
-
-/// A stretch of steps on which a joint rests at its limit: `α_{k,joint} = ±α_max` for
-/// `first ≤ k ≤ last` (`+` if `upper`), so `u_{k,joint} = 0` for `first ≤ k < last`, and the
-/// control of step `first − 1` brings the joint exactly to the limit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Arc {
-    /// The joint, 0 (front) or 1 (rear).
-    pub joint: usize,
-    /// At `+α_max` (else `−α_max`).
-    pub upper: bool,
-    /// First step on the limit (at least 1).
-    pub first: usize,
-    /// Last step on the limit (below `N`).
-    pub last: usize,
-}
-
-impl Arc {
-    /// `±1`.
-    pub fn sign(&self) -> f64 {
-        if self.upper { 1.0 } else { -1.0 }
-    }
 }
 
 /// The joint limit `|α_{k,i}| ≤ α_max` (`k = 1 … N−1`) in the direct method (MODEL.md §9).
@@ -85,7 +63,9 @@ pub enum Limits {
         tau: f64,
     },
     /// The limit active exactly on the given arcs (their controls fixed and entries imposed,
-    /// as stage-wise substitutions), inactive elsewhere.
+    /// as stage-wise substitutions), inactive elsewhere: on an arc `σ·α_{k,i} = α_max` for
+    /// `first ≤ k ≤ last`, so `u_{k,i} = 0` for `first ≤ k < last`, and the control of step
+    /// `first − 1` brings the joint exactly to the limit.
     Arcs {
         /// `α_max`.
         alpha_max: f64,
@@ -262,11 +242,12 @@ impl Grid {
         };
         let mut maps = vec![ControlMap::default(); self.steps];
         for a in arcs {
-            if let Some(m) = a.first.checked_sub(1).and_then(|k| maps.get_mut(k)) {
-                m.entry[a.joint] = true;
+            let (i, first, last) = (a.index(), a.first as usize, a.last as usize);
+            if let Some(m) = first.checked_sub(1).and_then(|k| maps.get_mut(k)) {
+                m.entry[i] = true;
             }
-            for m in maps.iter_mut().take(a.last).skip(a.first) {
-                m.fixed[a.joint] = true;
+            for m in maps.iter_mut().take(last).skip(first) {
+                m.fixed[i] = true;
             }
         }
         Some(maps)

@@ -19,11 +19,11 @@
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
 use super::Stop;
-use super::direct::{self, Arc, Grid, Limits, Point, Run, Settings};
+use super::direct::{self, Grid, Limits, Point, Run, Settings};
 use super::stage::StageState;
 use crate::problem::Problem;
 use nalgebra::Vector2;
-use purcell_core::Error;
+use purcell_core::{Arc, Error};
 
 /// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for every
 /// other start, at `1e-2` (a stronger push off the limit at first leads to other basins).
@@ -120,10 +120,9 @@ pub fn barrier_path(
 pub fn arcs_of(states: &[StageState], alpha_max: f64, near: f64) -> Vec<Arc> {
     let n = states.len().saturating_sub(1);
     let mut arcs = Vec::new();
-    for joint in [0, 1] {
-        for upper in [true, false] {
-            let sign = if upper { 1.0 } else { -1.0 };
-            let on = |k: usize| sign * states[k][joint] >= alpha_max - near;
+    for i in [0, 1] {
+        for sign in [1i8, -1] {
+            let on = |k: usize| f64::from(sign) * states[k][i] >= alpha_max - near;
             let mut k = 1;
             while k < n {
                 if on(k) {
@@ -132,10 +131,10 @@ pub fn arcs_of(states: &[StageState], alpha_max: f64, near: f64) -> Vec<Arc> {
                         k += 1;
                     }
                     arcs.push(Arc {
-                        joint,
-                        upper,
-                        first,
-                        last: k,
+                        joint: Arc::joint_of(i),
+                        sign,
+                        first: first as u32,
+                        last: k as u32,
                     });
                 }
                 k += 1;
@@ -162,8 +161,8 @@ pub fn snap(u: &[Vector2<f64>], grid: &Grid) -> Vec<Vector2<f64>> {
             } else if maps[k].entry[i] {
                 let sign = arcs
                     .iter()
-                    .find(|a| a.joint == i && a.first == k + 1)
-                    .map_or(1.0, Arc::sign);
+                    .find(|a| a.index() == i && a.first as usize == k + 1)
+                    .map_or(1.0, |a| f64::from(a.sign));
                 w[i] = (sign * alpha_max - alpha[i]) / h;
             }
         }
@@ -209,7 +208,7 @@ pub fn polish(
         // States beyond the limit off the arcs, and arc states with η < 0.
         let states = &r.point.states;
         let n = states.len() - 1;
-        let eta = |k: usize, a: &Arc| a.sign() * r.jumps[k][a.joint];
+        let eta = |k: u32, a: &Arc| f64::from(a.sign) * r.jumps[k as usize][a.index()];
         let scale = arcs
             .iter()
             .flat_map(|a| (a.first..=a.last).map(move |k| (k, a)))
@@ -218,10 +217,7 @@ pub fn polish(
             .into_iter()
             .filter(|v| {
                 !arcs.iter().any(|a| {
-                    a.joint == v.joint
-                        && a.upper == v.upper
-                        && a.first <= v.first
-                        && v.last <= a.last
+                    a.joint == v.joint && a.sign == v.sign && a.first <= v.first && v.last <= a.last
                 })
             })
             .collect();
@@ -258,11 +254,11 @@ pub fn polish(
 /// The arcs with those of one joint and side that overlap or touch joined into one, in the
 /// order of [`arcs_of`] (joint, side, first step).
 fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
-    arcs.sort_by_key(|a| (a.joint, !a.upper, a.first));
+    arcs.sort_by_key(|a| (a.joint, -a.sign, a.first));
     let mut out: Vec<Arc> = Vec::with_capacity(arcs.len());
     for a in arcs {
         match out.last_mut() {
-            Some(b) if b.joint == a.joint && b.upper == a.upper && a.first <= b.last + 1 => {
+            Some(b) if b.joint == a.joint && b.sign == a.sign && a.first <= b.last + 1 => {
                 b.last = b.last.max(a.last);
             }
             _ => out.push(a),
@@ -273,7 +269,7 @@ fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
 
 /// Every arc inside `1 … N−1`.
 fn k_ok(n: usize, arcs: &[Arc]) -> bool {
-    arcs.iter().all(|a| a.first >= 1 && a.last < n)
+    arcs.iter().all(|a| a.first >= 1 && (a.last as usize) < n)
 }
 
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
@@ -341,10 +337,10 @@ pub fn refine(
 mod tests {
     use super::*;
 
-    fn arc(joint: usize, upper: bool, first: usize, last: usize) -> Arc {
+    fn arc(joint: u8, sign: i8, first: u32, last: u32) -> Arc {
         Arc {
             joint,
-            upper,
+            sign,
             first,
             last,
         }
@@ -353,20 +349,20 @@ mod tests {
     #[test]
     fn touching_or_overlapping_arcs_of_one_joint_and_side_merge() {
         let arcs = vec![
-            arc(1, true, 20, 25),
-            arc(0, true, 5, 9),
-            arc(0, true, 10, 12),
-            arc(0, false, 13, 14),
-            arc(1, true, 24, 30),
-            arc(1, true, 32, 33),
+            arc(2, 1, 20, 25),
+            arc(1, 1, 5, 9),
+            arc(1, 1, 10, 12),
+            arc(1, -1, 13, 14),
+            arc(2, 1, 24, 30),
+            arc(2, 1, 32, 33),
         ];
         assert_eq!(
             merged(arcs),
             vec![
-                arc(0, true, 5, 12),
-                arc(0, false, 13, 14),
-                arc(1, true, 20, 30),
-                arc(1, true, 32, 33),
+                arc(1, 1, 5, 12),
+                arc(1, -1, 13, 14),
+                arc(2, 1, 20, 30),
+                arc(2, 1, 32, 33),
             ]
         );
     }

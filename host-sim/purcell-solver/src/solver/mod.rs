@@ -30,10 +30,9 @@ pub mod starts;
 pub mod symmetry;
 
 use crate::problem::Problem;
-pub use direct::Arc;
 use direct::{Grid, Limits, Point, Run, Settings};
 use nalgebra::{Vector2, Vector3, Vector5};
-use purcell_core::State;
+use purcell_core::{Arc, State};
 use stage::Rule;
 
 /// Solver settings.
@@ -98,7 +97,8 @@ pub struct Extremal {
     /// overlap limit).
     pub kkt_residual: Option<f64>,
     /// The joint limit's arcs: maximal runs of states `k = first..=last` on `σ α_{k,i} = α_max`
-    /// (empty without a limit or where it is inactive).
+    /// (empty without a limit or where it is inactive), sorted by `(first, joint)` as a gait's
+    /// arc table is ([`purcell_core::arc`]).
     pub arcs: Vec<Arc>,
     /// Smallest multiplier `η_k ≥ 0` of the joint limit over the arcs' states, from
     /// [`certificate::kkt`]; `None` without arcs.
