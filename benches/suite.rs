@@ -34,7 +34,7 @@ fn main() {
                     .reference
                     .filter(|r| *r > 0.0)
                     .map_or("–".into(), |r| format!("{:+.1e}", b.cost / r - 1.0));
-                let limit = p.joint_limit().map_or(String::new(), |a| format!(" ({a})"));
+                let limit = p.alpha_max.map_or(String::new(), |a| format!(" ({a})"));
                 let arcs = b
                     .min_eta
                     .map_or("–".into(), |e| format!("{}, {e:.1e}", b.arcs.len()));

@@ -534,7 +534,7 @@ fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         "problem": {"target": file.target, "horizon": problem.horizon(), "step": problem.h,
                     "steps": problem.steps, "alpha0": file.alpha0, "links": file.model.links,
                     "drag": file.model.drag, "ratio": file.model.ratio,
-                    "alpha_max": problem.joint_limit()},
+                    "alpha_max": problem.alpha_max},
         "extremals": extremals,
         // Terminal errors of the stored costate replayed through the core, as the firmware
         // flies it (f32 with checkpoints) beside f64.

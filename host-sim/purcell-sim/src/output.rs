@@ -77,7 +77,7 @@ pub fn costate_file(
             mu: [x.mu.x, x.mu.y, x.mu.z],
             xi0: [x.xi0.x, x.xi0.y],
             checkpoint_every: every,
-            alpha_max: problem.joint_limit(),
+            alpha_max: problem.alpha_max,
         },
         x.arcs.clone(),
         checkpoints,

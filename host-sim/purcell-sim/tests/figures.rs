@@ -12,7 +12,7 @@ use purcell_sim::plots::style::{
     JOINT_LIMIT, LINE, ON_LIMIT, ON_LIMIT_LABEL, ON_LIMIT_LINE, ON_LIMIT_SHADE,
 };
 use purcell_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
-use purcell_solver::problem::Problem;
+use purcell_solver::problem::{OVERLAP, Problem};
 use purcell_solver::solver::Trajectory;
 use std::collections::BTreeMap;
 
@@ -201,8 +201,8 @@ fn limited() -> (Problem, Vec<Arc>) {
         })
         .unwrap();
     let peak = t.states[k].alpha[joint];
-    problem.alpha_max = peak.abs();
-    assert!(problem.joint_limit().is_some());
+    assert!(peak.abs() < OVERLAP);
+    problem.alpha_max = Some(peak.abs());
     let last = k.min(t.controls.len() - 1).max(10) as u32;
     let arcs = vec![
         Arc {

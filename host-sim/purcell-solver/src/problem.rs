@@ -176,6 +176,10 @@ impl Default for Spec {
 /// Relative excess over the joint limit counted as rounding ([`Problem::admits`]).
 pub const LIMIT_ROUNDING: f64 = 1e-13;
 
+/// Where the links overlap, `|α_i| = π`: every admissible shape has `|α_i| <` [`OVERLAP`],
+/// and a joint limit lies below it.
+pub const OVERLAP: f64 = core::f64::consts::PI;
+
 /// A validated problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Problem {
@@ -189,8 +193,9 @@ pub struct Problem {
     pub alpha0: Vector2<f64>,
     /// `ḡ` as `(x, y, θ)`.
     pub target: Vector3<f64>,
-    /// Limit on `|α_i|`: the joint limit, or `π` (the links overlap) without one.
-    pub alpha_max: f64,
+    /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, in `]0, π[`; `None`: only the
+    /// links' overlap, `|α_i| <` [`OVERLAP`].
+    pub alpha_max: Option<f64>,
 }
 
 impl Problem {
@@ -242,14 +247,15 @@ impl Problem {
                 return Err(InputError::NonPositive(name, v));
             }
         }
-        let pi = core::f64::consts::PI;
-        let alpha_max = spec.alpha_max.unwrap_or(pi);
-        if !(alpha_max > 0.0 && alpha_max <= pi) || spec.alpha_max == Some(pi) {
-            return Err(InputError::AlphaMax(alpha_max));
+        if let Some(a) = spec.alpha_max
+            && !(a > 0.0 && a < OVERLAP)
+        {
+            return Err(InputError::AlphaMax(a));
         }
+        let bound = spec.alpha_max.unwrap_or(OVERLAP);
         let [a1, a2] = spec.alpha0;
-        if a1.abs() >= alpha_max || a2.abs() >= alpha_max {
-            return Err(InputError::ShapeOutOfRange(a1, a2, alpha_max));
+        if a1.abs() >= bound || a2.abs() >= bound {
+            return Err(InputError::ShapeOutOfRange(a1, a2, bound));
         }
         let swimmer = Swimmer::new(spec.links, spec.drag, spec.ratio)
             .map_err(|_| InputError::NonPositive("swimmer parameter", f64::NAN))?;
@@ -266,7 +272,7 @@ impl Problem {
             steps: steps as u32,
             alpha0: Vector2::new(a1, a2),
             target: Vector3::from(spec.target),
-            alpha_max,
+            alpha_max: spec.alpha_max,
         })
     }
 
@@ -294,18 +300,18 @@ impl Problem {
         }
     }
 
-    /// The joint limit `α_max < π`, if the problem has one.
-    pub fn joint_limit(&self) -> Option<f64> {
-        (self.alpha_max < core::f64::consts::PI).then_some(self.alpha_max)
+    /// The bound on `|α_i|`: the joint limit, or [`OVERLAP`] without one.
+    pub fn shape_bound(&self) -> f64 {
+        self.alpha_max.unwrap_or(OVERLAP)
     }
 
     /// Whether a path whose largest `|α_i|` is `max_abs_alpha` is admissible: within the
     /// joint limit to rounding ([`LIMIT_ROUNDING`]: a path on the limit lands there as the
-    /// sum of its steps), or short of the overlap `|α_i| = π` without one.
+    /// sum of its steps), or short of the overlap [`OVERLAP`] without one.
     pub fn admits(&self, max_abs_alpha: f64) -> bool {
-        match self.joint_limit() {
+        match self.alpha_max {
             Some(a) => max_abs_alpha <= a * (1.0 + LIMIT_ROUNDING),
-            None => max_abs_alpha < core::f64::consts::PI,
+            None => max_abs_alpha < OVERLAP,
         }
     }
 

@@ -152,7 +152,7 @@ fn kkt_rejects_a_gait_off_its_arcs_and_a_negative_eta() {
     assert!(good.active > 0);
 
     let wider = Problem {
-        alpha_max: limit * (1.0 + 1e-9),
+        alpha_max: Some(limit * (1.0 + 1e-9)),
         ..p
     };
     let off = kkt(&wider, t, &x.mu).unwrap();

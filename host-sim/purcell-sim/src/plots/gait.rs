@@ -11,7 +11,7 @@ use nalgebra::{Vector2, Vector3};
 use plotters::style::RGBColor;
 use purcell_core::Arc;
 use purcell_core::se2::ExpCoefficients;
-use purcell_solver::problem::Problem;
+use purcell_solver::problem::{OVERLAP, Problem};
 use purcell_solver::solver::Trajectory;
 
 /// Points kept per curve (the figures are 1 500 pixels wide).
@@ -319,22 +319,19 @@ impl Gait<'_> {
 /// (dashed in [`JOINT_LIMIT`], always shown), or else where the links overlap (`|α_i| = π`,
 /// dashed in [`LIMIT`], shown where the gait comes near it).
 pub fn bound(problem: &Problem, units: Units) -> Square {
-    match problem.joint_limit() {
+    match problem.alpha_max {
         Some(a) => Square {
             value: units.angle(a),
             label: format!("joint limit ±{}", units.format_angle(a)),
             color: JOINT_LIMIT,
             whole: true,
         },
-        None => {
-            let pi = std::f64::consts::PI;
-            Square {
-                value: units.angle(pi),
-                label: format!("links overlap, |αᵢ| = {}", units.format_angle(pi)),
-                color: LIMIT,
-                whole: false,
-            }
-        }
+        None => Square {
+            value: units.angle(OVERLAP),
+            label: format!("links overlap, |αᵢ| = {}", units.format_angle(OVERLAP)),
+            color: LIMIT,
+            whole: false,
+        },
     }
 }
 

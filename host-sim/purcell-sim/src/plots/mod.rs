@@ -250,7 +250,7 @@ fn field_figure<'a>(
             let motion = [0, 1, 2].map(|i| (estimate[i], actual[i]));
             // Drawn with fewer points than the other figures: the field's SVG is large.
             let mut overlay = gait::shape_overlay(problem, &alphas, arcs, units, style::INK, 600);
-            if problem.joint_limit().is_none() {
+            if problem.alpha_max.is_none() {
                 // The overlap limit is the edge of the field.
                 overlay.limit = None;
             }

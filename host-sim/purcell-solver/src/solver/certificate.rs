@@ -99,7 +99,7 @@ pub fn kkt(
     let mut min_eta: Option<f64> = None;
     let mut active = 0;
     let n = t.controls.len();
-    let limit = problem.joint_limit();
+    let limit = problem.alpha_max;
     for (k, (s, u)) in t.states.iter().zip(&t.controls).enumerate().rev() {
         let [a1, a2, px, py, th] = coordinates(s);
         let x = [a1, a2, px, py, th, u.x, u.y];

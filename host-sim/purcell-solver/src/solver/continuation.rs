@@ -71,7 +71,7 @@ impl Warm {
 pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveError> {
     let unreachable = |best_residual| SolveError::Unreachable { best_residual };
     let horizon = problem.horizon();
-    let limit = problem.joint_limit();
+    let limit = problem.alpha_max;
     // Directly on the problem's own grid (without a joint limit).
     let fine = Grid::new(problem, problem.steps as usize, Rule::LEFT_POINT)
         .map_err(|_| unreachable(f64::INFINITY))?;

@@ -29,7 +29,7 @@ pub mod stage;
 pub mod starts;
 pub mod symmetry;
 
-use crate::problem::Problem;
+use crate::problem::{OVERLAP, Problem};
 use direct::{Grid, Limits, Point, Run, Settings};
 use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::{Arc, State};
@@ -294,7 +294,7 @@ pub fn refine(
     nu: &Vector5<f64>,
     bound: f64,
 ) -> Result<(Grid, Run), Stop> {
-    match problem.joint_limit() {
+    match problem.alpha_max {
         None => refine_free(problem, u, nu, bound),
         Some(a) => limits::refine(problem, a, u, nu, bound),
     }
@@ -357,7 +357,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let n = p.u.len();
     let mu = costate::momentum(&run.lambda[n], &p.states[n]);
     let max_abs_alpha = direct::max_abs_alpha(&p.states);
-    let physical = max_abs_alpha < core::f64::consts::PI;
+    let physical = max_abs_alpha < OVERLAP;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
     let cost = grid.cost(&p.u);
     let kkt = certificate::kkt(problem, &trajectory, &mu)
@@ -406,7 +406,7 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
         Rule::matching(problem.horizon() / n as f64, problem.h)
     };
     let mut grid = Grid::new(problem, n, rule).ok()?;
-    if let Some(alpha_max) = problem.joint_limit() {
+    if let Some(alpha_max) = problem.alpha_max {
         grid.limits = Limits::Barrier {
             alpha_max,
             tau: limits::COARSE_TAU,
@@ -445,7 +445,7 @@ pub fn search_coarse(
         options.min_starts,
         options.starts,
         options.seed,
-        problem.joint_limit(),
+        problem.alpha_max,
         &|a| problem.admits(a),
         progress,
     ))
@@ -461,7 +461,7 @@ pub fn refine_candidates(
     options: &SolveOptions,
     best_residual: f64,
 ) -> Result<(usize, Vec<Extremal>), SolveError> {
-    let alpha_max = problem.alpha_max;
+    let alpha_max = problem.shape_bound();
     // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
     // the coarse grid's error in `|α|`) until the cheapest admissible fine extremal is settled
     // (every remaining candidate costs more, with a margin for the coarse grid's error in

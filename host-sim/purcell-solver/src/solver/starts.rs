@@ -35,6 +35,7 @@
 //! until the box loops run out, each kind in an order mixed by a hash of the seed.
 
 use super::direct::Grid;
+use crate::problem::OVERLAP;
 use nalgebra::Vector2;
 
 /// The shape of a start loop.
@@ -154,8 +155,8 @@ pub fn reference_size(grid: &Grid) -> f64 {
     best.1
 }
 
-/// Box loops reach at most this `|α_i|` (radians).
-const BOX: f64 = 0.9 * core::f64::consts::PI;
+/// Box loops reach at most this `|α_i|` (radians): 90 % of the links' overlap.
+const BOX: f64 = 0.9 * OVERLAP;
 /// Box loops per scaled loop in the mixed part of the family.
 const BOX_SHARE: usize = 3;
 
