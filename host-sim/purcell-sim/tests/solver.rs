@@ -7,8 +7,9 @@ use purcell_sim::output;
 use purcell_sim::replay;
 use purcell_sim::suite::{SuiteProblem, read_suite};
 use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::settings::PRUNE;
 use purcell_solver::solver::{
-    Extremal, PRUNE, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
+    Extremal, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
 };
 
 fn public_problems() -> Vec<SuiteProblem> {

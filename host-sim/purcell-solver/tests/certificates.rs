@@ -11,8 +11,9 @@ use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::certificate::{kkt, law_residual, terminal_residual};
 use purcell_solver::solver::direct::{self, Grid, Point};
 use purcell_solver::solver::riccati::Factor;
+use purcell_solver::solver::settings::Settings;
 use purcell_solver::solver::stage::Rule;
-use purcell_solver::solver::{Extremal, SolveOptions, Trajectory, extremal, fine_settings, solve};
+use purcell_solver::solver::{Extremal, SolveOptions, Trajectory, extremal, solve};
 
 /// The tolerances of `host-sim/purcell-sim/tests/solver.rs`'s `check_extremal`.
 const TERMINAL_TOL: f64 = 1e-10;
@@ -200,7 +201,7 @@ fn local_min_is_false_on_a_saddle() {
         let u = pt.u.iter().zip(&du).map(|(u, d)| u + d).collect();
         pt = Point::new(&grid, u, pt.nu + dnu).unwrap();
     }
-    let settings = fine_settings(&p, &pt.u);
+    let settings = Settings::fine(&p, &pt.u);
     let run = direct::newton(&grid, pt.clone(), &settings).unwrap();
     assert!(run.converged && run.iterations == 0, "{}", run.defect);
     let saddle = extremal(&p, &grid, &run);
@@ -226,7 +227,7 @@ fn local_min_is_false_on_a_saddle() {
     let away = direct::newton(
         &grid,
         start,
-        &direct::Settings {
+        &Settings {
             max_iterations: 200,
             ..settings
         },

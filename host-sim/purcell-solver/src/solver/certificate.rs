@@ -17,6 +17,7 @@
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
 
 use super::Trajectory;
+use super::settings::ON_LIMIT;
 use crate::dual::Dual;
 use crate::problem::Problem;
 use nalgebra::{SVector, Vector2, Vector3};
@@ -67,9 +68,6 @@ pub struct Kkt {
     /// States found on the joint limit.
     pub active: usize,
 }
-
-/// A state is on the joint limit when `|α_i| ≥ α_max (1 − 1e-12)`.
-pub const ON_LIMIT: f64 = 1e-12;
 
 /// The KKT conditions of the direct problem (see the module docs) for the trajectory and the
 /// costate's `μ`.

@@ -10,9 +10,10 @@
 //! leave the admissible shapes stops there, and [`solve_from`] falls back to the global
 //! search.
 
-use super::direct::{self, Grid, Point, Settings};
+use super::direct::{self, Grid, Point};
 use super::limits;
 use super::search::{self, Candidate};
+use super::settings::{self, MIN_WALK_STEP, SAME_TARGET, Settings, WARM_INSIDE};
 use super::stage::{Rule, StageState};
 use super::symmetry::{self, Symmetry};
 use super::{
@@ -78,7 +79,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     if limit.is_none()
         && let Ok(p) = warm.point(&fine, horizon)
     {
-        let settings = super::fine_settings(problem, &p.u);
+        let settings = Settings::fine(problem, &p.u);
         if let Ok(run) = direct::newton(&fine, p, &settings)
             && run.converged
             && problem.admits(direct::max_abs_alpha(&run.point.states))
@@ -97,13 +98,11 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     let mut point = warm
         .point(&medium, horizon)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    let mut settings = Settings::plain(30);
+    let settings = Settings::warm(limit.is_some());
     // With a joint limit: the warm start pulled just inside it (a gait on arcs of the limit
     // rests on it) and to the barrier's minimum at its own target and the search's last
     // weight; the walk then keeps that weight, its steps stopping short of the limit.
     if let Some(a) = limit {
-        settings.max_iterations = limits::PATIENCE[0];
-        settings.fraction_to_boundary = true;
         let w = warm.target;
         let mut own = medium.clone();
         own.target = StageState::new(own.target[0], own.target[1], w.x, w.y, w.z);
@@ -111,12 +110,12 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
         let within = problem.admits(direct::max_abs_alpha(&point.states));
         let (inside, path): (_, &[f64]) = if within {
-            let bound = (1.0 - 1e-3) * a;
+            let bound = (1.0 - WARM_INSIDE) * a;
             let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
-            (u, &[limits::COARSE_TAU])
+            (u, &[settings::COARSE_TAU])
         } else {
             let u = limits::shrink_into(point.u, &problem.alpha0, a, medium.h());
-            (u, limits::coarse_path(0))
+            (u, settings::coarse_path(0))
         };
         let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
         let run = limits::barrier_path(&own, a, path, start, &settings)
@@ -127,7 +126,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         point = run.point;
         medium.limits = direct::Limits::Barrier {
             alpha_max: a,
-            tau: limits::COARSE_TAU,
+            tau: settings::COARSE_TAU,
         };
     }
     let (from, to) = (warm.target, problem.target);
@@ -137,7 +136,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     // shapes: why the walk stopped, if it did there.
     let mut left = f64::INFINITY;
     while s < 1.0 {
-        if ds < 1e-3 {
+        if ds < MIN_WALK_STEP {
             return Err(if left.is_finite() {
                 SolveError::NoneAdmissible {
                     found: 1,
@@ -329,7 +328,7 @@ pub fn sweep(
     let lookup = |t: &Vector3<f64>| {
         targets
             .iter()
-            .position(|u| (u - t).amax() <= 1e-12 * (1.0 + t.amax()))
+            .position(|u| (u - t).amax() <= SAME_TARGET * (1.0 + t.amax()))
     };
     let images: Vec<Vec<(usize, Symmetry)>> = problems
         .iter()
@@ -385,7 +384,7 @@ pub fn sweep(
             grids[i].as_ref(),
         );
     }
-    let settings = Settings::plain(40);
+    let settings = Settings::NEIGHBOURS;
     let mut brought: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
     loop {
         let updates: Vec<(usize, Vec<Candidate>)> = (0..targets.len())

@@ -28,6 +28,11 @@
 //! links' overlap; whether an extremal is admissible is decided afterwards.
 
 use super::riccati::{ControlMap, Factor};
+use super::settings::{
+    BACKTRACK, DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, FILTER_ETA, FILTER_GAMMA_PHI,
+    FILTER_GAMMA_THETA, FILTER_S_PHI, FILTER_S_THETA, FILTER_THETA_MAX, FILTER_THETA_MIN,
+    FRACTION_TO_BOUNDARY, MIN_STEP, Settings, WALL_SLACK,
+};
 use super::stage::{Linearised, Rule, StageModel, StageState};
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector5};
@@ -201,9 +206,9 @@ impl Grid {
 
     /// The largest `t ≤ 1` for which the step `t·du` keeps every state `k = 1 … N−1` a share
     /// `1 − fraction` of its distance `d` from each limit, less `slack` (`δα_k = h Σ_{j<k}
-    /// δu_j` is linear in `t`): `t ≤ (fraction·d + slack)/δd`. `(0.99, 0)` is IPOPT's fraction
-    /// to the boundary; `(1, slack)` where the step leaves the barrier's domain. 1 without a
-    /// barrier.
+    /// δu_j` is linear in `t`): `t ≤ (fraction·d + slack)/δd`. `(FRACTION_TO_BOUNDARY, 0)` is
+    /// IPOPT's fraction to the boundary; `(1, slack)` where the step leaves the barrier's
+    /// domain. 1 without a barrier.
     pub fn max_step(
         &self,
         states: &[StageState],
@@ -397,39 +402,6 @@ pub fn max_abs_alpha(states: &[StageState]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Stopping rules.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Settings {
-    /// Iteration limit.
-    pub max_iterations: usize,
-    /// Largest terminal defect accepted (m, rad).
-    pub tol_defect: f64,
-    /// Largest stationarity residual accepted (rad/s).
-    pub tol_kkt: f64,
-    /// With a barrier: start each line search at the fraction to the boundary
-    /// ([`Grid::max_step`]) rather than at the full step, so that no state comes closer to
-    /// the limit than 1 % of its distance in one step (IPOPT's rule).
-    pub fraction_to_boundary: bool,
-    /// Largest change of any shape `α_{k,i}` in one iteration, radians (`f64::INFINITY`:
-    /// none); see the module docs.
-    pub trust_radius: f64,
-}
-
-impl Settings {
-    /// `max_iterations` Newton iterations to a terminal defect of 1e-10 and stationarity of
-    /// 1e-8 rad/s, plain line search, no trust radius: the coarse and intermediate grids'
-    /// settings, which callers adjust field by field.
-    pub const fn plain(max_iterations: usize) -> Self {
-        Settings {
-            max_iterations,
-            tol_defect: 1e-10,
-            tol_kkt: 1e-8,
-            fraction_to_boundary: false,
-            trust_radius: f64::INFINITY,
-        }
-    }
-}
-
 /// The largest `|Σ_{j≤k} h·v_j|` over `k` and both joints: how far controls `v` take the
 /// shape from where it starts (for a Newton step `du`: how far it moves the shape path).
 pub fn shape_reach(v: &[Vector2<f64>], h: f64) -> f64 {
@@ -495,11 +467,11 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
                 break Some(f);
             }
             delta = if delta == 0.0 {
-                (delta_last / 3.0).max(1e-6 * h)
+                (delta_last / DELTA_DECAY).max(DELTA_MIN * h)
             } else {
-                delta * 10.0
+                delta * DELTA_GROWTH
             };
-            if delta > 1e10 * h {
+            if delta > DELTA_MAX * h {
                 break None;
             }
         };
@@ -554,7 +526,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         };
         let mut accepted = None;
         let mut t = if settings.fraction_to_boundary {
-            grid.max_step(&pt.states, &du, 0.99, 0.0)
+            grid.max_step(&pt.states, &du, FRACTION_TO_BOUNDARY, 0.0)
         } else {
             1.0
         };
@@ -566,8 +538,8 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         }
         // A trial that takes a state past the limit (by more than rounding) would fail in its
         // rollout: it is skipped without one.
-        let wall = grid.max_step(&pt.states, &du, 1.0, 1e-12);
-        while t > 1e-12 {
+        let wall = grid.max_step(&pt.states, &du, 1.0, WALL_SLACK);
+        while t > MIN_STEP {
             if t <= wall
                 && let Some((p, th, ph)) = trial(t, None)
             {
@@ -587,7 +559,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
                     break;
                 }
             }
-            t *= 0.5;
+            t *= BACKTRACK;
         }
         if log {
             eprintln!(
@@ -631,17 +603,11 @@ struct Filter {
 }
 
 impl Filter {
-    const GAMMA_THETA: f64 = 1e-5;
-    const GAMMA_PHI: f64 = 1e-5;
-    const ETA: f64 = 1e-4;
-    const S_THETA: f64 = 1.1;
-    const S_PHI: f64 = 2.3;
-
     fn new(theta0: f64) -> Self {
         Filter {
             entries: Vec::new(),
-            theta_max: 1e4 * theta0.max(1.0),
-            theta_min: 1e-4 * theta0.max(1.0),
+            theta_max: FILTER_THETA_MAX * theta0.max(1.0),
+            theta_min: FILTER_THETA_MIN * theta0.max(1.0),
         }
     }
 
@@ -660,19 +626,19 @@ impl Filter {
         if self.entries.iter().any(|&(tj, pj)| th >= tj && ph >= pj) {
             return None;
         }
-        let switching = slope < 0.0 && t * (-slope).powf(Self::S_PHI) > theta.powf(Self::S_THETA);
+        let switching = slope < 0.0 && t * (-slope).powf(FILTER_S_PHI) > theta.powf(FILTER_S_THETA);
         if switching && theta <= self.theta_min {
-            (ph <= phi + Self::ETA * t * slope).then_some(StepKind::Cost)
+            (ph <= phi + FILTER_ETA * t * slope).then_some(StepKind::Cost)
         } else {
-            (th <= (1.0 - Self::GAMMA_THETA) * theta || ph <= phi - Self::GAMMA_PHI * theta)
+            (th <= (1.0 - FILTER_GAMMA_THETA) * theta || ph <= phi - FILTER_GAMMA_PHI * theta)
                 .then_some(StepKind::Constraint)
         }
     }
 
     fn add(&mut self, theta: f64, phi: f64) {
         let entry = (
-            (1.0 - Self::GAMMA_THETA) * theta,
-            phi - Self::GAMMA_PHI * theta,
+            (1.0 - FILTER_GAMMA_THETA) * theta,
+            phi - FILTER_GAMMA_PHI * theta,
         );
         self.entries
             .retain(|&(tj, pj)| !(tj >= entry.0 && pj >= entry.1));
@@ -803,8 +769,8 @@ mod tests {
                 grid.rollout(&at(wall * (1.0 + 1e-9))),
                 Err(Error::ShapeLimit)
             );
-            let fraction = grid.max_step(&states, &du, 0.99, 0.0);
-            assert!((fraction - 0.99 * wall).abs() <= 1e-12 * wall);
+            let fraction = grid.max_step(&states, &du, FRACTION_TO_BOUNDARY, 0.0);
+            assert!((fraction - FRACTION_TO_BOUNDARY * wall).abs() <= 1e-12 * wall);
         }
     }
 }

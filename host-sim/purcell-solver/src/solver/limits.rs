@@ -19,36 +19,17 @@
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
 use super::Stop;
-use super::direct::{self, Grid, Limits, Point, Run, Settings};
+use super::direct::{self, Grid, Limits, Point, Run};
+use super::settings::{
+    ETA_ROUNDING, FINE_TAUS, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings,
+};
 use super::stage::StageState;
 use crate::problem::Problem;
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
 
-/// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for every
-/// other start, at `1e-2` (a stronger push off the limit at first leads to other basins).
-const COARSE_PATHS: [&[f64]; 2] = [&[1e-3, 1e-4, 1e-5, 1e-6], &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6]];
-/// The last weight of the coarse paths: the coarse problem's barrier.
-pub const COARSE_TAU: f64 = 1e-6;
-
-/// The barrier path of start `index` on the coarse grid.
-pub fn coarse_path(index: usize) -> &'static [f64] {
-    COARSE_PATHS[index % 2]
-}
-/// Newton iterations per barrier weight; the second for a path that ran out of the first (as
-/// one pinned to a tight limit can). In the search, the second pass of starts only
-/// ([`super::search`]).
-pub const PATIENCE: [usize; 2] = [100, 300];
-/// Barrier weights of the fine grid before the active set is fixed.
-pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
-/// Most active-set rounds of [`polish`] (from a barrier solution on the same grid, two
-/// suffice: arcs found, then confirmed).
-const ROUNDS: usize = 6;
-/// A state this close to the limit (radians) at the end of the barrier path is on an arc.
-pub const NEAR: f64 = 1e-6;
-
 /// The controls `u` (from `ᾱ`) with their shape path shrunk about `ᾱ` so that it stays within
-/// 95 % of the limit.
+/// [`SHRINK`] of the limit.
 pub fn shrink_into(
     u: Vec<Vector2<f64>>,
     alpha0: &Vector2<f64>,
@@ -56,7 +37,7 @@ pub fn shrink_into(
     h: f64,
 ) -> Vec<Vector2<f64>> {
     let reach = direct::shape_reach(&u, h);
-    let room = 0.95 * alpha_max - alpha0.amax();
+    let room = SHRINK * alpha_max - alpha0.amax();
     if reach <= room || room <= 0.0 {
         return u;
     }
@@ -213,7 +194,7 @@ pub fn polish(
             .iter()
             .flat_map(|a| (a.first..=a.last).map(move |k| (k, a)))
             .fold(0.0f64, |m, (k, a)| m.max(eta(k, a).abs()));
-        let violated: Vec<Arc> = arcs_of(states, alpha_max, -1e-12 * alpha_max)
+        let violated: Vec<Arc> = arcs_of(states, alpha_max, -PAST_LIMIT * alpha_max)
             .into_iter()
             .filter(|v| {
                 !arcs.iter().any(|a| {
@@ -226,9 +207,9 @@ pub fn polish(
             // Keep the stretches of the arc where η ≥ 0 (to rounding).
             let mut k = a.first;
             while k <= a.last {
-                if eta(k, a) >= -1e-9 * scale {
+                if eta(k, a) >= -ETA_ROUNDING * scale {
                     let first = k;
-                    while k < a.last && eta(k + 1, a) >= -1e-9 * scale {
+                    while k < a.last && eta(k + 1, a) >= -ETA_ROUNDING * scale {
                         k += 1;
                     }
                     released.push(Arc {
@@ -275,9 +256,9 @@ fn k_ok(n: usize, arcs: &[Arc]) -> bool {
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
 /// through finer grids ([`super::finer_grid`]), the first running the barrier path
 /// [`FINE_TAUS`], the others only its last weight (each with [`PATIENCE`]), then [`polish`].
-/// The barrier steps stop at the fraction to the boundary
-/// ([`Settings::fraction_to_boundary`]): from a prolonged coarse solution, unguarded steps
-/// pin states to the limit and Newton stalls there. Stops with [`Stop::Dearer`] if an
+/// The barrier steps stop at the fraction to the boundary ([`Settings::barrier`]): from a
+/// prolonged coarse solution, unguarded steps pin states to the limit and Newton stalls
+/// there. Stops with [`Stop::Dearer`] if an
 /// intermediate grid's cost exceeds `bound`.
 pub fn refine(
     problem: &Problem,
@@ -294,14 +275,6 @@ pub fn refine(
         let (grid, last) = super::finer_grid(problem, u.len()).map_err(inf)?;
         let next = grid.steps;
         let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
-        // The barrier's Hessian grows like τ/d² near the limit, so its stationarity is
-        // asked only to 1e-6 at the small weights: the path is there to find the arcs,
-        // [`polish`] converges the constrained problem itself.
-        let settings = |patience| Settings {
-            tol_kkt: 1e-6,
-            fraction_to_boundary: true,
-            ..Settings::plain(patience)
-        };
         // The path once, on the first finer grid; a later grid only its last weight.
         let taus: &[f64] = if walked {
             &FINE_TAUS[FINE_TAUS.len() - 1..]
@@ -309,8 +282,15 @@ pub fn refine(
             &FINE_TAUS
         };
         walked = true;
-        let path =
-            |patience| barrier_path(&grid, alpha_max, taus, start.clone(), &settings(patience));
+        let path = |patience| {
+            barrier_path(
+                &grid,
+                alpha_max,
+                taus,
+                start.clone(),
+                &Settings::barrier(patience),
+            )
+        };
         let mut run = path(PATIENCE[0]).map_err(inf)?;
         if !run.converged {
             run = path(PATIENCE[1]).map_err(inf)?;
@@ -319,7 +299,7 @@ pub fn refine(
             return Err(Stop::Defect(run.defect));
         }
         if last {
-            let fine = super::fine_settings(problem, &run.point.u);
+            let fine = Settings::fine(problem, &run.point.u);
             return polish(&grid, alpha_max, &run.point, &fine).map_err(|e| match e {
                 PolishError::NotConverged(d) => Stop::Defect(d),
                 PolishError::Unsettled => Stop::Defect(f64::INFINITY),

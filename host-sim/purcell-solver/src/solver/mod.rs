@@ -25,14 +25,19 @@ pub mod direct;
 pub mod limits;
 pub mod riccati;
 pub mod search;
+pub mod settings;
 pub mod stage;
 pub mod starts;
 pub mod symmetry;
 
 use crate::problem::{OVERLAP, Problem};
-use direct::{Grid, Limits, Point, Run, Settings};
+use direct::{Grid, Limits, Point, Run};
 use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::{Arc, State};
+use settings::{
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, COARSE_TAU, KKT_TOL, LAW_TOL, PRUNE, Settings,
+    TERMINAL_TOL,
+};
 use stage::Rule;
 
 /// Solver settings.
@@ -126,26 +131,32 @@ pub struct Extremal {
 
 impl Extremal {
     /// Why its certificates do not vouch for it, if they do not: it must be admissible and a
-    /// strict local minimum, land on the target through the core's kinematics within 1e-10,
-    /// satisfy KKT within 1e-8 rad/s and be reproduced by the core's law within 1e-9
-    /// (relative); the bounds the tests hold every returned extremal to.
+    /// strict local minimum, land on the target through the core's kinematics within
+    /// [`TERMINAL_TOL`], satisfy KKT within [`KKT_TOL`] and be reproduced by the core's law
+    /// within [`LAW_TOL`] (relative); the bounds the tests hold every returned extremal to.
     pub fn uncertified(&self) -> Option<&'static str> {
-        let within = |x: Option<f64>, bound: f64| x.is_some_and(|x| x <= bound);
         if !self.admissible {
-            Some("not admissible")
-        } else if !self.local_min {
-            Some("not a strict local minimum")
-        } else if !within(self.terminal_residual, 1e-10) {
-            Some("terminal residual above 1e-10")
-        } else if !within(self.kkt_residual, 1e-8) {
-            Some("KKT residual above 1e-8")
-        } else if !within(self.law_residual, 1e-9) {
-            Some("law residual above 1e-9")
-        } else {
-            None
+            return Some("not admissible");
         }
+        if !self.local_min {
+            return Some("not a strict local minimum");
+        }
+        let residuals = [self.terminal_residual, self.kkt_residual, self.law_residual];
+        residuals
+            .into_iter()
+            .zip(CERTIFICATES)
+            .find(|(r, (bound, _))| !r.is_some_and(|r| r <= *bound))
+            .map(|(_, (_, why))| why)
     }
 }
+
+/// The certificates' bounds, in the order [`Extremal::uncertified`] checks them, with how it
+/// names a residual above each (sweep.csv's `status`).
+const CERTIFICATES: [(f64, &str); 3] = [
+    (TERMINAL_TOL, "terminal residual above 1e-10"),
+    (KKT_TOL, "KKT residual above 1e-8"),
+    (LAW_TOL, "law residual above 1e-9"),
+];
 
 /// Outcome of a solve.
 #[derive(Clone, Debug, PartialEq)]
@@ -241,31 +252,6 @@ pub enum SolveError {
     },
 }
 
-/// Convergence thresholds on the fine grid, relative to the problem's scale: the terminal
-/// defect to 1e-11 of the displacement asked for (at most 1e-12, at least 1e-15), stationarity
-/// to 1e-10 of the largest control (at least 1e-13 rad/s).
-pub fn fine_settings(problem: &Problem, controls: &[Vector2<f64>]) -> Settings {
-    let t = problem.target;
-    let scale = (t.x * t.x + t.y * t.y).sqrt().max(t.z.abs());
-    let umax = controls.iter().map(|u| u.amax()).fold(0.0, f64::max);
-    Settings {
-        max_iterations: 30,
-        tol_defect: (1e-11 * scale).clamp(1e-15, 1e-12),
-        tol_kkt: (1e-10 * umax).max(1e-13),
-        fraction_to_boundary: false,
-        trust_radius: f64::INFINITY,
-    }
-}
-
-/// Convergence thresholds on the intermediate grids of a refinement without a joint limit.
-const INTERMEDIATE_SETTINGS: Settings = Settings::plain(30);
-
-/// Relative margin by which an extremal on the intermediate grid of a refinement must cost
-/// more than the settled cheapest one to be dropped there: that grid's cost is within 3.2e-5
-/// of the problem's own (measured over 60 extremals of 14 problems, with and without joint
-/// limits; the coarse grid's is within 8e-3, hence the search's margin of 1e-2).
-pub const PRUNE: f64 = 1e-3;
-
 /// Why a refinement stopped short of the problem's grid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Stop {
@@ -316,9 +302,9 @@ pub fn refine_free(
         let next = grid.steps;
         let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
         let settings = if last {
-            fine_settings(problem, &start.u)
+            Settings::fine(problem, &start.u)
         } else {
-            INTERMEDIATE_SETTINGS
+            Settings::INTERMEDIATE
         };
         let run = direct::newton(&grid, start, &settings).map_err(inf)?;
         if !run.converged {
@@ -397,7 +383,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 
 /// The coarse grid of the global search: `options.coarse_steps` steps (at most the problem's)
 /// with the rule that mimics the problem's discretisation; with a joint limit, its barrier
-/// at the last weight of the search's path ([`limits::COARSE_TAU`]).
+/// at the last weight of the search's path ([`COARSE_TAU`]).
 pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
     let n = options.coarse_steps.min(problem.steps as usize).max(1);
     let rule = if n == problem.steps as usize {
@@ -409,7 +395,7 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
     if let Some(alpha_max) = problem.alpha_max {
         grid.limits = Limits::Barrier {
             alpha_max,
-            tau: limits::COARSE_TAU,
+            tau: COARSE_TAU,
         };
     }
     Some(grid)
@@ -469,7 +455,7 @@ pub fn refine_candidates(
     // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]).
     let mut extremals: Vec<Extremal> = Vec::new();
     let mut refine_defect = f64::INFINITY;
-    let near = |a: f64| a < alpha_max + 0.05;
+    let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
     let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
     let mut refined = 0;
     for (pass, list) in [maybe, beyond].into_iter().enumerate() {
@@ -479,7 +465,11 @@ pub fn refine_candidates(
                 .filter(|x| x.admissible)
                 .map(|x| x.cost)
                 .fold(f64::INFINITY, f64::min);
-            let margin = if pass == 0 { 1.0 + 1e-2 } else { 1.0 };
+            let margin = if pass == 0 {
+                1.0 + COARSE_COST_ERROR
+            } else {
+                1.0
+            };
             if refined >= options.refine || c.cost > settled * margin {
                 break;
             }
@@ -543,6 +533,18 @@ fn mark_twins(problem: &Problem, extremals: &mut [Extremal]) {
             extremals[i].twin_of = (0..extremals.len()).find(|&j| {
                 j != i && search::same_path(&extremals[j].trajectory.controls, &image, problem.h)
             });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CERTIFICATES;
+
+    #[test]
+    fn each_certificate_message_names_its_bound() {
+        for (bound, why) in CERTIFICATES {
+            assert!(why.ends_with(&format!(" above {bound:e}")), "{why}");
         }
     }
 }

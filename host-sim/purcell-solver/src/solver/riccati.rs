@@ -33,6 +33,7 @@
 //! Hessian and the step is zero) exactly when the KKT matrix has `m = 5` negative eigenvalues,
 //! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
 
+use super::settings::{PIVOT, REFINE_GAIN, REFINE_MISS, REFINE_PASSES, SINGULAR};
 use super::stage::Linearised;
 use nalgebra::{
     Matrix2, Matrix2x3, Matrix2x5, Matrix3, Matrix3x2, Matrix3x5, Matrix5, SymmetricEigen, Vector2,
@@ -190,7 +191,7 @@ impl Factor {
             let qaa = st.qaa + a.transpose() * pa;
             let det = quu.m11 * quu.m22 - quu.m12 * quu.m21;
             let scale = quu.m11.abs().max(quu.m22.abs()).max(quu.m12.abs());
-            if det.abs() <= 1e-14 * scale * scale || !det.is_finite() {
+            if det.abs() <= PIVOT * scale * scale || !det.is_finite() {
                 return None;
             }
             negative_h += if det < 0.0 {
@@ -229,7 +230,7 @@ impl Factor {
         let sym = (m + m.transpose()) * 0.5;
         let eig = SymmetricEigen::new(sym).eigenvalues;
         let largest = eig.amax();
-        if eig.iter().any(|e| e.abs() <= 1e-13 * largest) {
+        if eig.iter().any(|e| e.abs() <= SINGULAR * largest) {
             return None;
         }
         let negative_m = eig.iter().filter(|e| **e < 0.0).count();
@@ -252,7 +253,7 @@ impl Factor {
     /// The controls come from the closed loop `δu = Kδs + d⁰ + Dν`, which is unstable where
     /// the reduced Hessian is indefinite: its rounding can leave the open-loop end `δs_N` of
     /// the computed `δu` off `e` by ~1e-10 relative on long horizons. So `ν` is refined with
-    /// the open-loop end (`ν ← ν + M⁻¹(e − δs_N)`, at most three passes, while it helps).
+    /// the open-loop end (`ν ← ν + M⁻¹(e − δs_N)`, at most [`REFINE_PASSES`] passes, while it helps).
     pub fn solve(
         &self,
         lin: &[Linearised],
@@ -264,7 +265,7 @@ impl Factor {
         let mut nu = lu.solve(&rhs)?;
         let mut du = Vec::with_capacity(lin.len());
         let mut last_miss = f64::INFINITY;
-        for pass in 0..4 {
+        for pass in 0..=REFINE_PASSES {
             du.clear();
             let mut open = Vector5::zeros();
             for (i, l) in lin.iter().enumerate() {
@@ -281,7 +282,10 @@ impl Factor {
             }
             let miss = e - open;
             let size = miss.amax();
-            if pass == 3 || size <= 1e-13 * e.amax() || size >= 0.5 * last_miss {
+            if pass == REFINE_PASSES
+                || size <= REFINE_MISS * e.amax()
+                || size >= REFINE_GAIN * last_miss
+            {
                 break;
             }
             last_miss = size;

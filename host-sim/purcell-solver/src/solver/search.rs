@@ -4,9 +4,9 @@
 //! rule mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so its
 //! local minima and their costs match the fine problem's to about 1e-3 and cost a hundredth
 //! of a fine solve. Without a
-//! joint limit each start runs with a trust radius ([`TRUST_RADIUS`]), so that it reaches a
+//! joint limit each start runs with a trust radius ([`settings::TRUST_RADIUS`]), so that it reaches a
 //! minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
-//! into distinct extremals (same shape path to 1e-6 rad). A converged point whose motion the
+//! into distinct extremals (same shape path to [`SAME_PATH`]). A converged point whose motion the
 //! coarse grid does not resolve ([`Grid::resolves`]) is dropped.
 //!
 //! **Stopping rule.** After each batch, with `n` starts run and `b` the cheapest admissible
@@ -18,26 +18,20 @@
 //! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (below 200 starts: no such minimum; from
 //! 200: one; from 400: two) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin
 //! is not a lucky hit); it also stops when the zero loop solves the problem (`J = 0`), when
-//! three batches found nothing, or when `max_starts` (the budget) have run
+//! [`HOPELESS_BATCHES`] batches found nothing, or when `max_starts` (the budget) have run
 //! ([`Search::satisfied`] is then false). Boender and Rinnooy Kan's Bayesian estimate of the
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
 //! ([`Search::expected_minima`]).
 
-use super::direct::{self, Grid, Point, Settings};
+use super::direct::{self, Grid, Point};
 use super::limits;
+use super::settings::{
+    self, BATCH, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, SAME_PATH, Settings,
+    UNSEEN,
+};
 use super::starts::{self, StartLoop};
 use nalgebra::{Vector2, Vector5};
 use rayon::prelude::*;
-
-/// Starts per batch.
-pub const BATCH: usize = 32;
-/// How many starts must reach the cheapest admissible extremal before the search stops.
-pub const CONFIRMATIONS: usize = 3;
-/// Largest estimated chance that a further start reaches a minimum not seen yet that is no
-/// dearer than the cheapest admissible one, for the search to stop (see the module docs).
-pub const UNSEEN: f64 = 0.005;
-/// Trust radius of the starts without a joint limit, radians ([`Settings::trust_radius`]).
-pub const TRUST_RADIUS: f64 = 0.3;
 
 /// A distinct local minimum of the coarse problem.
 #[derive(Clone, Debug)]
@@ -127,17 +121,10 @@ pub fn search(
         .chain(family.iter().enumerate().map(|(i, s)| (i + 1, Some(*s))))
         .collect();
     // Newton iterations per start (per barrier weight with a limit): the first of
-    // [`limits::PATIENCE`]; the second for a search with a limit whose first pass found
-    // nothing though a start came within 1e-3 of the target.
+    // [`PATIENCE`]; the second for a search with a limit whose first pass found nothing
+    // though a start came near the target ([`NEAR_TARGET`]).
     let run = |patience: usize, best_residual: f64| {
-        let settings = Settings {
-            trust_radius: if limit.is_none() {
-                TRUST_RADIUS
-            } else {
-                f64::INFINITY
-            },
-            ..Settings::plain(patience)
-        };
+        let settings = Settings::search(patience, limit.is_some());
         let mut out = Search {
             best_residual,
             ..Search::default()
@@ -159,7 +146,7 @@ pub fn search(
                                 limits::barrier_path(
                                     grid,
                                     a,
-                                    limits::coarse_path(index),
+                                    settings::coarse_path(index),
                                     p,
                                     &settings,
                                 )
@@ -214,21 +201,21 @@ pub fn search(
             let trivial =
                 cheapest_admissible(&out.candidates, admissible).is_some_and(|c| c.cost == 0.0);
             out.satisfied |= trivial;
-            // Nothing at all after three batches: the target is out of reach (or needs more
+            // Nothing at all after a few batches: the target is out of reach (or needs more
             // starts than the default; `--starts` bounds the search, not this rule).
-            let hopeless = out.candidates.is_empty() && out.starts >= 3 * BATCH;
+            let hopeless = out.candidates.is_empty() && out.starts >= HOPELESS_BATCHES * BATCH;
             if out.satisfied || hopeless {
                 break;
             }
         }
         out
     };
-    let out = run(limits::PATIENCE[0], f64::INFINITY);
+    let out = run(PATIENCE[0], f64::INFINITY);
     // Nothing found, but a start ended near the target: the starts ran out of iterations, not
     // of room (with a tight limit the barrier paths spend long pinned to it).
-    let near = out.best_residual <= 1e-3 * (grid.target - grid.start).amax();
+    let near = out.best_residual <= NEAR_TARGET * (grid.target - grid.start).amax();
     if out.candidates.is_empty() && limit.is_some() && near {
-        run(limits::PATIENCE[1], out.best_residual)
+        run(PATIENCE[1], out.best_residual)
     } else {
         out
     }
@@ -241,12 +228,12 @@ fn cheapest_admissible<'a>(
     candidates.iter().find(|c| admissible(c.max_abs_alpha))
 }
 
-/// Whether two control sequences run the same shape path (to 1e-6 rad at every node).
+/// Whether two control sequences run the same shape path (to [`SAME_PATH`] at every node).
 pub fn same_path(a: &[Vector2<f64>], b: &[Vector2<f64>], h: f64) -> bool {
     let mut d = Vector2::zeros();
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {
             d += (x - y) * h;
-            d.amax() <= 1e-6
+            d.amax() <= SAME_PATH
         })
 }

@@ -145,7 +145,8 @@ pub fn reference_size(grid: &Grid) -> f64 {
             && let Some(end) = states.last()
         {
             let got = size_of(end, &grid.start);
-            let miss = (got.max(1e-300) / want.max(1e-300)).ln().abs();
+            // Floored so that the logarithm stays finite for a zero target.
+            let miss = (got.max(TINY) / want.max(TINY)).ln().abs();
             if miss < best.0 {
                 best = (miss, s);
             }
@@ -155,6 +156,8 @@ pub fn reference_size(grid: &Grid) -> f64 {
     best.1
 }
 
+/// The smallest displacement [`reference_size`] compares (a floor, not a tolerance).
+const TINY: f64 = 1e-300;
 /// Box loops reach at most this `|α_i|` (radians): 90 % of the links' overlap.
 const BOX: f64 = 0.9 * OVERLAP;
 /// Box loops per scaled loop in the mixed part of the family.

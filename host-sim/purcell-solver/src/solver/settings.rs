@@ -1,0 +1,266 @@
+//! The solver's settings and tolerances, each named once with its meaning.
+//!
+//! - [`Settings`]: the stopping and step rules of one Newton–SQP run, with a preset per use:
+//!   the global search's starts ([`Settings::search`]), the refinement's intermediate and
+//!   fine grids ([`Settings::INTERMEDIATE`], [`Settings::fine`]) and its barrier path
+//!   ([`Settings::barrier`]), a warm start's walk ([`Settings::warm`]) and a sweep's
+//!   neighbour passes ([`Settings::NEIGHBOURS`]).
+//! - Convergence thresholds ([`TOL_DEFECT`] …), the joint limit's interior-point path
+//!   ([`COARSE_PATHS`] …), the line search and inertia correction ([`MIN_STEP`] …), the
+//!   Riccati step's pivots ([`PIVOT`] …), the global search ([`TRUST_RADIUS`] …), the
+//!   refinement's margins ([`PRUNE`] …), the warm start ([`MIN_WALK_STEP`] …) and the
+//!   certificates' bounds ([`TERMINAL_TOL`] …).
+//!
+//! When a state counts as on the joint limit, from the loosest: within [`NEAR`] (the end of
+//! a barrier path, where arcs are found); past it by more than [`PAST_LIMIT`] (a violation
+//! in the active-set rounds); at it to [`ON_LIMIT`] (the KKT certificate); and admissible
+//! to [`crate::problem::LIMIT_ROUNDING`] (the problem's own definition).
+
+use crate::problem::Problem;
+use nalgebra::Vector2;
+
+/// Stopping and step rules of one run of Newton–SQP ([`super::direct::newton`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Iteration limit.
+    pub max_iterations: usize,
+    /// Largest terminal defect accepted (m, rad).
+    pub tol_defect: f64,
+    /// Largest stationarity residual accepted (rad/s).
+    pub tol_kkt: f64,
+    /// With a barrier: start each line search at the fraction to the boundary
+    /// ([`FRACTION_TO_BOUNDARY`]) rather than at the full step, so that no state comes
+    /// closer to the limit than 1 % of its distance in one step (IPOPT's rule).
+    pub fraction_to_boundary: bool,
+    /// Largest change of any shape `α_{k,i}` in one iteration, radians (`f64::INFINITY`:
+    /// none); see [`super::direct`].
+    pub trust_radius: f64,
+}
+
+impl Settings {
+    /// `max_iterations` Newton iterations to [`TOL_DEFECT`] and [`TOL_KKT`], plain line
+    /// search, no trust radius: the coarse and intermediate grids' settings, which the other
+    /// presets adjust field by field.
+    pub const fn plain(max_iterations: usize) -> Self {
+        Settings {
+            max_iterations,
+            tol_defect: TOL_DEFECT,
+            tol_kkt: TOL_KKT,
+            fraction_to_boundary: false,
+            trust_radius: f64::INFINITY,
+        }
+    }
+
+    /// A start of the global search: `patience` iterations (per barrier weight with a joint
+    /// limit, [`PATIENCE`]); without a joint limit (`limited = false`) the [`TRUST_RADIUS`].
+    pub fn search(patience: usize, limited: bool) -> Self {
+        Settings {
+            trust_radius: if limited { f64::INFINITY } else { TRUST_RADIUS },
+            ..Settings::plain(patience)
+        }
+    }
+
+    /// The intermediate grids of a refinement without a joint limit.
+    pub const INTERMEDIATE: Settings = Settings::plain(30);
+
+    /// The problem's own grid, relative to the problem's scale: the terminal defect to
+    /// [`FINE_DEFECT`] of the displacement asked for (within [`FINE_DEFECT_MIN`] …
+    /// [`FINE_DEFECT_MAX`]), stationarity to [`FINE_KKT`] of the largest of `controls` (at
+    /// least [`FINE_KKT_MIN`] rad/s); 30 iterations.
+    pub fn fine(problem: &Problem, controls: &[Vector2<f64>]) -> Self {
+        let t = problem.target;
+        let scale = (t.x * t.x + t.y * t.y).sqrt().max(t.z.abs());
+        let umax = controls.iter().map(|u| u.amax()).fold(0.0, f64::max);
+        Settings {
+            tol_defect: (FINE_DEFECT * scale).clamp(FINE_DEFECT_MIN, FINE_DEFECT_MAX),
+            tol_kkt: (FINE_KKT * umax).max(FINE_KKT_MIN),
+            ..Settings::plain(30)
+        }
+    }
+
+    /// The barrier path of a refinement with a joint limit: `patience` iterations per weight,
+    /// stationarity to [`BARRIER_TOL_KKT`], every step stopped at the fraction to the
+    /// boundary.
+    pub fn barrier(patience: usize) -> Self {
+        Settings {
+            tol_kkt: BARRIER_TOL_KKT,
+            fraction_to_boundary: true,
+            ..Settings::plain(patience)
+        }
+    }
+
+    /// The walk of a warm start in its target ([`super::continuation`]): 30 iterations per
+    /// point; with a joint limit (`limited`), the first of [`PATIENCE`] and the fraction to
+    /// the boundary.
+    pub fn warm(limited: bool) -> Self {
+        let plain = Settings::plain(30);
+        if limited {
+            Settings {
+                max_iterations: PATIENCE[0],
+                fraction_to_boundary: true,
+                ..plain
+            }
+        } else {
+            plain
+        }
+    }
+
+    /// A sweep's neighbour passes on the coarse grid ([`super::continuation::sweep`]).
+    pub const NEIGHBOURS: Settings = Settings::plain(40);
+}
+
+// Convergence.
+
+/// Terminal defect of the coarse and intermediate grids (m, rad).
+pub const TOL_DEFECT: f64 = 1e-10;
+/// Stationarity of the coarse and intermediate grids (rad/s).
+pub const TOL_KKT: f64 = 1e-8;
+/// The problem's grid: terminal defect relative to the displacement asked for.
+pub const FINE_DEFECT: f64 = 1e-11;
+/// Smallest terminal defect asked for on the problem's grid (m, rad).
+pub const FINE_DEFECT_MIN: f64 = 1e-15;
+/// Largest terminal defect accepted on the problem's grid (m, rad).
+pub const FINE_DEFECT_MAX: f64 = 1e-12;
+/// The problem's grid: stationarity relative to the largest control.
+pub const FINE_KKT: f64 = 1e-10;
+/// Smallest stationarity asked for on the problem's grid (rad/s).
+pub const FINE_KKT_MIN: f64 = 1e-13;
+/// Stationarity of the refinement's barrier path (rad/s): the barrier's Hessian grows like
+/// `τ/d²` near the limit, so it is asked only this much at the small weights; the path is
+/// there to find the arcs, the active-set rounds converge the constrained problem itself.
+pub const BARRIER_TOL_KKT: f64 = 1e-6;
+
+// The joint limit (MODEL.md §9, [`super::limits`]).
+
+/// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for every
+/// other start, at `1e-2` (a stronger push off the limit at first leads to other basins).
+pub const COARSE_PATHS: [&[f64]; 2] = [&[1e-3, 1e-4, 1e-5, 1e-6], &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6]];
+/// The barrier path of start `index` on the coarse grid ([`COARSE_PATHS`]).
+pub fn coarse_path(index: usize) -> &'static [f64] {
+    COARSE_PATHS[index % 2]
+}
+/// The last weight of the coarse paths: the coarse problem's barrier.
+pub const COARSE_TAU: f64 = 1e-6;
+/// Barrier weights of the fine grid before the active set is fixed.
+pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
+/// Newton iterations per barrier weight; the second for a path that ran out of the first (as
+/// one pinned to a tight limit can). In the search, the second pass of starts only
+/// ([`super::search`]).
+pub const PATIENCE: [usize; 2] = [100, 300];
+/// Most active-set rounds (from a barrier solution on the same grid, two suffice: arcs
+/// found, then confirmed).
+pub const ROUNDS: usize = 6;
+/// A start's shape path is shrunk about `ᾱ` to within this share of the limit.
+pub const SHRINK: f64 = 0.95;
+/// A warm gait within the limit is clipped to `(1 − WARM_INSIDE)·α_max`: just inside it.
+pub const WARM_INSIDE: f64 = 1e-3;
+/// A state this close to the limit (radians) at the end of the barrier path is on an arc.
+pub const NEAR: f64 = 1e-6;
+/// In the active-set rounds, a state off the arcs beyond the limit by more than this share
+/// of `α_max` violates it (less is rounding).
+pub const PAST_LIMIT: f64 = 1e-12;
+/// In the active-set rounds, an arc state's multiplier `η_k ≥ −ETA_ROUNDING·max|η|` counts as
+/// `η_k ≥ 0` (rounding).
+pub const ETA_ROUNDING: f64 = 1e-9;
+/// The KKT certificate takes a state with `|α_i| ≥ α_max (1 − ON_LIMIT)` as on the limit.
+pub const ON_LIMIT: f64 = 1e-12;
+/// IPOPT's fraction to the boundary: a step keeps this share of each state's distance from
+/// the limit ([`Settings::fraction_to_boundary`]).
+pub const FRACTION_TO_BOUNDARY: f64 = 0.99;
+/// A line-search trial that takes a state past the limit by more than this (radians, more
+/// than rounding) is skipped without a rollout.
+pub const WALL_SLACK: f64 = 1e-12;
+
+// The line search (a filter, Wächter & Biegler, with IPOPT's constants) and the inertia
+// correction ([`super::direct`]).
+
+/// The shortest step tried.
+pub const MIN_STEP: f64 = 1e-12;
+/// Each rejected trial halves the step.
+pub const BACKTRACK: f64 = 0.5;
+/// The filter's `γ_θ`: a trial must lower `θ = |c|₁` by this share of `θ`…
+pub const FILTER_GAMMA_THETA: f64 = 1e-5;
+/// …or the cost by `γ_φ·θ`.
+pub const FILTER_GAMMA_PHI: f64 = 1e-5;
+/// The filter's Armijo constant `η_φ`.
+pub const FILTER_ETA: f64 = 1e-4;
+/// The switching condition's exponent `s_θ`.
+pub const FILTER_S_THETA: f64 = 1.1;
+/// The switching condition's exponent `s_φ`.
+pub const FILTER_S_PHI: f64 = 2.3;
+/// No trial with `θ` above this multiple of `max(θ_0, 1)` is accepted.
+pub const FILTER_THETA_MAX: f64 = 1e4;
+/// Below this multiple of `max(θ_0, 1)` an iterate is nearly feasible (the Armijo rule
+/// applies).
+pub const FILTER_THETA_MIN: f64 = 1e-4;
+/// The first regularisation `δ` tried, relative to `h`.
+pub const DELTA_MIN: f64 = 1e-6;
+/// The largest `δ`, relative to `h`: beyond it the iteration stops.
+pub const DELTA_MAX: f64 = 1e10;
+/// `δ` grows by this factor until the QP is convex on the constraint's null space.
+pub const DELTA_GROWTH: f64 = 10.0;
+/// The next iteration's first `δ` is the last one divided by this.
+pub const DELTA_DECAY: f64 = 3.0;
+
+// The Riccati step ([`super::riccati`]).
+
+/// A pivot `Q̂_uu` is singular when `|det| ≤ PIVOT·(largest entry)²`.
+pub const PIVOT: f64 = 1e-14;
+/// `M` is singular when an eigenvalue is within this share of the largest.
+pub const SINGULAR: f64 = 1e-13;
+/// The refinement of `ν` stops once the open-loop end misses `e` by this share of `e`…
+pub const REFINE_MISS: f64 = 1e-13;
+/// …or after this many passes…
+pub const REFINE_PASSES: usize = 3;
+/// …or when a pass shrinks the miss by less than this factor.
+pub const REFINE_GAIN: f64 = 0.5;
+
+// The global search ([`super::search`]).
+
+/// Trust radius of the starts without a joint limit, radians ([`Settings::trust_radius`]).
+pub const TRUST_RADIUS: f64 = 0.3;
+/// Starts per batch.
+pub const BATCH: usize = 32;
+/// How many starts must reach the cheapest admissible extremal before the search stops.
+pub const CONFIRMATIONS: usize = 3;
+/// Largest estimated chance that a further start reaches a minimum not seen yet that is no
+/// dearer than the cheapest admissible one, for the search to stop.
+pub const UNSEEN: f64 = 0.005;
+/// Batches without any extremal after which the search gives up.
+pub const HOPELESS_BATCHES: usize = 3;
+/// Two control sequences run the same shape path when their shapes agree to this (radians)
+/// at every node.
+pub const SAME_PATH: f64 = 1e-6;
+/// A start whose terminal defect is within this share of the displacement asked for came
+/// near the target (with a joint limit, the search then runs again with more patience).
+pub const NEAR_TARGET: f64 = 1e-3;
+
+// The refinement ([`super::refine_candidates`]).
+
+/// Relative margin by which an extremal on the intermediate grid of a refinement must cost
+/// more than the settled cheapest one to be dropped there: that grid's cost is within 3.2e-5
+/// of the problem's own (measured over 60 extremals of 14 problems, with and without joint
+/// limits; the coarse grid's is within 8e-3, hence [`COARSE_COST_ERROR`]).
+pub const PRUNE: f64 = 1e-3;
+/// Relative margin for the coarse grid's error in `J`: an admissible candidate dearer than
+/// the settled cheapest by more is not refined.
+pub const COARSE_COST_ERROR: f64 = 1e-2;
+/// Margin for the coarse grid's error in `|α|` (radians): a candidate whose largest `|α_i|`
+/// is below the bound on the shape plus this may be admissible on the problem's grid.
+pub const COARSE_ALPHA_ERROR: f64 = 0.05;
+
+// Warm starts and sweeps ([`super::continuation`]).
+
+/// The walk in the target gives up when its step falls below this share of the way.
+pub const MIN_WALK_STEP: f64 = 1e-3;
+/// Two targets of a lattice are the same when they agree to `SAME_TARGET·(1 + |t|_∞)`.
+pub const SAME_TARGET: f64 = 1e-12;
+
+// Certificates ([`super::Extremal::uncertified`]): what a returned extremal is held to.
+
+/// Largest terminal defect through the core's kinematics (m, rad).
+pub const TERMINAL_TOL: f64 = 1e-10;
+/// Largest KKT residual (rad/s).
+pub const KKT_TOL: f64 = 1e-8;
+/// Largest relative deviation of the core's law from the controls.
+pub const LAW_TOL: f64 = 1e-9;
