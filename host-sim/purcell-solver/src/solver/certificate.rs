@@ -17,6 +17,7 @@
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
 
 use super::Trajectory;
+use super::cost::{Effort, StageCost};
 use super::settings::ON_LIMIT;
 use crate::dual::Dual;
 use crate::problem::Problem;
@@ -107,6 +108,8 @@ pub fn kkt(
             g: Se2::new(w(2), w(3), w(4)),
         };
         let next = kin.step(&st, &Vector2::new(w(5), w(6)))?;
+        // ∂J/∂u_k, the cost's share of ∂L/∂u_k.
+        let cost = Effort.gradient(problem.h, u);
         let out = coordinates(&next);
         let mut grad = [0.0; 7];
         for (o, a) in out.iter().zip(adj.iter()) {
@@ -125,14 +128,14 @@ pub fn kkt(
             }
             let sigma = a.signum();
             let row = out[i].d;
-            let eta = -(problem.h * u[i] + grad[5 + i]) / (sigma * row[5 + i]);
+            let eta = -(cost[i] + grad[5 + i]) / (sigma * row[5 + i]);
             for (gi, di) in grad.iter_mut().zip(row) {
                 *gi += eta * sigma * di;
             }
             min_eta = Some(min_eta.map_or(eta, |m| m.min(eta)));
             active += 1;
         }
-        let gu = Vector2::new(problem.h * u.x + grad[5], problem.h * u.y + grad[6]);
+        let gu = cost + Vector2::new(grad[5], grad[6]);
         worst = worst.max(gu.amax() / problem.h);
         adj = SVector::<f64, 5>::from_fn(|i, _| grad[i]);
     }

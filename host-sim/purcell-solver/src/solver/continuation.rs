@@ -10,6 +10,7 @@
 //! leave the admissible shapes stops there, and [`solve_from`] falls back to the global
 //! search.
 
+use super::constraints::joint_limit::Limits;
 use super::direct::{self, Grid, Point};
 use super::limits;
 use super::search::{self, Candidate};
@@ -105,7 +106,8 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     if let Some(a) = limit {
         let w = warm.target;
         let mut own = medium.clone();
-        own.target = StageState::new(own.target[0], own.target[1], w.x, w.y, w.z);
+        let a0 = own.terminal.target;
+        own.terminal.target = StageState::new(a0[0], a0[1], w.x, w.y, w.z);
         // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
         // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
         let within = problem.admits(direct::max_abs_alpha(&point.states));
@@ -124,7 +126,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
             return Err(unreachable(run.defect));
         }
         point = run.point;
-        medium.limits = direct::Limits::Barrier {
+        medium.limits = Limits::Barrier {
             alpha_max: a,
             tau: settings::COARSE_TAU,
         };
@@ -149,7 +151,8 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         let next = (s + ds).min(1.0);
         let t = from + (to - from) * next;
         let mut grid = medium.clone();
-        grid.target = StageState::new(grid.target[0], grid.target[1], t.x, t.y, t.z);
+        let a0 = grid.terminal.target;
+        grid.terminal.target = StageState::new(a0[0], a0[1], t.x, t.y, t.z);
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
         match direct::newton(&grid, start, &settings) {

@@ -27,7 +27,10 @@
 //! The angles wrap at `±π` ([`super::stage::wrap`]): an iterate may swing a joint past the
 //! links' overlap; whether an extremal is admissible is decided afterwards.
 
-use super::riccati::{ControlMap, Factor};
+use super::constraints::joint_limit::Limits;
+use super::constraints::terminal::Terminal;
+use super::cost::{Effort, StageCost};
+use super::riccati::Factor;
 use super::settings::{
     BACKTRACK, DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, FILTER_ETA, FILTER_GAMMA_PHI,
     FILTER_GAMMA_THETA, FILTER_S_PHI, FILTER_S_THETA, FILTER_THETA_MAX, FILTER_THETA_MIN,
@@ -36,7 +39,7 @@ use super::settings::{
 use super::stage::{Linearised, Rule, StageModel, StageState};
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector5};
-use purcell_core::{Arc, Error, Kinematics};
+use purcell_core::{Error, Kinematics};
 
 /// One time grid of the problem: `steps` steps over the horizon `T`.
 #[derive(Clone, Debug)]
@@ -47,36 +50,10 @@ pub struct Grid {
     pub steps: usize,
     /// `s_0 = (ᾱ, 0, 0, 0)`.
     pub start: StageState,
-    /// `s̄ = (ᾱ, x̄, ȳ, θ̄)`.
-    pub target: StageState,
+    /// The terminal constraint `s_N = s̄`.
+    pub terminal: Terminal,
     /// How the joint limit `|α_i| ≤ α_max` enters, if at all.
     pub limits: Limits,
-}
-
-/// The joint limit `|α_{k,i}| ≤ α_max` (`k = 1 … N−1`) in the direct method (MODEL.md §9).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Limits {
-    /// None (only the link-overlap limit, checked afterwards).
-    #[default]
-    None,
-    /// A logarithmic barrier `h·τ·Σ_k Σ_i −ln(α_max − α_{k,i}) − ln(α_max + α_{k,i})` added to
-    /// the cost; every iterate strictly inside the limits.
-    Barrier {
-        /// `α_max`.
-        alpha_max: f64,
-        /// `τ`.
-        tau: f64,
-    },
-    /// The limit active exactly on the given arcs (their controls fixed and entries imposed,
-    /// as stage-wise substitutions), inactive elsewhere: on an arc `σ·α_{k,i} = α_max` for
-    /// `first ≤ k ≤ last`, so `u_{k,i} = 0` for `first ≤ k < last`, and the control of step
-    /// `first − 1` brings the joint exactly to the limit.
-    Arcs {
-        /// `α_max`.
-        alpha_max: f64,
-        /// The arcs, in any order, disjoint per joint.
-        arcs: Vec<Arc>,
-    },
 }
 
 impl Grid {
@@ -91,7 +68,9 @@ impl Grid {
             model: StageModel::new(kin, rule)?,
             steps,
             start: StageState::new(a.x, a.y, 0.0, 0.0, 0.0),
-            target: StageState::new(a.x, a.y, t.x, t.y, t.z),
+            terminal: Terminal {
+                target: StageState::new(a.x, a.y, t.x, t.y, t.z),
+            },
             limits: Limits::None,
         })
     }
@@ -109,7 +88,7 @@ impl Grid {
             model: StageModel::new(kin, rule)?,
             steps,
             start: self.start,
-            target: self.target,
+            terminal: self.terminal,
             limits: Limits::None,
         })
     }
@@ -136,7 +115,7 @@ impl Grid {
         let dist = |p: &StageState, q: &StageState| {
             ((p[2] - q[2]).powi(2) + (p[3] - q[3]).powi(2) + (scale * (p[4] - q[4])).powi(2)).sqrt()
         };
-        dist(a, b) <= 0.2 * dist(&self.target, &self.start)
+        dist(a, b) <= 0.2 * dist(&self.terminal.target, &self.start)
     }
 
     /// The states `s_0 … s_N` under the controls `u`; with a barrier, `Err(ShapeLimit)` unless
@@ -145,13 +124,9 @@ impl Grid {
         let mut s = self.start;
         let mut out = Vec::with_capacity(u.len() + 1);
         out.push(s);
-        let inside = |s: &StageState| match self.limits {
-            Limits::Barrier { alpha_max, .. } => s[0].abs() < alpha_max && s[1].abs() < alpha_max,
-            _ => true,
-        };
         for (k, uk) in u.iter().enumerate() {
             s = self.model.step(&s, uk)?;
-            if k + 1 < u.len() && !inside(&s) {
+            if k + 1 < u.len() && !self.limits.inside(&s) {
                 return Err(Error::ShapeLimit);
             }
             out.push(s);
@@ -159,30 +134,18 @@ impl Grid {
         Ok(out)
     }
 
-    /// `J = Σ h/2·|u_k|²`.
+    /// The cost `J` of the controls `u` ([`Effort`]).
     pub fn cost(&self, u: &[Vector2<f64>]) -> f64 {
-        0.5 * self.h() * u.iter().map(|v| v.norm_squared()).sum::<f64>()
+        Effort.value(self.h(), u)
     }
 
-    /// What the direct method minimises: `J`, plus the barrier if there is one.
+    /// What the direct method minimises: `J`, plus the barrier if there is one
+    /// ([`Limits::objective`]).
     pub fn objective(&self, u: &[Vector2<f64>], states: &[StageState]) -> f64 {
-        let j = self.cost(u);
-        match self.limits {
-            Limits::Barrier { alpha_max, tau } => {
-                let n = states.len().saturating_sub(1);
-                let sum: f64 = states
-                    .iter()
-                    .take(n)
-                    .skip(1)
-                    .map(|s| barrier(alpha_max, s[0]).0 + barrier(alpha_max, s[1]).0)
-                    .sum();
-                j + self.h() * tau * sum
-            }
-            _ => j,
-        }
+        self.limits.objective(self.h(), self.cost(u), states)
     }
 
-    /// The derivative of [`Grid::objective`] along the step `du` (`δα_k = h Σ_{j<k} δu_j`).
+    /// The derivative of [`Grid::objective`] along the step `du`.
     pub fn objective_slope(
         &self,
         u: &[Vector2<f64>],
@@ -190,79 +153,8 @@ impl Grid {
         du: &[Vector2<f64>],
     ) -> f64 {
         let h = self.h();
-        let mut slope = h * u.iter().zip(du).map(|(a, b)| a.dot(b)).sum::<f64>();
-        if let Limits::Barrier { alpha_max, tau } = self.limits {
-            let mut da = Vector2::zeros();
-            for (k, d) in du.iter().enumerate().take(du.len().saturating_sub(1)) {
-                da += d * h;
-                let s = &states[k + 1];
-                slope += h
-                    * tau
-                    * (barrier(alpha_max, s[0]).1 * da.x + barrier(alpha_max, s[1]).1 * da.y);
-            }
-        }
-        slope
-    }
-
-    /// The largest `t ≤ 1` for which the step `t·du` keeps every state `k = 1 … N−1` a share
-    /// `1 − fraction` of its distance `d` from each limit, less `slack` (`δα_k = h Σ_{j<k}
-    /// δu_j` is linear in `t`): `t ≤ (fraction·d + slack)/δd`. `(FRACTION_TO_BOUNDARY, 0)` is
-    /// IPOPT's fraction to the boundary; `(1, slack)` where the step leaves the barrier's
-    /// domain. 1 without a barrier.
-    pub fn max_step(
-        &self,
-        states: &[StageState],
-        du: &[Vector2<f64>],
-        fraction: f64,
-        slack: f64,
-    ) -> f64 {
-        let Limits::Barrier { alpha_max, .. } = self.limits else {
-            return 1.0;
-        };
-        let h = self.h();
-        let mut t = 1.0f64;
-        let mut da = Vector2::zeros();
-        for (k, d) in du.iter().enumerate().take(du.len().saturating_sub(1)) {
-            da += d * h;
-            let s = &states[k + 1];
-            for i in 0..2 {
-                // Toward `+α_max` or toward `−α_max`.
-                let (dist, toward) = if da[i] > 0.0 {
-                    (alpha_max - s[i], da[i])
-                } else {
-                    (alpha_max + s[i], -da[i])
-                };
-                if toward > 0.0 {
-                    t = t.min((fraction * dist + slack) / toward);
-                }
-            }
-        }
-        t
-    }
-
-    /// The control maps of the arcs, one per stage (`None` without arcs).
-    pub fn control_maps(&self) -> Option<Vec<ControlMap>> {
-        let Limits::Arcs { arcs, .. } = &self.limits else {
-            return None;
-        };
-        let mut maps = vec![ControlMap::default(); self.steps];
-        for a in arcs {
-            let (i, first, last) = (a.index(), a.first as usize, a.last as usize);
-            if let Some(m) = first.checked_sub(1).and_then(|k| maps.get_mut(k)) {
-                m.entry[i] = true;
-            }
-            for m in maps.iter_mut().take(last).skip(first) {
-                m.fixed[i] = true;
-            }
-        }
-        Some(maps)
-    }
-
-    /// `c = s_N − s̄` of a rollout.
-    pub fn defect(&self, states: &[StageState]) -> Vector5<f64> {
-        states
-            .last()
-            .map_or(Vector5::repeat(f64::INFINITY), |s| s - self.target)
+        self.limits
+            .objective_slope(h, Effort.slope(h, u, du), states, du)
     }
 
     /// Stage derivatives along a rollout for the terminal multiplier `nu` (see [`Linearised`]),
@@ -275,7 +167,7 @@ impl Grid {
     ) -> Result<Linearisation, Error> {
         let n = u.len();
         let h = self.h();
-        let maps = self.control_maps();
+        let maps = self.limits.control_maps(self.steps);
         let free = |k: usize, i: usize| maps.as_ref().is_none_or(|m| m[k].free(i));
         let mut lin = Vec::with_capacity(n);
         let mut lambda = vec![StageState::zeros(); n + 1];
@@ -292,7 +184,7 @@ impl Grid {
         let mut rhs = Vector5::<f64>::zeros();
         for k in (0..n).rev() {
             let mut l = self.model.linearise(&states[k], &u[k], &lambda[k + 1])?;
-            let mut g = u[k] * h + l.b.transpose() * lambda[k + 1];
+            let mut g = Effort.gradient(h, &u[k]) + l.b.transpose() * lambda[k + 1];
             // A control tied by an arc (fixed, or an entry) is stationary by the multiplier η
             // of the limit at state k+1: λ^α_{k+1,i} jumps so that h·u_{k,i} + (B_kᵀλ_{k+1})_i = 0
             // (∂α_{k+1,i}/∂u_{k,i} = h). The jump does not enter the Hessians (α enters f
@@ -306,7 +198,7 @@ impl Grid {
                 }
             }
             let mut gk = l.b.transpose() * psi;
-            let mut own = u[k] * h + l.b.transpose() * beta;
+            let mut own = Effort.gradient(h, &u[k]) + l.b.transpose() * beta;
             for i in 0..2 {
                 if free(k, i) {
                     kkt = kkt.max(g[i].abs() / h);
@@ -321,14 +213,13 @@ impl Grid {
             lambda[k] = l.a.transpose() * lambda[k + 1];
             beta = l.a.transpose() * beta;
             psi = l.a.transpose() * psi;
-            if let Limits::Barrier { alpha_max, tau } = self.limits
-                && k > 0
+            if k > 0
+                && let Some((dphi, ddphi)) = self.limits.barrier_derivatives(h, &states[k])
             {
                 for i in 0..2 {
-                    let (_, d1, d2) = barrier(alpha_max, states[k][i]);
-                    lambda[k][i] += h * tau * d1;
-                    beta[i] += h * tau * d1;
-                    l.hss[(i, i)] += h * tau * d2;
+                    lambda[k][i] += dphi[i];
+                    beta[i] += dphi[i];
+                    l.hss[(i, i)] += ddphi[i];
                 }
             }
             lin.push(l);
@@ -344,16 +235,6 @@ impl Grid {
             nu_ls,
         })
     }
-}
-
-/// `(φ, φ′, φ″)` of the barrier `φ(α) = −ln(A − α) − ln(A + α)`.
-fn barrier(a: f64, x: f64) -> (f64, f64, f64) {
-    let (p, m) = (a - x, a + x);
-    (
-        -(p.ln() + m.ln()),
-        1.0 / p - 1.0 / m,
-        1.0 / (p * p) + 1.0 / (m * m),
-    )
 }
 
 /// Derivatives of the problem along a rollout.
@@ -442,13 +323,13 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
     let mut pt = start;
     let mut delta_last = 0.0f64;
     let mut iterations = 0;
-    let theta0 = grid.defect(&pt.states).lp_norm(1);
+    let theta0 = grid.terminal.defect(&pt.states).lp_norm(1);
     let mut filter = Filter::new(theta0);
     let log = std::env::var_os("PURCELL_SQP_LOG").is_some();
     loop {
-        let c = grid.defect(&pt.states);
+        let c = grid.terminal.defect(&pt.states);
         let lz = grid.linearise(&pt.states, &pt.u, &pt.nu)?;
-        let maps = grid.control_maps();
+        let maps = grid.limits.control_maps(grid.steps);
         let maps = maps.as_deref();
         let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
         if done || iterations >= settings.max_iterations {
@@ -520,13 +401,14 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
                 }
             };
             let p = Point::new(grid, u, nu_next).ok()?;
-            let th = grid.defect(&p.states).lp_norm(1);
+            let th = grid.terminal.defect(&p.states).lp_norm(1);
             let ph = grid.objective(&p.u, &p.states);
             Some((p, th, ph))
         };
         let mut accepted = None;
         let mut t = if settings.fraction_to_boundary {
-            grid.max_step(&pt.states, &du, FRACTION_TO_BOUNDARY, 0.0)
+            grid.limits
+                .max_step(h, &pt.states, &du, FRACTION_TO_BOUNDARY, 0.0)
         } else {
             1.0
         };
@@ -538,7 +420,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
         }
         // A trial that takes a state past the limit (by more than rounding) would fail in its
         // rollout: it is skipped without one.
-        let wall = grid.max_step(&pt.states, &du, 1.0, WALL_SLACK);
+        let wall = grid.limits.max_step(h, &pt.states, &du, 1.0, WALL_SLACK);
         while t > MIN_STEP {
             if t <= wall
                 && let Some((p, th, ph)) = trial(t, None)
@@ -551,7 +433,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
                 if t == 1.0
                     && th >= theta
                     && let Some((corr, _)) =
-                        factor.solve(&lz.lin, &(-grid.defect(&p.states)), false)
+                        factor.solve(&lz.lin, &(-grid.terminal.defect(&p.states)), false)
                     && let Some((q, thq, phq)) = trial(1.0, Some(&corr))
                     && let Some(kind) = filter.acceptable(theta, phi, slope, 1.0, thq, phq)
                 {
@@ -654,7 +536,7 @@ fn finish(
     converged: bool,
     local_min: bool,
 ) -> Run {
-    let defect = grid.defect(&point.states).amax();
+    let defect = grid.terminal.defect(&point.states).amax();
     Run {
         point,
         lambda: lz.lambda,
@@ -759,7 +641,7 @@ mod tests {
         let states = grid.rollout(&u).unwrap();
         for (a, b) in [(0.3, -0.2), (-0.5, 0.1), (0.05, 0.6)] {
             let du = wave(a, b);
-            let wall = grid.max_step(&states, &du, 1.0, 0.0);
+            let wall = grid.limits.max_step(grid.h(), &states, &du, 1.0, 0.0);
             assert!(0.0 < wall && wall < 1.0, "{wall}");
             let at = |t: f64| -> Vec<Vector2<f64>> {
                 u.iter().zip(&du).map(|(x, d)| x + d * t).collect()
@@ -769,7 +651,9 @@ mod tests {
                 grid.rollout(&at(wall * (1.0 + 1e-9))),
                 Err(Error::ShapeLimit)
             );
-            let fraction = grid.max_step(&states, &du, FRACTION_TO_BOUNDARY, 0.0);
+            let fraction = grid
+                .limits
+                .max_step(grid.h(), &states, &du, FRACTION_TO_BOUNDARY, 0.0);
             assert!((fraction - FRACTION_TO_BOUNDARY * wall).abs() <= 1e-12 * wall);
         }
     }

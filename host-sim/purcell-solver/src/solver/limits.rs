@@ -19,11 +19,11 @@
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
 use super::Stop;
-use super::direct::{self, Grid, Limits, Point, Run};
+use super::constraints::joint_limit::{Limits, arcs_of, merged};
+use super::direct::{self, Grid, Point, Run};
 use super::settings::{
     ETA_ROUNDING, FINE_TAUS, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings,
 };
-use super::stage::StageState;
 use crate::problem::Problem;
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
@@ -97,62 +97,6 @@ pub fn barrier_path(
     last.ok_or(Error::NonFinite)
 }
 
-/// The arcs of a path: maximal stretches of states `k = 1 … N−1` within `near` of `±α_max`.
-pub fn arcs_of(states: &[StageState], alpha_max: f64, near: f64) -> Vec<Arc> {
-    let n = states.len().saturating_sub(1);
-    let mut arcs = Vec::new();
-    for i in [0, 1] {
-        for sign in [1i8, -1] {
-            let on = |k: usize| f64::from(sign) * states[k][i] >= alpha_max - near;
-            let mut k = 1;
-            while k < n {
-                if on(k) {
-                    let first = k;
-                    while k + 1 < n && on(k + 1) {
-                        k += 1;
-                    }
-                    arcs.push(Arc {
-                        joint: Arc::joint_of(i),
-                        sign,
-                        first: first as u32,
-                        last: k as u32,
-                    });
-                }
-                k += 1;
-            }
-        }
-    }
-    arcs
-}
-
-/// The controls `u` made to satisfy the arcs exactly: zero inside each arc, and the entry
-/// control bringing the joint to the limit (the shape path recomputed from `ᾱ`).
-pub fn snap(u: &[Vector2<f64>], grid: &Grid) -> Vec<Vector2<f64>> {
-    let (Limits::Arcs { alpha_max, arcs }, Some(maps)) = (&grid.limits, grid.control_maps()) else {
-        return u.to_vec();
-    };
-    let h = grid.h();
-    let mut alpha = Vector2::new(grid.start[0], grid.start[1]);
-    let mut out = Vec::with_capacity(u.len());
-    for (k, v) in u.iter().enumerate() {
-        let mut w = *v;
-        for i in 0..2 {
-            if maps[k].fixed[i] {
-                w[i] = 0.0;
-            } else if maps[k].entry[i] {
-                let sign = arcs
-                    .iter()
-                    .find(|a| a.index() == i && a.first as usize == k + 1)
-                    .map_or(1.0, |a| f64::from(a.sign));
-                w[i] = (sign * alpha_max - alpha[i]) / h;
-            }
-        }
-        alpha += w * h;
-        out.push(w);
-    }
-    out
-}
-
 /// Why [`polish`] gave up.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PolishError {
@@ -179,7 +123,8 @@ pub fn polish(
             alpha_max,
             arcs: arcs.clone(),
         };
-        let start = Point::new(&g, snap(&point.u, &g), point.nu)
+        let alpha0 = Vector2::new(g.start[0], g.start[1]);
+        let start = Point::new(&g, g.limits.snap(&point.u, alpha0, g.h()), point.nu)
             .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
         let r = direct::newton(&g, start, settings)
             .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
@@ -221,7 +166,8 @@ pub fn polish(
                 k += 1;
             }
         }
-        let settled = violated.is_empty() && released == arcs && k_ok(n, &arcs);
+        let inside = arcs.iter().all(|a| a.check(n as u32).is_ok());
+        let settled = violated.is_empty() && released == arcs && inside;
         if settled {
             return Ok((g, r));
         }
@@ -230,27 +176,6 @@ pub fn polish(
         point = r.point;
     }
     Err(PolishError::Unsettled)
-}
-
-/// The arcs with those of one joint and side that overlap or touch joined into one, in the
-/// order of [`arcs_of`] (joint, side, first step).
-fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
-    arcs.sort_by_key(|a| (a.joint, -a.sign, a.first));
-    let mut out: Vec<Arc> = Vec::with_capacity(arcs.len());
-    for a in arcs {
-        match out.last_mut() {
-            Some(b) if b.joint == a.joint && b.sign == a.sign && a.first <= b.last + 1 => {
-                b.last = b.last.max(a.last);
-            }
-            _ => out.push(a),
-        }
-    }
-    out
-}
-
-/// Every arc inside `1 … N−1`.
-fn k_ok(n: usize, arcs: &[Arc]) -> bool {
-    arcs.iter().all(|a| a.first >= 1 && (a.last as usize) < n)
 }
 
 /// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
@@ -316,36 +241,6 @@ pub fn refine(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn arc(joint: u8, sign: i8, first: u32, last: u32) -> Arc {
-        Arc {
-            joint,
-            sign,
-            first,
-            last,
-        }
-    }
-
-    #[test]
-    fn touching_or_overlapping_arcs_of_one_joint_and_side_merge() {
-        let arcs = vec![
-            arc(2, 1, 20, 25),
-            arc(1, 1, 5, 9),
-            arc(1, 1, 10, 12),
-            arc(1, -1, 13, 14),
-            arc(2, 1, 24, 30),
-            arc(2, 1, 32, 33),
-        ];
-        assert_eq!(
-            merged(arcs),
-            vec![
-                arc(1, 1, 5, 12),
-                arc(1, -1, 13, 14),
-                arc(2, 1, 20, 30),
-                arc(2, 1, 32, 33),
-            ]
-        );
-    }
 
     #[test]
     fn clipping_keeps_the_path_inside_and_the_loop_closed() {

@@ -19,7 +19,9 @@
 //! (`sweep`).
 
 pub mod certificate;
+pub mod constraints;
 pub mod continuation;
+pub mod cost;
 pub mod costate;
 pub mod direct;
 pub mod limits;
@@ -31,7 +33,8 @@ pub mod starts;
 pub mod symmetry;
 
 use crate::problem::{OVERLAP, Problem};
-use direct::{Grid, Limits, Point, Run};
+use constraints::joint_limit::Limits;
+use direct::{Grid, Point, Run};
 use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::{Arc, State};
 use settings::{

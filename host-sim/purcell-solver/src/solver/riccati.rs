@@ -33,6 +33,7 @@
 //! Hessian and the step is zero) exactly when the KKT matrix has `m = 5` negative eigenvalues,
 //! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
 
+use super::cost::{Effort, StageCost};
 use super::settings::{PIVOT, REFINE_GAIN, REFINE_MISS, REFINE_PASSES, SINGULAR};
 use super::stage::Linearised;
 use nalgebra::{
@@ -161,7 +162,7 @@ impl Factor {
         let mut negative_h = 0;
         for i in (0..n).rev() {
             let mut st = Split::new(&lin[i]);
-            let mut huu = lin[i].huu + Matrix2::identity() * h;
+            let mut huu = lin[i].huu + Effort.hessian(h);
             let mut reg = Matrix2::identity() * delta;
             let mut ri = r[i];
             let mut qa = Vector3::zeros();
@@ -381,7 +382,7 @@ mod tests {
             q.view_mut((5, 0), (2, 5))
                 .copy_from(&lin[k].hsu.transpose());
             q.view_mut((5, 5), (2, 2))
-                .copy_from(&(lin[k].huu + Matrix2::identity() * h));
+                .copy_from(&(lin[k].huu + Effort.hessian(h)));
             hm += z.transpose() * q * &z;
             g[2 * k] += r[k].x;
             g[2 * k + 1] += r[k].y;

@@ -213,7 +213,7 @@ pub fn search(
     let out = run(PATIENCE[0], f64::INFINITY);
     // Nothing found, but a start ended near the target: the starts ran out of iterations, not
     // of room (with a tight limit the barrier paths spend long pinned to it).
-    let near = out.best_residual <= NEAR_TARGET * (grid.target - grid.start).amax();
+    let near = out.best_residual <= NEAR_TARGET * (grid.terminal.target - grid.start).amax();
     if out.candidates.is_empty() && limit.is_some() && near {
         run(PATIENCE[1], out.best_residual)
     } else {

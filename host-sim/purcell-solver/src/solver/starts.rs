@@ -129,7 +129,7 @@ pub fn reference_size(grid: &Grid) -> f64 {
     let size_of = |s: &nalgebra::Vector5<f64>, t: &nalgebra::Vector5<f64>| {
         ((s[2] - t[2]).powi(2) + (s[3] - t[3]).powi(2) + (scale * (s[4] - t[4])).powi(2)).sqrt()
     };
-    let want = size_of(&grid.target, &grid.start);
+    let want = size_of(&grid.terminal.target, &grid.start);
     let mut best = (f64::INFINITY, 0.5);
     let mut s = 0.01;
     while s <= 1.6 {

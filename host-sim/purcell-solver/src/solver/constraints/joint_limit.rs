@@ -1,0 +1,282 @@
+//! The joint limit `|α_{k,i}| ≤ α_max` (`k = 1 … N−1`) as the direct method sees it (MODEL.md
+//! §9): nowhere ([`Limits::None`]), as a logarithmic barrier in the objective
+//! ([`Limits::Barrier`]) or imposed exactly on arcs ([`Limits::Arcs`]); and the arc tables of
+//! a path ([`arcs_of`], [`merged`]). How the solver moves between these is
+//! [`crate::solver::limits`].
+
+use crate::solver::riccati::ControlMap;
+use crate::solver::stage::StageState;
+use nalgebra::Vector2;
+use purcell_core::Arc;
+
+/// How the joint limit enters the direct method.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Limits {
+    /// None (only the link-overlap limit, checked afterwards).
+    #[default]
+    None,
+    /// A logarithmic barrier `h·τ·Σ_k Σ_i −ln(α_max − α_{k,i}) − ln(α_max + α_{k,i})` added to
+    /// the cost; every iterate strictly inside the limits.
+    Barrier {
+        /// `α_max`.
+        alpha_max: f64,
+        /// `τ`.
+        tau: f64,
+    },
+    /// The limit active exactly on the given arcs (their controls fixed and entries imposed,
+    /// as stage-wise substitutions), inactive elsewhere: on an arc `σ·α_{k,i} = α_max` for
+    /// `first ≤ k ≤ last`, so `u_{k,i} = 0` for `first ≤ k < last`, and the control of step
+    /// `first − 1` brings the joint exactly to the limit.
+    Arcs {
+        /// `α_max`.
+        alpha_max: f64,
+        /// The arcs, in any order, disjoint per joint.
+        arcs: Vec<Arc>,
+    },
+}
+
+/// `(φ, φ′, φ″)` of the barrier `φ(α) = −ln(A − α) − ln(A + α)`.
+fn barrier(a: f64, x: f64) -> (f64, f64, f64) {
+    let (p, m) = (a - x, a + x);
+    (
+        -(p.ln() + m.ln()),
+        1.0 / p - 1.0 / m,
+        1.0 / (p * p) + 1.0 / (m * m),
+    )
+}
+
+impl Limits {
+    /// Whether an inner state (`k = 1 … N−1`) is in the barrier's domain, strictly inside the
+    /// limits (always without a barrier).
+    pub fn inside(&self, s: &StageState) -> bool {
+        match *self {
+            Limits::Barrier { alpha_max, .. } => s[0].abs() < alpha_max && s[1].abs() < alpha_max,
+            _ => true,
+        }
+    }
+
+    /// The objective of the direct method from the cost `cost` of a rollout's controls: plus
+    /// the barrier over its inner states if there is one.
+    pub fn objective(&self, h: f64, cost: f64, states: &[StageState]) -> f64 {
+        match *self {
+            Limits::Barrier { alpha_max, tau } => {
+                let n = states.len().saturating_sub(1);
+                let sum: f64 = states
+                    .iter()
+                    .take(n)
+                    .skip(1)
+                    .map(|s| barrier(alpha_max, s[0]).0 + barrier(alpha_max, s[1]).0)
+                    .sum();
+                cost + h * tau * sum
+            }
+            _ => cost,
+        }
+    }
+
+    /// The derivative of [`Limits::objective`] along the step `du` from the cost's,
+    /// `cost_slope` (the barrier's terms added stage by stage, `δα_k = h Σ_{j<k} δu_j`).
+    pub fn objective_slope(
+        &self,
+        h: f64,
+        cost_slope: f64,
+        states: &[StageState],
+        du: &[Vector2<f64>],
+    ) -> f64 {
+        let mut slope = cost_slope;
+        if let Limits::Barrier { alpha_max, tau } = *self {
+            let mut da = Vector2::zeros();
+            for (k, d) in du.iter().enumerate().take(du.len().saturating_sub(1)) {
+                da += d * h;
+                let s = &states[k + 1];
+                slope += h
+                    * tau
+                    * (barrier(alpha_max, s[0]).1 * da.x + barrier(alpha_max, s[1]).1 * da.y);
+            }
+        }
+        slope
+    }
+
+    /// The barrier's gradient and the diagonal of its Hessian at an inner state `s`,
+    /// `h·τ·φ′(α_i)` and `h·τ·φ″(α_i)`; `None` without a barrier.
+    pub fn barrier_derivatives(
+        &self,
+        h: f64,
+        s: &StageState,
+    ) -> Option<(Vector2<f64>, Vector2<f64>)> {
+        let Limits::Barrier { alpha_max, tau } = *self else {
+            return None;
+        };
+        let (_, g0, d0) = barrier(alpha_max, s[0]);
+        let (_, g1, d1) = barrier(alpha_max, s[1]);
+        Some((
+            Vector2::new(h * tau * g0, h * tau * g1),
+            Vector2::new(h * tau * d0, h * tau * d1),
+        ))
+    }
+
+    /// The largest `t ≤ 1` for which the step `t·du` on a grid of step `h` keeps every state
+    /// `k = 1 … N−1` a share `1 − fraction` of its distance `d` from each limit, less `slack`
+    /// (`δα_k = h Σ_{j<k} δu_j` is linear in `t`): `t ≤ (fraction·d + slack)/δd`.
+    /// `(FRACTION_TO_BOUNDARY, 0)` is IPOPT's fraction to the boundary; `(1, slack)` where the
+    /// step leaves the barrier's domain. 1 without a barrier.
+    ///
+    /// [`FRACTION_TO_BOUNDARY`]: crate::solver::settings::FRACTION_TO_BOUNDARY
+    pub fn max_step(
+        &self,
+        h: f64,
+        states: &[StageState],
+        du: &[Vector2<f64>],
+        fraction: f64,
+        slack: f64,
+    ) -> f64 {
+        let Limits::Barrier { alpha_max, .. } = *self else {
+            return 1.0;
+        };
+        let mut t = 1.0f64;
+        let mut da = Vector2::zeros();
+        for (k, d) in du.iter().enumerate().take(du.len().saturating_sub(1)) {
+            da += d * h;
+            let s = &states[k + 1];
+            for i in 0..2 {
+                // Toward `+α_max` or toward `−α_max`.
+                let (dist, toward) = if da[i] > 0.0 {
+                    (alpha_max - s[i], da[i])
+                } else {
+                    (alpha_max + s[i], -da[i])
+                };
+                if toward > 0.0 {
+                    t = t.min((fraction * dist + slack) / toward);
+                }
+            }
+        }
+        t
+    }
+
+    /// The control maps of the arcs on a grid of `steps` steps, one per stage (`None` without
+    /// arcs).
+    pub fn control_maps(&self, steps: usize) -> Option<Vec<ControlMap>> {
+        let Limits::Arcs { arcs, .. } = self else {
+            return None;
+        };
+        let mut maps = vec![ControlMap::default(); steps];
+        for a in arcs {
+            let (i, first, last) = (a.index(), a.first as usize, a.last as usize);
+            if let Some(m) = first.checked_sub(1).and_then(|k| maps.get_mut(k)) {
+                m.entry[i] = true;
+            }
+            for m in maps.iter_mut().take(last).skip(first) {
+                m.fixed[i] = true;
+            }
+        }
+        Some(maps)
+    }
+
+    /// The controls `u` (from the shape `alpha0`, step `h`) made to satisfy the arcs exactly:
+    /// zero inside each arc, and the entry control bringing the joint to the limit (the shape
+    /// path recomputed from `alpha0`). Unchanged without arcs.
+    pub fn snap(&self, u: &[Vector2<f64>], alpha0: Vector2<f64>, h: f64) -> Vec<Vector2<f64>> {
+        let (Limits::Arcs { alpha_max, arcs }, Some(maps)) = (self, self.control_maps(u.len()))
+        else {
+            return u.to_vec();
+        };
+        let mut alpha = alpha0;
+        let mut out = Vec::with_capacity(u.len());
+        for (k, v) in u.iter().enumerate() {
+            let mut w = *v;
+            for i in 0..2 {
+                if maps[k].fixed[i] {
+                    w[i] = 0.0;
+                } else if maps[k].entry[i] {
+                    let sign = arcs
+                        .iter()
+                        .find(|a| a.index() == i && a.first as usize == k + 1)
+                        .map_or(1.0, |a| f64::from(a.sign));
+                    w[i] = (sign * alpha_max - alpha[i]) / h;
+                }
+            }
+            alpha += w * h;
+            out.push(w);
+        }
+        out
+    }
+}
+
+/// The arcs of a path: maximal stretches of states `k = 1 … N−1` within `near` of `±α_max`,
+/// by joint, side (`+` first) and first state.
+pub fn arcs_of(states: &[StageState], alpha_max: f64, near: f64) -> Vec<Arc> {
+    let n = states.len().saturating_sub(1);
+    let mut arcs = Vec::new();
+    for i in [0, 1] {
+        for sign in [1i8, -1] {
+            let on = |k: usize| f64::from(sign) * states[k][i] >= alpha_max - near;
+            let mut k = 1;
+            while k < n {
+                if on(k) {
+                    let first = k;
+                    while k + 1 < n && on(k + 1) {
+                        k += 1;
+                    }
+                    arcs.push(Arc {
+                        joint: Arc::joint_of(i),
+                        sign,
+                        first: first as u32,
+                        last: k as u32,
+                    });
+                }
+                k += 1;
+            }
+        }
+    }
+    arcs
+}
+
+/// The arcs with those of one joint and side that overlap or touch joined into one, in the
+/// order of [`arcs_of`] (joint, side, first step).
+pub fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
+    arcs.sort_by_key(|a| (a.joint, -a.sign, a.first));
+    let mut out: Vec<Arc> = Vec::with_capacity(arcs.len());
+    for a in arcs {
+        match out.last_mut() {
+            Some(b) if b.joint == a.joint && b.sign == a.sign && a.first <= b.last + 1 => {
+                b.last = b.last.max(a.last);
+            }
+            _ => out.push(a),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arc(joint: u8, sign: i8, first: u32, last: u32) -> Arc {
+        Arc {
+            joint,
+            sign,
+            first,
+            last,
+        }
+    }
+
+    #[test]
+    fn touching_or_overlapping_arcs_of_one_joint_and_side_merge() {
+        let arcs = vec![
+            arc(2, 1, 20, 25),
+            arc(1, 1, 5, 9),
+            arc(1, 1, 10, 12),
+            arc(1, -1, 13, 14),
+            arc(2, 1, 24, 30),
+            arc(2, 1, 32, 33),
+        ];
+        assert_eq!(
+            merged(arcs),
+            vec![
+                arc(1, 1, 5, 12),
+                arc(1, -1, 13, 14),
+                arc(2, 1, 20, 30),
+                arc(2, 1, 32, 33),
+            ]
+        );
+    }
+}
