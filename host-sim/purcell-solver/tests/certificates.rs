@@ -9,7 +9,9 @@ use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::State;
 use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::certificate::{kkt, law_residual, terminal_residual};
-use purcell_solver::solver::direct::{self, Grid, Point};
+use purcell_solver::solver::direct;
+use purcell_solver::solver::grid::{Grid, Point};
+use purcell_solver::solver::linearisation::Linearisation;
 use purcell_solver::solver::riccati::Factor;
 use purcell_solver::solver::settings::Settings;
 use purcell_solver::solver::stage::Rule;
@@ -192,7 +194,7 @@ fn local_min_is_false_on_a_saddle() {
     let mut pt = Point::new(&grid, twice, Vector5::zeros()).unwrap();
     for _ in 0..30 {
         let c = grid.terminal.defect(&pt.states);
-        let lz = grid.linearise(&pt.states, &pt.u, &pt.nu).unwrap();
+        let lz = Linearisation::new(&grid, &pt.states, &pt.u, &pt.nu).unwrap();
         if c.amax() <= 1e-15 && lz.kkt <= 1e-12 {
             break;
         }

@@ -11,7 +11,8 @@
 //! search.
 
 use super::constraints::joint_limit::Limits;
-use super::direct::{self, Grid, Point};
+use super::direct;
+use super::grid::{self, Grid, Point};
 use super::limits;
 use super::search::{self, Candidate};
 use super::settings::{self, MIN_WALK_STEP, SAME_TARGET, Settings, WARM_INSIDE};
@@ -61,7 +62,7 @@ impl Warm {
     /// The start on `grid` (a grid of `problem` over horizon `horizon`).
     fn point(&self, grid: &Grid, horizon: f64) -> Result<Point, purcell_core::Error> {
         let scale = self.horizon / horizon;
-        let u = direct::prolong(&self.u, grid.steps)
+        let u = grid::prolong(&self.u, grid.steps)
             .into_iter()
             .map(|v| v * scale)
             .collect();
@@ -83,7 +84,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         let settings = Settings::fine(problem, &p.u);
         if let Ok(run) = direct::newton(&fine, p, &settings)
             && run.converged
-            && problem.admits(direct::max_abs_alpha(&run.point.states))
+            && problem.admits(grid::max_abs_alpha(&run.point.states))
         {
             return Ok(extremal(problem, &fine, &run));
         }
@@ -110,7 +111,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         own.terminal.target = StageState::new(a0[0], a0[1], w.x, w.y, w.z);
         // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
         // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
-        let within = problem.admits(direct::max_abs_alpha(&point.states));
+        let within = problem.admits(grid::max_abs_alpha(&point.states));
         let (inside, path): (_, &[f64]) = if within {
             let bound = (1.0 - WARM_INSIDE) * a;
             let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
@@ -156,16 +157,14 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
         match direct::newton(&grid, start, &settings) {
-            Ok(run)
-                if run.converged && problem.admits(direct::max_abs_alpha(&run.point.states)) =>
-            {
+            Ok(run) if run.converged && problem.admits(grid::max_abs_alpha(&run.point.states)) => {
                 point = run.point;
                 s = next;
                 ds *= 1.5;
             }
             Ok(run) => {
                 if run.converged {
-                    left = left.min(direct::max_abs_alpha(&run.point.states));
+                    left = left.min(grid::max_abs_alpha(&run.point.states));
                 } else {
                     best_residual = best_residual.min(run.defect);
                 }
@@ -493,7 +492,7 @@ fn newton_from(grid: &Grid, from: &Candidate, settings: &Settings) -> Option<Can
     if !run.converged || !grid.resolves(&run.point.u) {
         return None;
     }
-    let max_abs_alpha = direct::max_abs_alpha(&run.point.states);
+    let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
     Some(Candidate {
         cost: grid.cost(&run.point.u),
         u: run.point.u,

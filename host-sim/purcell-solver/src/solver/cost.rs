@@ -3,7 +3,7 @@
 //!
 //! The solver's cost is the control effort ([`Effort`], MODEL.md §4),
 //! `J = Σ_{k<N} h/2·|u_k|²`. Every other module reaches it through [`StageCost`]: the value
-//! ([`super::direct::Grid::cost`]), its slope along a step (the line search), the gradient
+//! ([`super::grid::Grid::cost`]), its slope along a step (the line search), the gradient
 //! of each stage (the Lagrangian's gradient and the certificate's KKT residual) and the
 //! Hessian of each stage (the Riccati step). The core's law `u = ξ − Aᵀζ` is this cost's
 //! stationarity condition: a new cost is a new type implementing [`StageCost`], and a law of

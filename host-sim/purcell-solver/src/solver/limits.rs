@@ -20,7 +20,8 @@
 
 use super::Stop;
 use super::constraints::joint_limit::{Limits, arcs_of, merged};
-use super::direct::{self, Grid, Point, Run};
+use super::direct::{self, Run};
+use super::grid::{self, Grid, Point};
 use super::settings::{
     ETA_ROUNDING, FINE_TAUS, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings,
 };
@@ -36,7 +37,7 @@ pub fn shrink_into(
     alpha_max: f64,
     h: f64,
 ) -> Vec<Vector2<f64>> {
-    let reach = direct::shape_reach(&u, h);
+    let reach = grid::shape_reach(&u, h);
     let room = SHRINK * alpha_max - alpha0.amax();
     if reach <= room || room <= 0.0 {
         return u;
@@ -199,7 +200,7 @@ pub fn refine(
         let inf = |_| Stop::Defect(f64::INFINITY);
         let (grid, last) = super::finer_grid(problem, u.len()).map_err(inf)?;
         let next = grid.steps;
-        let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
+        let start = Point::new(&grid, grid::prolong(&u, next), nu).map_err(inf)?;
         // The path once, on the first finer grid; a later grid only its last weight.
         let taus: &[f64] = if walked {
             &FINE_TAUS[FINE_TAUS.len() - 1..]

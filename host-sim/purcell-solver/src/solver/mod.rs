@@ -24,7 +24,10 @@ pub mod continuation;
 pub mod cost;
 pub mod costate;
 pub mod direct;
+pub mod filter;
+pub mod grid;
 pub mod limits;
+pub mod linearisation;
 pub mod riccati;
 pub mod search;
 pub mod settings;
@@ -34,7 +37,8 @@ pub mod symmetry;
 
 use crate::problem::{OVERLAP, Problem};
 use constraints::joint_limit::Limits;
-use direct::{Grid, Point, Run};
+use direct::Run;
+use grid::{Grid, Point};
 use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::{Arc, State};
 use settings::{
@@ -303,7 +307,7 @@ pub fn refine_free(
         let inf = |_| Stop::Defect(f64::INFINITY);
         let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
         let next = grid.steps;
-        let start = Point::new(&grid, direct::prolong(&u, next), nu).map_err(inf)?;
+        let start = Point::new(&grid, grid::prolong(&u, next), nu).map_err(inf)?;
         let settings = if last {
             Settings::fine(problem, &start.u)
         } else {
@@ -345,7 +349,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let trajectory = costate::trajectory(&p.states, &p.u, &run.lambda, &run.jumps);
     let n = p.u.len();
     let mu = costate::momentum(&run.lambda[n], &p.states[n]);
-    let max_abs_alpha = direct::max_abs_alpha(&p.states);
+    let max_abs_alpha = grid::max_abs_alpha(&p.states);
     let physical = max_abs_alpha < OVERLAP;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
     let cost = grid.cost(&p.u);

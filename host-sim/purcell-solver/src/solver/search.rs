@@ -23,7 +23,8 @@
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
 //! ([`Search::expected_minima`]).
 
-use super::direct::{self, Grid, Point};
+use super::direct;
+use super::grid::{self, Grid, Point};
 use super::limits;
 use super::settings::{
     self, BATCH, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, SAME_PATH, Settings,
@@ -182,7 +183,7 @@ pub fn search(
                     continue;
                 }
                 let cost = grid.cost(&run.point.u);
-                let max_abs_alpha = direct::max_abs_alpha(&run.point.states);
+                let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
                 out.candidates.push(Candidate {
                     u: run.point.u,
                     nu: run.point.nu,

@@ -34,7 +34,7 @@
 //! transcription is usually started from come first, then three box loops to one scaled loop
 //! until the box loops run out, each kind in an order mixed by a hash of the seed.
 
-use super::direct::Grid;
+use super::grid::Grid;
 use crate::problem::OVERLAP;
 use nalgebra::Vector2;
 

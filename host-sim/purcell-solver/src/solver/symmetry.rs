@@ -94,7 +94,7 @@ pub fn of_problem(problem: &Problem) -> Vec<Symmetry> {
 mod tests {
     use super::*;
     use crate::problem::Spec;
-    use crate::solver::direct::Grid;
+    use crate::solver::grid::Grid;
     use crate::solver::stage::Rule;
 
     /// A loop and its image under each symmetry: the image's end is the image of the end.

@@ -1,7 +1,7 @@
 //! The terminal constraint `c(u) = s_N − s̄ = 0`: five equations, `α_N = ᾱ` and
 //! `(x, y, θ)_N = ḡ` in the coordinates `s = (α1, α2, x, y, θ)`.
 //!
-//! Its multiplier `ν` is the last costate, `λ_N = ν` ([`crate::solver::direct::Grid::linearise`]),
+//! Its multiplier `ν` is the last costate, `λ_N = ν` ([`crate::solver::linearisation`]),
 //! and the Newton step meets its linearisation `δs_N = −c` as the LQ problem's terminal
 //! equality ([`crate::solver::riccati`]).
 

@@ -1,0 +1,248 @@
+//! The problem on a time grid: `N` steps of the exact stage model ([`super::stage`]) from
+//! `s_0 = (ᾱ, 0, 0, 0)`, with the cost ([`super::cost`]) and the constraints
+//! ([`super::constraints`]): rollouts of controls, the objective the direct method minimises
+//! and its slope, and how a path moves between grids ([`prolong`], [`Grid::resampled`],
+//! [`Grid::resolves`]).
+
+use super::constraints::joint_limit::Limits;
+use super::constraints::terminal::Terminal;
+use super::cost::{Effort, StageCost};
+use super::stage::{Rule, StageModel, StageState};
+use crate::problem::Problem;
+use nalgebra::{Vector2, Vector5};
+use purcell_core::{Error, Kinematics};
+
+/// One time grid of the problem: `steps` steps over the horizon `T`.
+#[derive(Clone, Debug)]
+pub struct Grid {
+    /// The stage model with `h = T/steps`.
+    pub model: StageModel,
+    /// Steps `N`.
+    pub steps: usize,
+    /// `s_0 = (ᾱ, 0, 0, 0)`.
+    pub start: StageState,
+    /// The terminal constraint `s_N = s̄`.
+    pub terminal: Terminal,
+    /// How the joint limit `|α_i| ≤ α_max` enters, if at all.
+    pub limits: Limits,
+}
+
+impl Grid {
+    /// The problem on a grid of `steps` steps with the connection evaluated by `rule`
+    /// (`steps = problem.steps` with [`Rule::LEFT_POINT`] is the problem itself).
+    pub fn new(problem: &Problem, steps: usize, rule: Rule) -> Result<Self, Error> {
+        let h = problem.horizon() / steps as f64;
+        let kin = Kinematics::new(*problem.kinematics::<f64>()?.swimmer(), h)?;
+        let a = problem.alpha0;
+        let t = problem.target;
+        Ok(Grid {
+            model: StageModel::new(kin, rule)?,
+            steps,
+            start: StageState::new(a.x, a.y, 0.0, 0.0, 0.0),
+            terminal: Terminal {
+                target: StageState::new(a.x, a.y, t.x, t.y, t.z),
+            },
+            limits: Limits::None,
+        })
+    }
+
+    /// Step `h`.
+    pub fn h(&self) -> f64 {
+        self.model.h()
+    }
+
+    /// The same problem on `steps` steps with `rule`.
+    pub fn resampled(&self, steps: usize, rule: Rule) -> Result<Self, Error> {
+        let h = self.h() * self.steps as f64 / steps as f64;
+        let kin = Kinematics::new(*self.model.kin.swimmer(), h)?;
+        Ok(Grid {
+            model: StageModel::new(kin, rule)?,
+            steps,
+            start: self.start,
+            terminal: self.terminal,
+            limits: Limits::None,
+        })
+    }
+
+    /// Whether the net motion of the controls `u` is resolved by this grid: the end of their
+    /// shape path integrated 16 times finer by the midpoint rule (second order) lies within a
+    /// fifth of the displacement asked for from the end of `u`'s own rollout. A solution that
+    /// exists only through the discretisation error of a coarse grid (e.g. with equal drag
+    /// along and across the links, where no loop moves the body) fails this.
+    pub fn resolves(&self, u: &[Vector2<f64>]) -> bool {
+        let (Ok(fine), Ok(own)) = (
+            self.resampled(16 * self.steps, Rule::MIDPOINT),
+            self.rollout(u),
+        ) else {
+            return false;
+        };
+        let Ok(accurate) = fine.rollout(&prolong(u, fine.steps)) else {
+            return false;
+        };
+        let (Some(a), Some(b)) = (accurate.last(), own.last()) else {
+            return false;
+        };
+        let scale = self.model.kin.swimmer().lengths()[0];
+        let dist = |p: &StageState, q: &StageState| {
+            ((p[2] - q[2]).powi(2) + (p[3] - q[3]).powi(2) + (scale * (p[4] - q[4])).powi(2)).sqrt()
+        };
+        dist(a, b) <= 0.2 * dist(&self.terminal.target, &self.start)
+    }
+
+    /// The states `s_0 … s_N` under the controls `u`; with a barrier, `Err(ShapeLimit)` unless
+    /// every `|α_{k,i}| < α_max` (`k = 1 … N−1`).
+    pub fn rollout(&self, u: &[Vector2<f64>]) -> Result<Vec<StageState>, Error> {
+        let mut s = self.start;
+        let mut out = Vec::with_capacity(u.len() + 1);
+        out.push(s);
+        for (k, uk) in u.iter().enumerate() {
+            s = self.model.step(&s, uk)?;
+            if k + 1 < u.len() && !self.limits.inside(&s) {
+                return Err(Error::ShapeLimit);
+            }
+            out.push(s);
+        }
+        Ok(out)
+    }
+
+    /// The cost `J` of the controls `u` ([`Effort`]).
+    pub fn cost(&self, u: &[Vector2<f64>]) -> f64 {
+        Effort.value(self.h(), u)
+    }
+
+    /// What the direct method minimises: `J`, plus the barrier if there is one
+    /// ([`Limits::objective`]).
+    pub fn objective(&self, u: &[Vector2<f64>], states: &[StageState]) -> f64 {
+        self.limits.objective(self.h(), self.cost(u), states)
+    }
+
+    /// The derivative of [`Grid::objective`] along the step `du`.
+    pub fn objective_slope(
+        &self,
+        u: &[Vector2<f64>],
+        states: &[StageState],
+        du: &[Vector2<f64>],
+    ) -> f64 {
+        let h = self.h();
+        self.limits
+            .objective_slope(h, Effort.slope(h, u, du), states, du)
+    }
+}
+
+/// An iterate: controls, their rollout and a terminal multiplier estimate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// `u_0 … u_{N−1}`.
+    pub u: Vec<Vector2<f64>>,
+    /// `s_0 … s_N`.
+    pub states: Vec<StageState>,
+    /// `ν`.
+    pub nu: Vector5<f64>,
+}
+
+impl Point {
+    /// The controls `u` with multiplier `nu` on `grid`; `Err` if the rollout fails.
+    pub fn new(grid: &Grid, u: Vec<Vector2<f64>>, nu: Vector5<f64>) -> Result<Self, Error> {
+        let states = grid.rollout(&u)?;
+        Ok(Point { u, states, nu })
+    }
+}
+
+/// The largest `|α_i|` along a path of stage states.
+pub fn max_abs_alpha(states: &[StageState]) -> f64 {
+    states
+        .iter()
+        .map(|s| s[0].abs().max(s[1].abs()))
+        .fold(0.0, f64::max)
+}
+
+/// The largest `|Σ_{j≤k} h·v_j|` over `k` and both joints: how far controls `v` take the
+/// shape from where it starts (for a Newton step `du`: how far it moves the shape path).
+pub fn shape_reach(v: &[Vector2<f64>], h: f64) -> f64 {
+    let mut offset = Vector2::zeros();
+    let mut reach = 0.0f64;
+    for d in v {
+        offset += d * h;
+        reach = reach.max(offset.amax());
+    }
+    reach
+}
+
+/// The controls of `u` (a grid of `u.len()` steps over the same horizon) on a grid of
+/// `steps` steps: the same piecewise-linear shape path `α(t)`, sampled.
+pub fn prolong(u: &[Vector2<f64>], steps: usize) -> Vec<Vector2<f64>> {
+    let n = u.len();
+    // α(t) relative to ᾱ at the coarse nodes, in units where the horizon is n.
+    let mut nodes = Vec::with_capacity(n + 1);
+    let mut a = Vector2::zeros();
+    nodes.push(a);
+    for v in u {
+        a += v;
+        nodes.push(a);
+    }
+    let at = |j: usize| -> Vector2<f64> {
+        let x = j as f64 * n as f64 / steps as f64;
+        let i = (x.floor() as usize).min(n.saturating_sub(1));
+        let frac = x - i as f64;
+        nodes[i] + u[i] * frac
+    };
+    // u_f = Δα/h_f with α in units of h_c: multiply by h_c/h_f = steps/n.
+    let scale = steps as f64 / n as f64;
+    let mut out = Vec::with_capacity(steps);
+    let mut prev = at(0);
+    for j in 1..=steps {
+        let next = if j == steps { nodes[n] } else { at(j) };
+        out.push((next - prev) * scale);
+        prev = next;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Spec;
+    use crate::solver::settings::FRACTION_TO_BOUNDARY;
+
+    /// `max_step(…, 1, 0)` is where the step's rollout leaves the barrier's domain.
+    #[test]
+    fn the_wall_is_where_the_rollout_leaves_the_limit() {
+        let p = Problem::new(&Spec {
+            alpha_max: Some(1.5),
+            ..Spec::default()
+        })
+        .unwrap();
+        let mut grid = Grid::new(&p, 64, Rule::LEFT_POINT).unwrap();
+        grid.limits = Limits::Barrier {
+            alpha_max: 1.5,
+            tau: 1e-6,
+        };
+        let wave = |a: f64, b: f64| -> Vec<Vector2<f64>> {
+            (0..64)
+                .map(|k| {
+                    let t = core::f64::consts::TAU * k as f64 / 64.0;
+                    Vector2::new(a * t.cos(), b * (t + 1.0).cos())
+                })
+                .collect()
+        };
+        let u = wave(0.05, 0.04);
+        let states = grid.rollout(&u).unwrap();
+        for (a, b) in [(0.3, -0.2), (-0.5, 0.1), (0.05, 0.6)] {
+            let du = wave(a, b);
+            let wall = grid.limits.max_step(grid.h(), &states, &du, 1.0, 0.0);
+            assert!(0.0 < wall && wall < 1.0, "{wall}");
+            let at = |t: f64| -> Vec<Vector2<f64>> {
+                u.iter().zip(&du).map(|(x, d)| x + d * t).collect()
+            };
+            assert!(grid.rollout(&at(wall * (1.0 - 1e-9))).is_ok());
+            assert_eq!(
+                grid.rollout(&at(wall * (1.0 + 1e-9))),
+                Err(Error::ShapeLimit)
+            );
+            let fraction = grid
+                .limits
+                .max_step(grid.h(), &states, &du, FRACTION_TO_BOUNDARY, 0.0);
+            assert!((fraction - FRACTION_TO_BOUNDARY * wall).abs() <= 1e-12 * wall);
+        }
+    }
+}

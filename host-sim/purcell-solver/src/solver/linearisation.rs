@@ -1,0 +1,112 @@
+//! The derivatives of the problem along a rollout, in one backward sweep: the stage
+//! Jacobians and the Hessians of `λ_{k+1}ᵀf` ([`super::stage`]), the costates
+//! `λ_N = ν`, `λ_k = A_kᵀλ_{k+1}` (with the barrier's gradient, and the jumps by which the
+//! joint limit's multipliers hold the controls tied by arcs), the Lagrangian's gradient
+//! `∇_{u_k}L = ∇ℓ(u_k) + B_kᵀλ_{k+1}`, the stationarity residual and the least-squares
+//! multiplier.
+
+use super::cost::{Effort, StageCost};
+use super::grid::Grid;
+use super::stage::{Linearised, StageState};
+use nalgebra::{Vector2, Vector5};
+use purcell_core::Error;
+
+/// Derivatives of the problem along a rollout.
+#[derive(Clone, Debug)]
+pub struct Linearisation {
+    /// Stage derivatives, `k = 0 … N−1`.
+    pub lin: Vec<Linearised>,
+    /// Costates `λ_0 … λ_N` for the given `ν`.
+    pub lambda: Vec<StageState>,
+    /// The jumps of `λ^α_k` at the states on arcs (the limit's multipliers `η_k` times the
+    /// arc's sign; zero elsewhere).
+    pub jumps: Vec<Vector2<f64>>,
+    /// `∇_{u_k}L = h·u_k + B_kᵀλ_{k+1}` (zero for controls tied by arcs).
+    pub grad: Vec<Vector2<f64>>,
+    /// Stationarity residual `max_k |h·u_k + B_kᵀλ_{k+1}|_∞ / h`.
+    pub kkt: f64,
+    /// The least-squares multiplier `argmin_ν Σ_k |h·u_k + B_kᵀλ_{k+1}(ν)|²` (`None` if the
+    /// terminal state does not depend on the controls in every direction).
+    pub nu_ls: Option<Vector5<f64>>,
+}
+
+impl Linearisation {
+    /// Stage derivatives along a rollout for the terminal multiplier `nu` (see [`Linearised`]),
+    /// with the barrier's gradient in the costates and its Hessian in the stages' `hss`.
+    pub fn new(
+        grid: &Grid,
+        states: &[StageState],
+        u: &[Vector2<f64>],
+        nu: &Vector5<f64>,
+    ) -> Result<Linearisation, Error> {
+        let n = u.len();
+        let h = grid.h();
+        let maps = grid.limits.control_maps(grid.steps);
+        let free = |k: usize, i: usize| maps.as_ref().is_none_or(|m| m[k].free(i));
+        let mut lin = Vec::with_capacity(n);
+        let mut lambda = vec![StageState::zeros(); n + 1];
+        lambda[n] = *nu;
+        let mut kkt = 0.0f64;
+        let mut grad = vec![Vector2::zeros(); n];
+        let mut jumps = vec![Vector2::zeros(); n + 1];
+        // Least-squares multiplier: minimise Σ_k |h·u_k + B_kᵀλ_{k+1}|² over the free controls,
+        // with λ_{k+1} = Ψ_{k+1}ν + β_{k+1}: Ψ_N = I, Ψ_k = A_kᵀΨ_{k+1}; β_N = 0,
+        // β_k = A_kᵀβ_{k+1} + ∇Φ_k (the barrier's gradient).
+        let mut psi = nalgebra::Matrix5::<f64>::identity();
+        let mut beta = Vector5::<f64>::zeros();
+        let mut normal = nalgebra::Matrix5::<f64>::zeros();
+        let mut rhs = Vector5::<f64>::zeros();
+        for k in (0..n).rev() {
+            let mut l = grid.model.linearise(&states[k], &u[k], &lambda[k + 1])?;
+            let mut g = Effort.gradient(h, &u[k]) + l.b.transpose() * lambda[k + 1];
+            // A control tied by an arc (fixed, or an entry) is stationary by the multiplier η
+            // of the limit at state k+1: λ^α_{k+1,i} jumps so that h·u_{k,i} + (B_kᵀλ_{k+1})_i = 0
+            // (∂α_{k+1,i}/∂u_{k,i} = h). The jump does not enter the Hessians (α enters f
+            // linearly).
+            for i in 0..2 {
+                if !free(k, i) {
+                    let jump = -g[i] / h;
+                    lambda[k + 1][i] += jump;
+                    jumps[k + 1][i] = jump;
+                    g[i] = 0.0;
+                }
+            }
+            let mut gk = l.b.transpose() * psi;
+            let mut own = Effort.gradient(h, &u[k]) + l.b.transpose() * beta;
+            for i in 0..2 {
+                if free(k, i) {
+                    kkt = kkt.max(g[i].abs() / h);
+                } else {
+                    gk.row_mut(i).fill(0.0);
+                    own[i] = 0.0;
+                }
+            }
+            grad[k] = g;
+            normal += gk.transpose() * gk;
+            rhs -= gk.transpose() * own;
+            lambda[k] = l.a.transpose() * lambda[k + 1];
+            beta = l.a.transpose() * beta;
+            psi = l.a.transpose() * psi;
+            if k > 0
+                && let Some((dphi, ddphi)) = grid.limits.barrier_derivatives(h, &states[k])
+            {
+                for i in 0..2 {
+                    lambda[k][i] += dphi[i];
+                    beta[i] += dphi[i];
+                    l.hss[(i, i)] += ddphi[i];
+                }
+            }
+            lin.push(l);
+        }
+        lin.reverse();
+        let nu_ls = normal.cholesky().map(|c| c.solve(&rhs));
+        Ok(Linearisation {
+            lin,
+            lambda,
+            jumps,
+            grad,
+            kkt,
+            nu_ls,
+        })
+    }
+}
