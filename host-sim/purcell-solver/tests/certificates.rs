@@ -12,10 +12,11 @@ use purcell_solver::solver::certificate::{kkt, law_residual, terminal_residual};
 use purcell_solver::solver::direct;
 use purcell_solver::solver::grid::{Grid, Point};
 use purcell_solver::solver::linearisation::Linearisation;
+use purcell_solver::solver::refinement::extremal;
 use purcell_solver::solver::riccati::Factor;
 use purcell_solver::solver::settings::Settings;
 use purcell_solver::solver::stage::Rule;
-use purcell_solver::solver::{Extremal, SolveOptions, Trajectory, extremal, solve};
+use purcell_solver::solver::{Extremal, SolveOptions, Trajectory, solve};
 
 /// The tolerances of `host-sim/purcell-sim/tests/solver.rs`'s `check_extremal`.
 const TERMINAL_TOL: f64 = 1e-10;

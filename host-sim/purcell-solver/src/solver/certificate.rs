@@ -16,9 +16,9 @@
 //! The second-order check (no conjugate point) is the inertia of the direct method's own
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
 
-use super::Trajectory;
 use super::cost::{Effort, StageCost};
 use super::settings::ON_LIMIT;
+use super::solution::Trajectory;
 use crate::dual::Dual;
 use crate::problem::Problem;
 use nalgebra::{SVector, Vector2, Vector3};

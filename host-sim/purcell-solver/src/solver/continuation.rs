@@ -14,14 +14,13 @@ use super::constraints::joint_limit::Limits;
 use super::direct;
 use super::grid::{self, Grid, Point};
 use super::limits;
+use super::refinement::{extremal, refine, refine_candidates};
 use super::search::{self, Candidate};
-use super::settings::{self, MIN_WALK_STEP, SAME_TARGET, Settings, WARM_INSIDE};
+use super::settings::{self, MIN_WALK_STEP, SAME_TARGET, Settings, SolveOptions, WARM_INSIDE};
+use super::solution::{Extremal, Solution, SolveError, Trajectory};
 use super::stage::{Rule, StageState};
 use super::symmetry::{self, Symmetry};
-use super::{
-    Extremal, Solution, SolveError, SolveOptions, Trajectory, coarse_grid, costate, extremal,
-    refine,
-};
+use super::{coarse_grid, costate};
 use crate::problem::{Problem, Spec};
 use nalgebra::{Vector2, Vector3, Vector5};
 use rayon::prelude::*;
@@ -91,12 +90,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     }
     // Natural-parameter continuation in the target on a medium grid.
     let steps = (problem.steps as usize).min(1024);
-    let rule = if steps == problem.steps as usize {
-        Rule::LEFT_POINT
-    } else {
-        Rule::matching(horizon / steps as f64, problem.h)
-    };
-    let mut medium = Grid::new(problem, steps, rule).map_err(|_| unreachable(f64::INFINITY))?;
+    let mut medium = Grid::mimic(problem, steps).map_err(|_| unreachable(f64::INFINITY))?;
     let mut point = warm
         .point(&medium, horizon)
         .map_err(|_| unreachable(f64::INFINITY))?;
@@ -442,7 +436,7 @@ pub fn sweep(
             let mut candidates = own[i].clone();
             candidates.append(&mut brought[i].clone());
             candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-            let result = super::refine_candidates(&problems[i], &candidates, options, residual[i])
+            let result = refine_candidates(&problems[i], &candidates, options, residual[i])
                 .map(|(best, mut extremals)| extremals.swap_remove(best));
             progress();
             SweepPoint {

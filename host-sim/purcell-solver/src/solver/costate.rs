@@ -9,7 +9,7 @@
 //! reads `u_k = −λ^α_{k+1} − A(α_k)ᵀζ^k` with `ζ^k = dexp_{X_k}ᵀ Ad_{g_k}ᵀ μ`: the law, with
 //! `ξ^k = −λ^α_{k+1}`.
 
-use super::Trajectory;
+use super::solution::Trajectory;
 use super::stage::StageState;
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{Se2, State};

@@ -46,6 +46,17 @@ impl Grid {
         })
     }
 
+    /// The problem on `steps` steps (at most its own `N`) with the rule that mimics its
+    /// discretisation ([`Rule::matching`]), or its own ([`Rule::LEFT_POINT`]) on its own grid.
+    pub fn mimic(problem: &Problem, steps: usize) -> Result<Self, Error> {
+        let rule = if steps == problem.steps as usize {
+            Rule::LEFT_POINT
+        } else {
+            Rule::matching(problem.horizon() / steps as f64, problem.h)
+        };
+        Grid::new(problem, steps, rule)
+    }
+
     /// Step `h`.
     pub fn h(&self) -> f64 {
         self.model.h()

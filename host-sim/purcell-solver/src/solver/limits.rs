@@ -18,14 +18,10 @@
 //! The result is a KKT point of the constrained problem: stationarity in every free
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
-use super::Stop;
 use super::constraints::joint_limit::{Limits, arcs_of, merged};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
-use super::settings::{
-    ETA_ROUNDING, FINE_TAUS, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings,
-};
-use crate::problem::Problem;
+use super::settings::{ETA_ROUNDING, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings};
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
 
@@ -179,63 +175,31 @@ pub fn polish(
     Err(PolishError::Unsettled)
 }
 
-/// The constrained problem's fine-grid solution from a coarse barrier solution `u`, `nu`:
-/// through finer grids ([`super::finer_grid`]), the first running the barrier path
-/// [`FINE_TAUS`], the others only its last weight (each with [`PATIENCE`]), then [`polish`].
-/// The barrier steps stop at the fraction to the boundary ([`Settings::barrier`]): from a
+/// The refinement's barrier path on one grid: [`barrier_path`] through `taus` with
+/// [`Settings::barrier`] (every step stopped at the fraction to the boundary: from a
 /// prolonged coarse solution, unguarded steps pin states to the limit and Newton stalls
-/// there. Stops with [`Stop::Dearer`] if an
-/// intermediate grid's cost exceeds `bound`.
-pub fn refine(
-    problem: &Problem,
+/// there), the first of [`PATIENCE`] iterations per weight, then the second if that does not
+/// converge.
+pub fn patient_barrier_path(
+    grid: &Grid,
     alpha_max: f64,
-    u: &[Vector2<f64>],
-    nu: &nalgebra::Vector5<f64>,
-    bound: f64,
-) -> Result<(Grid, Run), Stop> {
-    let mut u = u.to_vec();
-    let mut nu = *nu;
-    let mut walked = false;
-    loop {
-        let inf = |_| Stop::Defect(f64::INFINITY);
-        let (grid, last) = super::finer_grid(problem, u.len()).map_err(inf)?;
-        let next = grid.steps;
-        let start = Point::new(&grid, grid::prolong(&u, next), nu).map_err(inf)?;
-        // The path once, on the first finer grid; a later grid only its last weight.
-        let taus: &[f64] = if walked {
-            &FINE_TAUS[FINE_TAUS.len() - 1..]
-        } else {
-            &FINE_TAUS
-        };
-        walked = true;
-        let path = |patience| {
-            barrier_path(
-                &grid,
-                alpha_max,
-                taus,
-                start.clone(),
-                &Settings::barrier(patience),
-            )
-        };
-        let mut run = path(PATIENCE[0]).map_err(inf)?;
-        if !run.converged {
-            run = path(PATIENCE[1]).map_err(inf)?;
-        }
-        if !run.converged {
-            return Err(Stop::Defect(run.defect));
-        }
-        if last {
-            let fine = Settings::fine(problem, &run.point.u);
-            return polish(&grid, alpha_max, &run.point, &fine).map_err(|e| match e {
-                PolishError::NotConverged(d) => Stop::Defect(d),
-                PolishError::Unsettled => Stop::Defect(f64::INFINITY),
-            });
-        }
-        if grid.cost(&run.point.u) > bound {
-            return Err(Stop::Dearer);
-        }
-        u = run.point.u;
-        nu = run.point.nu;
+    taus: &[f64],
+    start: Point,
+) -> Result<Run, Error> {
+    let path = |patience| {
+        barrier_path(
+            grid,
+            alpha_max,
+            taus,
+            start.clone(),
+            &Settings::barrier(patience),
+        )
+    };
+    let run = path(PATIENCE[0])?;
+    if run.converged {
+        Ok(run)
+    } else {
+        path(PATIENCE[1])
     }
 }
 

@@ -19,6 +19,35 @@
 use crate::problem::Problem;
 use nalgebra::Vector2;
 
+/// The settings of a solve: the global search's budget and grid, and how many candidates
+/// are refined.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// Most start loops of the global search, its budget (it stops earlier once its stopping
+    /// rule is met, [`search`]).
+    pub starts: usize,
+    /// Fewest start loops of the global search (unless `starts` is smaller).
+    pub min_starts: usize,
+    /// Orders the start loops.
+    pub seed: u64,
+    /// Steps of the coarse grid of the global search.
+    pub coarse_steps: usize,
+    /// Most candidates carried to the fine grid.
+    pub refine: usize,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            starts: 512,
+            min_starts: 128,
+            seed: 0,
+            coarse_steps: 64,
+            refine: 6,
+        }
+    }
+}
+
 /// Stopping and step rules of one run of Newton–SQP ([`super::direct::newton`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {

@@ -1,0 +1,251 @@
+//! The refinement: the search's candidates carried from the coarse grid to the problem's
+//! own, through grids at most 16 times finer each, Newton converging in a few steps at each
+//! (with a joint limit, the barrier path and then the active set, [`super::limits`]); the
+//! fine extremals with their certificates, cheapest first.
+
+use super::constraints::joint_limit::Limits;
+use super::direct::{self, Run};
+use super::grid::{self, Grid, Point};
+use super::limits::{self, PolishError};
+use super::search;
+use super::settings::{
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, PRUNE, Settings, SolveOptions,
+};
+use super::solution::{Extremal, SolveError};
+use super::{certificate, costate, symmetry};
+use crate::problem::{OVERLAP, Problem};
+use nalgebra::{Vector2, Vector5};
+
+/// Why a refinement stopped short of the problem's grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stop {
+    /// Newton did not converge on a grid: the terminal defect where it stopped.
+    Defect(f64),
+    /// On an intermediate grid the extremal already cost more than the bound.
+    Dearer,
+}
+
+impl Stop {
+    /// The terminal defect where it stopped (0 for [`Stop::Dearer`], which converged).
+    pub fn defect(self) -> f64 {
+        match self {
+            Stop::Defect(d) => d,
+            Stop::Dearer => 0.0,
+        }
+    }
+}
+
+/// Carries controls `u` (on any grid over the same horizon) with multiplier `nu` to the
+/// problem's grid, through grids at most 16 times finer each ([`finer_grid`]), Newton
+/// converging at each. With a joint limit, the first finer grid runs the barrier path
+/// [`FINE_TAUS`] and the others only its last weight ([`limits::patient_barrier_path`]),
+/// and on the problem's grid the active-set rounds impose the limit on its arcs
+/// ([`limits::polish`]). Gives up with [`Stop::Dearer`] once an intermediate grid's cost
+/// exceeds `bound` (`f64::INFINITY`: never).
+pub fn refine(
+    problem: &Problem,
+    u: &[Vector2<f64>],
+    nu: &Vector5<f64>,
+    bound: f64,
+) -> Result<(Grid, Run), Stop> {
+    let mut u = u.to_vec();
+    let mut nu = *nu;
+    let mut walked = false;
+    loop {
+        let inf = |_| Stop::Defect(f64::INFINITY);
+        let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
+        let start = Point::new(&grid, grid::prolong(&u, grid.steps), nu).map_err(inf)?;
+        let run = match problem.alpha_max {
+            None => {
+                let settings = if last {
+                    Settings::fine(problem, &start.u)
+                } else {
+                    Settings::INTERMEDIATE
+                };
+                direct::newton(&grid, start, &settings).map_err(inf)?
+            }
+            Some(alpha_max) => {
+                // The path once, on the first finer grid; a later grid only its last weight.
+                let taus: &[f64] = if walked {
+                    &FINE_TAUS[FINE_TAUS.len() - 1..]
+                } else {
+                    &FINE_TAUS
+                };
+                walked = true;
+                limits::patient_barrier_path(&grid, alpha_max, taus, start).map_err(inf)?
+            }
+        };
+        if !run.converged {
+            return Err(Stop::Defect(run.defect));
+        }
+        if last {
+            let Some(alpha_max) = problem.alpha_max else {
+                return Ok((grid, run));
+            };
+            let fine = Settings::fine(problem, &run.point.u);
+            return limits::polish(&grid, alpha_max, &run.point, &fine).map_err(|e| match e {
+                PolishError::NotConverged(d) => Stop::Defect(d),
+                PolishError::Unsettled => Stop::Defect(f64::INFINITY),
+            });
+        }
+        if grid.cost(&run.point.u) > bound {
+            return Err(Stop::Dearer);
+        }
+        u = run.point.u;
+        nu = run.point.nu;
+    }
+}
+
+/// The next grid of a refinement from `n` steps: at most 16 times finer, with the rule that
+/// mimics the problem's discretisation ([`Rule::matching`]), or the problem's own grid
+/// (`true`) once that is near enough.
+pub fn finer_grid(problem: &Problem, n: usize) -> Result<(Grid, bool), purcell_core::Error> {
+    let n_fine = problem.steps as usize;
+    let next = if n_fine <= 16 * n { n_fine } else { 16 * n };
+    Ok((Grid::mimic(problem, next)?, next == n_fine))
+}
+
+/// The extremal of a converged fine run, with its certificates.
+pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
+    let p = &run.point;
+    let trajectory = costate::trajectory(&p.states, &p.u, &run.lambda, &run.jumps);
+    let n = p.u.len();
+    let mu = costate::momentum(&run.lambda[n], &p.states[n]);
+    let max_abs_alpha = grid::max_abs_alpha(&p.states);
+    let physical = max_abs_alpha < OVERLAP;
+    let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
+    let cost = grid.cost(&p.u);
+    let kkt = certificate::kkt(problem, &trajectory, &mu)
+        .ok()
+        .filter(|_| physical);
+    let arcs = match &grid.limits {
+        Limits::Arcs { arcs, .. } => {
+            let mut arcs = arcs.clone();
+            arcs.sort_by_key(|a| (a.first, a.joint));
+            arcs
+        }
+        _ => Vec::new(),
+    };
+    Extremal {
+        cost,
+        mu,
+        xi0: trajectory.xis.first().copied().unwrap_or_default(),
+        max_abs_alpha,
+        admissible: problem.admits(max_abs_alpha),
+        residual: run.defect,
+        terminal_residual: check(certificate::terminal_residual(problem, &p.u)),
+        kkt_residual: kkt.map(|k| k.residual),
+        arcs,
+        min_eta: kkt.and_then(|k| k.min_eta),
+        stationarity: run.kkt,
+        law_residual: check(certificate::law_residual(problem, &trajectory, &mu)),
+        // J ≥ 0, so J = 0 is the global minimum (there the terminal constraint is degenerate
+        // and the second-order test does not apply).
+        local_min: run.local_min || cost == 0.0,
+        iterations: run.iterations,
+        start: 0,
+        hits: 0,
+        twin_of: None,
+        trajectory,
+    }
+}
+
+/// Carries coarse `candidates` (cheapest first) to the fine grid: the index of the cheapest
+/// admissible fine extremal and every distinct one refined, cheapest first (see the comments
+/// for which). `best_residual` is the search's smallest defect, for the error when no
+/// candidate was tried.
+pub fn refine_candidates(
+    problem: &Problem,
+    candidates: &[search::Candidate],
+    options: &SolveOptions,
+    best_residual: f64,
+) -> Result<(usize, Vec<Extremal>), SolveError> {
+    let alpha_max = problem.shape_bound();
+    // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
+    // the coarse grid's error in `|α|`) until the cheapest admissible fine extremal is settled
+    // (every remaining candidate costs more, with a margin for the coarse grid's error in
+    // `J`), then the inadmissible ones cheaper than it, for the report. A candidate that
+    // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]).
+    let mut extremals: Vec<Extremal> = Vec::new();
+    let mut refine_defect = f64::INFINITY;
+    let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
+    let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
+    let mut refined = 0;
+    for (pass, list) in [maybe, beyond].into_iter().enumerate() {
+        for c in list {
+            let settled = extremals
+                .iter()
+                .filter(|x| x.admissible)
+                .map(|x| x.cost)
+                .fold(f64::INFINITY, f64::min);
+            let margin = if pass == 0 {
+                1.0 + COARSE_COST_ERROR
+            } else {
+                1.0
+            };
+            if refined >= options.refine || c.cost > settled * margin {
+                break;
+            }
+            refined += 1;
+            let (fine, run) = match refine(problem, &c.u, &c.nu, settled * (1.0 + PRUNE)) {
+                Ok(r) => r,
+                Err(stop) => {
+                    if let Stop::Defect(d) = stop {
+                        refine_defect = refine_defect.min(d);
+                    }
+                    continue;
+                }
+            };
+            let mut x = extremal(problem, &fine, &run);
+            x.start = c.start;
+            x.hits = c.hits;
+            if !extremals.iter().any(|o| {
+                search::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
+            }) {
+                extremals.push(x);
+            }
+        }
+    }
+    if extremals.is_empty() {
+        return Err(if refined == 0 {
+            SolveError::Unreachable { best_residual }
+        } else {
+            SolveError::NotRefined {
+                found: refined,
+                best_residual: refine_defect,
+            }
+        });
+    }
+    extremals.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    mark_twins(problem, &mut extremals);
+    let Some(best) = extremals.iter().position(|x| x.admissible) else {
+        return Err(SolveError::NoneAdmissible {
+            found: extremals.len(),
+            best_alpha: extremals
+                .iter()
+                .map(|x| x.max_abs_alpha)
+                .fold(f64::INFINITY, f64::min),
+        });
+    };
+    Ok((best, extremals))
+}
+
+/// Marks each extremal whose image under a symmetry of the problem is also in the list.
+fn mark_twins(problem: &Problem, extremals: &mut [Extremal]) {
+    for sym in symmetry::of_problem(problem) {
+        for i in 0..extremals.len() {
+            if extremals[i].twin_of.is_some() {
+                continue;
+            }
+            let image: Vec<Vector2<f64>> = extremals[i]
+                .trajectory
+                .controls
+                .iter()
+                .map(|u| sym.shape(u))
+                .collect();
+            extremals[i].twin_of = (0..extremals.len()).find(|&j| {
+                j != i && search::same_path(&extremals[j].trajectory.controls, &image, problem.h)
+            });
+        }
+    }
+}

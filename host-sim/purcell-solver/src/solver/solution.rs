@@ -1,0 +1,205 @@
+//! What a solve gives: the extremals with their certificates ([`Extremal`], on a
+//! [`Trajectory`]), the global search's evidence ([`Evidence`]), or why there is none
+//! ([`SolveError`]).
+
+use super::search;
+use super::settings::{KKT_TOL, LAW_TOL, TERMINAL_TOL};
+use nalgebra::{Vector2, Vector3};
+use purcell_core::{Arc, State};
+
+/// A trajectory on the grid: `k = 0..N` states, `k < N` controls, costates `ξ^{k−1}`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Trajectory {
+    /// `(α_k, g_k)`, `k = 0..=N`.
+    pub states: Vec<State<f64>>,
+    /// `u_k`, `k < N`.
+    pub controls: Vec<Vector2<f64>>,
+    /// `ξ^{k−1}`, `k = 0..=N` (the first is `ξ^{−1}`).
+    pub xis: Vec<Vector2<f64>>,
+}
+
+/// One extremal of the fine problem, with its certificates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Extremal {
+    /// `J = Σ h/2 |u_k|²`.
+    pub cost: f64,
+    /// Spatial momentum `μ`.
+    pub mu: Vector3<f64>,
+    /// `ξ^{−1}`.
+    pub xi0: Vector2<f64>,
+    /// Largest `|α_i|` along the path.
+    pub max_abs_alpha: f64,
+    /// Whether the path is admissible ([`Problem::admits`]).
+    pub admissible: bool,
+    /// Terminal defect of the direct method's trajectory (largest component, m / rad).
+    pub residual: f64,
+    /// The same after re-integrating the controls through the core's kinematics
+    /// ([`certificate::terminal_residual`]); `None` if the path is not admissible.
+    pub terminal_residual: Option<f64>,
+    /// Independent KKT residual ([`certificate::kkt`], rad/s, with the joint limit's
+    /// multipliers); `None` if the path is not admissible (the core refuses shapes past the
+    /// overlap limit).
+    pub kkt_residual: Option<f64>,
+    /// The joint limit's arcs: maximal runs of states `k = first..=last` on `σ α_{k,i} = α_max`
+    /// (empty without a limit or where it is inactive), sorted by `(first, joint)` as a gait's
+    /// arc table is ([`purcell_core::arc`]).
+    pub arcs: Vec<Arc>,
+    /// Smallest multiplier `η_k ≥ 0` of the joint limit over the arcs' states, from
+    /// [`certificate::kkt`]; `None` without arcs.
+    pub min_eta: Option<f64>,
+    /// The direct method's own stationarity residual (rad/s).
+    pub stationarity: f64,
+    /// Relative deviation of the core's law from the controls ([`certificate::law_residual`]);
+    /// `None` if the path is not admissible.
+    pub law_residual: Option<f64>,
+    /// Second-order sufficient condition: a strict local minimum.
+    pub local_min: bool,
+    /// Newton iterations on the fine grid.
+    pub iterations: usize,
+    /// Index of the start loop that first reached it in the global search (0: zero loop).
+    pub start: usize,
+    /// How many starts of the global search reached it.
+    pub hits: usize,
+    /// For a problem that a symmetry of the swimmer maps to itself ([`symmetry`]): the
+    /// index in [`Solution::extremals`] of this extremal's image (same cost, another loop),
+    /// when found too.
+    pub twin_of: Option<usize>,
+    /// The trajectory with its costates.
+    pub trajectory: Trajectory,
+}
+
+impl Extremal {
+    /// Why its certificates do not vouch for it, if they do not: it must be admissible and a
+    /// strict local minimum, land on the target through the core's kinematics within
+    /// [`TERMINAL_TOL`], satisfy KKT within [`KKT_TOL`] and be reproduced by the core's law
+    /// within [`LAW_TOL`] (relative); the bounds the tests hold every returned extremal to.
+    pub fn uncertified(&self) -> Option<&'static str> {
+        if !self.admissible {
+            return Some("not admissible");
+        }
+        if !self.local_min {
+            return Some("not a strict local minimum");
+        }
+        let residuals = [self.terminal_residual, self.kkt_residual, self.law_residual];
+        residuals
+            .into_iter()
+            .zip(CERTIFICATES)
+            .find(|(r, (bound, _))| !r.is_some_and(|r| r <= *bound))
+            .map(|(_, (_, why))| why)
+    }
+}
+
+/// The certificates' bounds, in the order [`Extremal::uncertified`] checks them, with how it
+/// names a residual above each (sweep.csv's `status`).
+const CERTIFICATES: [(f64, &str); 3] = [
+    (TERMINAL_TOL, "terminal residual above 1e-10"),
+    (KKT_TOL, "KKT residual above 1e-8"),
+    (LAW_TOL, "law residual above 1e-9"),
+];
+
+/// Outcome of a solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Index into `extremals` of the returned one (the cheapest admissible).
+    pub best: usize,
+    /// Every distinct extremal carried to the fine grid, cheapest first.
+    pub extremals: Vec<Extremal>,
+    /// What the global search saw (`None` for a solve from a warm start).
+    pub search: Option<Evidence>,
+}
+
+/// The global search's evidence for its answer ([`search`]'s stopping rule).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evidence {
+    /// Start loops run.
+    pub starts: usize,
+    /// The budget ([`SolveOptions::starts`]).
+    pub budget: usize,
+    /// The distinct minima of the coarse problem, cheapest first.
+    pub minima: Vec<Minimum>,
+    /// Estimated chance that a further start reaches an unseen minimum no dearer than the
+    /// cheapest admissible one ([`search::Search::unseen`]).
+    pub unseen: f64,
+    /// Boender and Rinnooy Kan's estimate of the number of minima
+    /// ([`search::Search::expected_minima`]).
+    pub expected_minima: f64,
+    /// Whether the stopping rule was met within the budget.
+    pub satisfied: bool,
+}
+
+/// One distinct minimum of the coarse problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Minimum {
+    /// `J` on the coarse grid.
+    pub cost: f64,
+    /// Largest `|α_i|` along it.
+    pub max_abs_alpha: f64,
+    /// How many starts reached it.
+    pub hits: usize,
+}
+
+impl Evidence {
+    /// The evidence of a finished search with budget `budget`.
+    pub(super) fn of(found: &search::Search, budget: usize) -> Self {
+        Evidence {
+            starts: found.starts,
+            budget,
+            minima: found
+                .candidates
+                .iter()
+                .map(|c| Minimum {
+                    cost: c.cost,
+                    max_abs_alpha: c.max_abs_alpha,
+                    hits: c.hits,
+                })
+                .collect(),
+            unseen: found.unseen,
+            expected_minima: found.expected_minima(),
+            satisfied: found.satisfied,
+        }
+    }
+}
+
+/// Why no extremal was returned.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// No start converged.
+    #[error("no start reached the target: best residual {best_residual:.3e}")]
+    Unreachable {
+        /// Smallest terminal defect reached by any start.
+        best_residual: f64,
+    },
+    /// The search found extremals on its coarse grid, but none could be carried to the
+    /// problem's grid.
+    #[error(
+        "{found} extremal(s) of the coarse search, none carried to the problem's grid: smallest terminal defect {best_residual:.3e}"
+    )]
+    NotRefined {
+        /// How many were tried.
+        found: usize,
+        /// Smallest terminal defect where a refinement stopped.
+        best_residual: f64,
+    },
+    /// Extremals were found but none is admissible.
+    #[error(
+        "{found} extremal(s) found, none admissible: the smallest largest |alpha_i| is {best_alpha:.4} rad, at or past the joint limit (or the links' overlap at pi)"
+    )]
+    NoneAdmissible {
+        /// How many.
+        found: usize,
+        /// Smallest of their largest `|α_i|`.
+        best_alpha: f64,
+    },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CERTIFICATES;
+
+    #[test]
+    fn each_certificate_message_names_its_bound() {
+        for (bound, why) in CERTIFICATES {
+            assert!(why.ends_with(&format!(" above {bound:e}")), "{why}");
+        }
+    }
+}
