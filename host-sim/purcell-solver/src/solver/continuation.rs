@@ -69,15 +69,18 @@ impl Warm {
     }
 }
 
+/// Why a warm start reached nothing: Newton's smallest terminal defect.
+fn unreachable(best_residual: f64) -> SolveError {
+    SolveError::Unreachable { best_residual }
+}
+
 /// The extremal of `problem` reached from `warm` (see the module docs).
 pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveError> {
-    let unreachable = |best_residual| SolveError::Unreachable { best_residual };
     let horizon = problem.horizon();
-    let limit = problem.alpha_max;
     // Directly on the problem's own grid (without a joint limit).
     let fine = Grid::new(problem, problem.steps as usize, Rule::LEFT_POINT)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    if limit.is_none()
+    if problem.alpha_max.is_none()
         && let Ok(p) = warm.point(&fine, horizon)
     {
         let settings = Settings::fine(problem, &p.u);
@@ -94,39 +97,66 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
     let mut point = warm
         .point(&medium, horizon)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    let settings = Settings::warm(limit.is_some());
-    // With a joint limit: the warm start pulled just inside it (a gait on arcs of the limit
-    // rests on it) and to the barrier's minimum at its own target and the search's last
-    // weight; the walk then keeps that weight, its steps stopping short of the limit.
-    if let Some(a) = limit {
-        let w = warm.target;
-        let mut own = medium.clone();
-        let a0 = own.terminal.target;
-        own.terminal.target = StageState::new(a0[0], a0[1], w.x, w.y, w.z);
-        // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
-        // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
-        let within = problem.admits(grid::max_abs_alpha(&point.states));
-        let (inside, path): (_, &[f64]) = if within {
-            let bound = (1.0 - WARM_INSIDE) * a;
-            let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
-            (u, &[settings::COARSE_TAU])
-        } else {
-            let u = limits::shrink_into(point.u, &problem.alpha0, a, medium.h());
-            (u, settings::coarse_path(0))
-        };
-        let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
-        let run = limits::barrier_path(&own, a, path, start, &settings)
-            .map_err(|_| unreachable(f64::INFINITY))?;
-        if !run.converged {
-            return Err(unreachable(run.defect));
-        }
-        point = run.point;
+    let settings = Settings::warm(problem.alpha_max.is_some());
+    if let Some(a) = problem.alpha_max {
+        point = within_limit(problem, warm, &medium, point, a, &settings)?;
         medium.limits = Limits::Barrier {
             alpha_max: a,
             tau: settings::COARSE_TAU,
         };
     }
-    let (from, to) = (warm.target, problem.target);
+    let point = walk(problem, warm.target, &medium, point, &settings)?;
+    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY)
+        .map_err(|stop| unreachable(stop.defect()))?;
+    Ok(extremal(problem, &fine, &run))
+}
+
+/// With a joint limit `alpha_max`: the warm start `point` on `medium` pulled just inside it
+/// (a gait on arcs of the limit rests on it) and to the barrier's minimum at its own target
+/// and the search's last weight; the walk then keeps that weight, its steps stopping short
+/// of the limit.
+fn within_limit(
+    problem: &Problem,
+    warm: &Warm,
+    medium: &Grid,
+    point: Point,
+    alpha_max: f64,
+    settings: &Settings,
+) -> Result<Point, SolveError> {
+    let own = medium.aiming_at(&warm.target);
+    // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
+    // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
+    let within = problem.admits(grid::max_abs_alpha(&point.states));
+    let (inside, path): (_, &[f64]) = if within {
+        let bound = (1.0 - WARM_INSIDE) * alpha_max;
+        let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
+        (u, &[settings::COARSE_TAU])
+    } else {
+        let u = limits::shrink_into(point.u, &problem.alpha0, alpha_max, medium.h());
+        (u, settings::coarse_path(0))
+    };
+    let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
+    let run = limits::barrier_path(&own, alpha_max, path, start, settings)
+        .map_err(|_| unreachable(f64::INFINITY))?;
+    if run.converged {
+        Ok(run.point)
+    } else {
+        Err(unreachable(run.defect))
+    }
+}
+
+/// Natural-parameter continuation on `medium` from `point` (an extremal at the target
+/// `from`) to the problem's target: steps of the way that grow by half on success and halve
+/// on failure, every accepted point admissible; the point at the problem's target, or why
+/// the walk stopped (its step below [`MIN_WALK_STEP`]).
+fn walk(
+    problem: &Problem,
+    from: Vector3<f64>,
+    medium: &Grid,
+    mut point: Point,
+    settings: &Settings,
+) -> Result<Point, SolveError> {
+    let to = problem.target;
     let (mut s, mut ds) = (0.0f64, 0.25f64);
     let mut best_residual = f64::INFINITY;
     // The smallest largest |α_i| of the converged steps refused for leaving the admissible
@@ -144,13 +174,10 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
             });
         }
         let next = (s + ds).min(1.0);
-        let t = from + (to - from) * next;
-        let mut grid = medium.clone();
-        let a0 = grid.terminal.target;
-        grid.terminal.target = StageState::new(a0[0], a0[1], t.x, t.y, t.z);
+        let grid = medium.aiming_at(&(from + (to - from) * next));
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
-        match direct::newton(&grid, start, &settings) {
+        match direct::newton(&grid, start, settings) {
             Ok(run) if run.converged && problem.admits(grid::max_abs_alpha(&run.point.states)) => {
                 point = run.point;
                 s = next;
@@ -167,9 +194,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
             Err(_) => ds *= 0.5,
         }
     }
-    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY)
-        .map_err(|stop| unreachable(stop.defect()))?;
-    Ok(extremal(problem, &fine, &run))
+    Ok(point)
 }
 
 /// `solve --from`: the extremal reached from a stored one, as a solution of one extremal;
@@ -309,142 +334,191 @@ pub fn sweep(
     options: &SolveOptions,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<SweepPoint>, crate::problem::InputError> {
-    let targets = lattice.targets();
-    let problems: Vec<Problem> = targets
-        .iter()
-        .map(|t| {
-            Problem::new(&Spec {
-                target: [t.x, t.y, t.z],
-                ..spec.clone()
-            })
-        })
-        .collect::<Result<_, _>>()?;
-    let grids: Vec<Option<Grid>> = problems.iter().map(|p| coarse_grid(p, options)).collect();
-    // For each target, the targets a symmetry maps onto it, with that symmetry.
-    let lookup = |t: &Vector3<f64>| {
-        targets
-            .iter()
-            .position(|u| (u - t).amax() <= SAME_TARGET * (1.0 + t.amax()))
-    };
-    let images: Vec<Vec<(usize, Symmetry)>> = problems
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            symmetry::of_swimmer(p)
-                .into_iter()
-                .filter_map(|sym| Some((lookup(&sym.target(&targets[i]))?, sym)))
-                .filter(|(j, _)| *j != i)
-                .collect()
-        })
-        .collect();
-    // 1. One search per orbit: a target whose images include an earlier target takes that
-    // target's candidates, mapped.
-    let searched: Vec<(usize, Vec<Candidate>, f64)> = (0..targets.len())
-        .filter(|&i| images[i].iter().all(|(j, _)| *j > i))
-        .collect::<Vec<_>>()
-        .into_par_iter()
-        .map(|i| {
-            let found = super::search_coarse(&problems[i], options, &|| {});
-            progress();
-            match found {
-                Ok(s) => (i, s.candidates, s.best_residual),
-                Err(_) => (i, Vec::new(), f64::INFINITY),
-            }
-        })
-        .collect();
-    let mut own: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
-    let mut residual = vec![f64::INFINITY; targets.len()];
-    for (i, list, r) in searched {
-        own[i] = list;
-        residual[i] = r;
-    }
-    for i in 0..targets.len() {
-        if let Some((j, sym)) = images[i]
-            .iter()
-            .filter(|(j, _)| *j < i)
-            .min_by_key(|(j, _)| *j)
-        {
-            own[i] = own[*j].iter().map(|c| image(c, sym)).collect();
-            residual[i] = residual[*j];
-            progress();
-        }
-    }
-    // 2. Neighbour passes on the coarse grid.
-    let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
-    let mut changed = vec![false; targets.len()];
-    for i in 0..targets.len() {
-        changed[i] = merge(
-            &mut kept[i],
-            own[i].clone(),
-            &problems[i],
-            grids[i].as_ref(),
-        );
-    }
-    let settings = Settings::NEIGHBOURS;
-    let mut brought: Vec<Vec<Candidate>> = vec![Vec::new(); targets.len()];
-    loop {
-        let updates: Vec<(usize, Vec<Candidate>)> = (0..targets.len())
-            .into_par_iter()
-            .filter_map(|i| {
-                let grid = grids[i].as_ref()?;
-                let mut new = Vec::new();
-                for j in lattice.neighbours(i) {
-                    if !changed[j] {
-                        continue;
-                    }
-                    for c in &kept[j] {
-                        if !kept[i]
-                            .iter()
-                            .any(|m| search::same_path(&m.u, &c.u, grid.h()))
-                        {
-                            new.extend(newton_from(grid, c, &settings));
-                        }
-                    }
-                }
-                for (j, sym) in &images[i] {
-                    if changed[*j] {
-                        new.extend(kept[*j].iter().map(|c| image(c, sym)));
-                    }
-                }
-                let mut list = kept[i].clone();
-                merge(&mut list, new, &problems[i], Some(grid)).then_some((i, list))
-            })
-            .collect();
-        if updates.is_empty() {
-            break;
-        }
-        changed = vec![false; targets.len()];
-        for (i, list) in updates {
-            for c in &list {
-                let h = grids[i].as_ref().map_or(0.0, Grid::h);
-                if !own[i]
-                    .iter()
-                    .chain(&brought[i])
-                    .any(|m| search::same_path(&m.u, &c.u, h))
-                {
-                    brought[i].push(c.clone());
-                }
-            }
-            kept[i] = list;
-            changed[i] = true;
-        }
-    }
+    let atlas = Atlas::new(spec, lattice, options)?;
+    let (own, residual) = atlas.search(options, progress);
+    let brought = atlas.neighbour_passes(&own);
     // 3. Each target's candidates to the fine grid, as `solve` carries them.
-    Ok((0..targets.len())
+    Ok((0..atlas.targets.len())
         .into_par_iter()
         .map(|i| {
             let mut candidates = own[i].clone();
             candidates.append(&mut brought[i].clone());
             candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-            let result = refine_candidates(&problems[i], &candidates, options, residual[i])
+            let result = refine_candidates(&atlas.problems[i], &candidates, options, residual[i])
                 .map(|(best, mut extremals)| extremals.swap_remove(best));
             progress();
             SweepPoint {
-                target: targets[i],
+                target: atlas.targets[i],
                 result,
             }
         })
         .collect())
+}
+
+/// A sweep's targets with their problems, coarse grids and symmetric images.
+struct Atlas<'a> {
+    lattice: &'a Lattice,
+    targets: Vec<Vector3<f64>>,
+    problems: Vec<Problem>,
+    grids: Vec<Option<Grid>>,
+    /// For each target, the targets a symmetry maps onto it, with that symmetry.
+    images: Vec<Vec<(usize, Symmetry)>>,
+}
+
+impl<'a> Atlas<'a> {
+    fn new(
+        spec: &Spec,
+        lattice: &'a Lattice,
+        options: &SolveOptions,
+    ) -> Result<Self, crate::problem::InputError> {
+        let targets = lattice.targets();
+        let problems: Vec<Problem> = targets
+            .iter()
+            .map(|t| {
+                Problem::new(&Spec {
+                    target: [t.x, t.y, t.z],
+                    ..spec.clone()
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        let grids = problems.iter().map(|p| coarse_grid(p, options)).collect();
+        let lookup = |t: &Vector3<f64>| {
+            targets
+                .iter()
+                .position(|u| (u - t).amax() <= SAME_TARGET * (1.0 + t.amax()))
+        };
+        let images = problems
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                symmetry::of_swimmer(p)
+                    .into_iter()
+                    .filter_map(|sym| Some((lookup(&sym.target(&targets[i]))?, sym)))
+                    .filter(|(j, _)| *j != i)
+                    .collect()
+            })
+            .collect();
+        Ok(Atlas {
+            lattice,
+            targets,
+            problems,
+            grids,
+            images,
+        })
+    }
+
+    /// 1. Every target's candidates from its global search, with the search's smallest
+    ///    defect: one search per orbit, a target whose images include an earlier target
+    ///    taking that target's candidates, mapped.
+    fn search(
+        &self,
+        options: &SolveOptions,
+        progress: &(dyn Fn() + Sync),
+    ) -> (Vec<Vec<Candidate>>, Vec<f64>) {
+        let n = self.targets.len();
+        let searched: Vec<(usize, Vec<Candidate>, f64)> = (0..n)
+            .filter(|&i| self.images[i].iter().all(|(j, _)| *j > i))
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|i| {
+                let found = super::search_coarse(&self.problems[i], options, &|| {});
+                progress();
+                match found {
+                    Ok(s) => (i, s.candidates, s.best_residual),
+                    Err(_) => (i, Vec::new(), f64::INFINITY),
+                }
+            })
+            .collect();
+        let mut own: Vec<Vec<Candidate>> = vec![Vec::new(); n];
+        let mut residual = vec![f64::INFINITY; n];
+        for (i, list, r) in searched {
+            own[i] = list;
+            residual[i] = r;
+        }
+        for i in 0..n {
+            if let Some((j, sym)) = self.images[i]
+                .iter()
+                .filter(|(j, _)| *j < i)
+                .min_by_key(|(j, _)| *j)
+            {
+                own[i] = own[*j].iter().map(|c| image(c, sym)).collect();
+                residual[i] = residual[*j];
+                progress();
+            }
+        }
+        (own, residual)
+    }
+
+    /// 2. Neighbour passes on the coarse grid from each target's `own` candidates, until no
+    ///    target's kept extremals change; the candidates they brought to each target (not
+    ///    among its own).
+    fn neighbour_passes(&self, own: &[Vec<Candidate>]) -> Vec<Vec<Candidate>> {
+        let n = self.targets.len();
+        let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); n];
+        let mut changed = vec![false; n];
+        for i in 0..n {
+            changed[i] = merge(
+                &mut kept[i],
+                own[i].clone(),
+                &self.problems[i],
+                self.grids[i].as_ref(),
+            );
+        }
+        let mut brought: Vec<Vec<Candidate>> = vec![Vec::new(); n];
+        loop {
+            let updates: Vec<(usize, Vec<Candidate>)> = (0..n)
+                .into_par_iter()
+                .filter_map(|i| Some((i, self.pass(i, &kept, &changed)?)))
+                .collect();
+            if updates.is_empty() {
+                break;
+            }
+            changed = vec![false; n];
+            for (i, list) in updates {
+                for c in &list {
+                    let h = self.grids[i].as_ref().map_or(0.0, Grid::h);
+                    if !own[i]
+                        .iter()
+                        .chain(&brought[i])
+                        .any(|m| search::same_path(&m.u, &c.u, h))
+                    {
+                        brought[i].push(c.clone());
+                    }
+                }
+                kept[i] = list;
+                changed[i] = true;
+            }
+        }
+        brought
+    }
+
+    /// One pass at target `i`: Newton from the `kept` extremals of its neighbours that
+    /// `changed` in the last pass, and the images of those of the targets a symmetry maps
+    /// onto it; its new kept list if that changed.
+    fn pass(&self, i: usize, kept: &[Vec<Candidate>], changed: &[bool]) -> Option<Vec<Candidate>> {
+        let grid = self.grids[i].as_ref()?;
+        let mut new = Vec::new();
+        for j in self.lattice.neighbours(i) {
+            if !changed[j] {
+                continue;
+            }
+            for c in &kept[j] {
+                if !kept[i]
+                    .iter()
+                    .any(|m| search::same_path(&m.u, &c.u, grid.h()))
+                {
+                    new.extend(newton_from(grid, c, &Settings::NEIGHBOURS));
+                }
+            }
+        }
+        for (j, sym) in &self.images[i] {
+            if changed[*j] {
+                new.extend(kept[*j].iter().map(|c| image(c, sym)));
+            }
+        }
+        let mut list = kept[i].clone();
+        merge(&mut list, new, &self.problems[i], Some(grid)).then_some(list)
+    }
 }
 
 /// The image of a coarse extremal under a symmetry of the swimmer.

@@ -9,7 +9,7 @@ use super::constraints::terminal::Terminal;
 use super::cost::{Effort, StageCost};
 use super::stage::{Rule, StageModel, StageState};
 use crate::problem::Problem;
-use nalgebra::{Vector2, Vector5};
+use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::{Error, Kinematics};
 
 /// One time grid of the problem: `steps` steps over the horizon `T`.
@@ -55,6 +55,14 @@ impl Grid {
             Rule::matching(problem.horizon() / steps as f64, problem.h)
         };
         Grid::new(problem, steps, rule)
+    }
+
+    /// The same grid with the target `ḡ = target` (the end shape `ᾱ` kept).
+    pub fn aiming_at(&self, target: &Vector3<f64>) -> Grid {
+        let mut grid = self.clone();
+        let a = self.terminal.target;
+        grid.terminal.target = StageState::new(a[0], a[1], target.x, target.y, target.z);
+        grid
     }
 
     /// Step `h`.

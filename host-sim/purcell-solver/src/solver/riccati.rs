@@ -87,6 +87,105 @@ impl Split {
     }
 }
 
+impl Split {
+    /// The `ν`-dependence of the stage's linear terms, `q_a ∋ C_kᵀν_p` and `q_u ∋ D_kᵀν_p`, as
+    /// matrices acting on `ν`.
+    fn multiplier_terms(&self) -> (Matrix3x5<f64>, Matrix2x5<f64>) {
+        let mut gamma = Matrix3x5::<f64>::zeros();
+        let mut delta_u = Matrix2x5::<f64>::zeros();
+        for (col, &pc) in P_IDX.iter().enumerate() {
+            gamma.set_column(pc, &self.c.row(col).transpose());
+            delta_u.set_column(pc, &self.d.row(col).transpose());
+        }
+        (gamma, delta_u)
+    }
+}
+
+/// One stage of the LQ problem in the recursion's variables: the split dynamics and
+/// Hessians, the control Hessian with the cost's, its regularisation `δ·I`, a unit pivot
+/// for each control that is not free, and the linear terms on the controls and on `δa`.
+struct Stage {
+    split: Split,
+    huu: Matrix2<f64>,
+    reg: Matrix2<f64>,
+    fixed_pivot: Matrix2<f64>,
+    r: Vector2<f64>,
+    qa: Vector3<f64>,
+}
+
+impl Stage {
+    /// Stage `l` with linear term `r`, cost step `h` and regularisation `delta`; with a
+    /// substitution `δu = Sδv + Lδa` (`sub`), in `(δa, δv)`: dynamics `A + BL`, `BS`, the
+    /// costs transformed, the linear term `rᵀδu = (Sr)ᵀδv + (Lᵀr)ᵀδa`.
+    fn new(
+        l: &Linearised,
+        r: Vector2<f64>,
+        h: f64,
+        delta: f64,
+        sub: Option<(Matrix2<f64>, Matrix2x3<f64>)>,
+    ) -> Self {
+        let mut stage = Stage {
+            split: Split::new(l),
+            huu: l.huu + Effort.hessian(h),
+            reg: Matrix2::identity() * delta,
+            fixed_pivot: Matrix2::zeros(),
+            r,
+            qa: Vector3::zeros(),
+        };
+        if let Some((sm, lm)) = sub {
+            let (st, huu) = (&mut stage.split, stage.huu);
+            st.qaa += st.qau * lm + lm.transpose() * st.qau.transpose() + lm.transpose() * huu * lm;
+            st.qau = (st.qau + lm.transpose() * huu) * sm;
+            stage.huu = sm * huu * sm;
+            stage.reg = sm * stage.reg * sm;
+            stage.fixed_pivot = Matrix2::identity() - sm;
+            stage.qa = lm.transpose() * r;
+            stage.r = sm * r;
+            st.a += st.b * lm;
+            st.c += st.d * lm;
+            st.b *= sm;
+            st.d *= sm;
+        }
+        stage
+    }
+}
+
+/// The inverse of a pivot `Q̂_uu` and its number of negative eigenvalues; `None` if it is
+/// singular ([`PIVOT`]) or not finite.
+fn pivot(quu: &Matrix2<f64>) -> Option<(Matrix2<f64>, usize)> {
+    let det = quu.m11 * quu.m22 - quu.m12 * quu.m21;
+    let scale = quu.m11.abs().max(quu.m22.abs()).max(quu.m12.abs());
+    if det.abs() <= PIVOT * scale * scale || !det.is_finite() {
+        return None;
+    }
+    let negative = if det < 0.0 {
+        1
+    } else if quu.m11 < 0.0 {
+        2
+    } else {
+        0
+    };
+    Some((
+        Matrix2::new(quu.m22, -quu.m12, -quu.m21, quu.m11) / det,
+        negative,
+    ))
+}
+
+/// The number of negative eigenvalues of `M`; `None` if `M` or `σ` is not finite or `M` is
+/// singular ([`SINGULAR`]).
+fn negative_eigenvalues(m: &Matrix5<f64>, sigma: &Vector5<f64>) -> Option<usize> {
+    if !m.iter().chain(sigma.iter()).all(|v| v.is_finite()) {
+        return None;
+    }
+    let sym = (m + m.transpose()) * 0.5;
+    let eig = SymmetricEigen::new(sym).eigenvalues;
+    let largest = eig.amax();
+    if eig.iter().any(|e| e.abs() <= SINGULAR * largest) {
+        return None;
+    }
+    Some(eig.iter().filter(|e| **e < 0.0).count())
+}
+
 /// `δu = S δv + L δa` for a stage's [`ControlMap`]: `S` keeps the free controls, `L` sets an
 /// arc's entry control from the state (`δu_i = −δα_i/h`); fixed controls are zero.
 fn substitution(map: &ControlMap, h: f64) -> (Matrix2<f64>, Matrix2x3<f64>) {
@@ -161,28 +260,14 @@ impl Factor {
         let mut m = Matrix5::<f64>::zeros();
         let mut negative_h = 0;
         for i in (0..n).rev() {
-            let mut st = Split::new(&lin[i]);
-            let mut huu = lin[i].huu + Effort.hessian(h);
-            let mut reg = Matrix2::identity() * delta;
-            let mut ri = r[i];
-            let mut qa = Vector3::zeros();
-            let mut fixed_pivot = Matrix2::zeros();
-            if let Some((sm, lm)) = subs.as_ref().map(|v| v[i]) {
-                // δu = Sδv + Lδa: dynamics A + BL, B S; costs in (δa, δv); the linear term
-                // rᵀδu = (Sr)ᵀδv + (Lᵀr)ᵀδa; a unit pivot for each control that is not free.
-                st.qaa +=
-                    st.qau * lm + lm.transpose() * st.qau.transpose() + lm.transpose() * huu * lm;
-                st.qau = (st.qau + lm.transpose() * huu) * sm;
-                huu = sm * huu * sm;
-                reg = sm * reg * sm;
-                fixed_pivot = Matrix2::identity() - sm;
-                qa = lm.transpose() * ri;
-                ri = sm * ri;
-                st.a += st.b * lm;
-                st.c += st.d * lm;
-                st.b *= sm;
-                st.d *= sm;
-            }
+            let Stage {
+                split: st,
+                huu,
+                reg,
+                fixed_pivot,
+                r: ri,
+                qa,
+            } = Stage::new(&lin[i], r[i], h, delta, subs.as_ref().map(|v| v[i]));
             let (a, b) = (&st.a, &st.b);
             let pa = p * a;
             let pb = p * b;
@@ -190,26 +275,9 @@ impl Factor {
             let quu = (quu + quu.transpose()) * 0.5;
             let qua = st.qau.transpose() + pb.transpose() * a;
             let qaa = st.qaa + a.transpose() * pa;
-            let det = quu.m11 * quu.m22 - quu.m12 * quu.m21;
-            let scale = quu.m11.abs().max(quu.m22.abs()).max(quu.m12.abs());
-            if det.abs() <= PIVOT * scale * scale || !det.is_finite() {
-                return None;
-            }
-            negative_h += if det < 0.0 {
-                1
-            } else if quu.m11 < 0.0 {
-                2
-            } else {
-                0
-            };
-            let inv = Matrix2::new(quu.m22, -quu.m12, -quu.m21, quu.m11) / det;
-            // The ν-dependence of the stage's linear terms: q_u ∋ D_kᵀν_p, q_a ∋ C_kᵀν_p.
-            let mut gamma = Matrix3x5::<f64>::zeros();
-            let mut delta_u = Matrix2x5::<f64>::zeros();
-            for (col, &pc) in P_IDX.iter().enumerate() {
-                gamma.set_column(pc, &st.c.row(col).transpose());
-                delta_u.set_column(pc, &st.d.row(col).transpose());
-            }
+            let (inv, negative) = pivot(&quu)?;
+            negative_h += negative;
+            let (gamma, delta_u) = st.multiplier_terms();
             let ki = -(inv * qua);
             let q0 = ri + b.transpose() * p0;
             let qnu = delta_u + b.transpose() * pi;
@@ -225,16 +293,7 @@ impl Factor {
             d0[i] = d0i;
             d[i] = di;
         }
-        if !m.iter().chain(sigma.iter()).all(|v| v.is_finite()) {
-            return None;
-        }
-        let sym = (m + m.transpose()) * 0.5;
-        let eig = SymmetricEigen::new(sym).eigenvalues;
-        let largest = eig.amax();
-        if eig.iter().any(|e| e.abs() <= SINGULAR * largest) {
-            return None;
-        }
-        let negative_m = eig.iter().filter(|e| **e < 0.0).count();
+        let negative_m = negative_eigenvalues(&m, &sigma)?;
         Some(Factor {
             subs,
             k,

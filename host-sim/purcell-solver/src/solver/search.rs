@@ -23,7 +23,7 @@
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
 //! ([`Search::expected_minima`]).
 
-use super::direct;
+use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits;
 use super::settings::{
@@ -32,6 +32,7 @@ use super::settings::{
 };
 use super::starts::{self, StartLoop};
 use nalgebra::{Vector2, Vector5};
+use purcell_core::Error;
 use rayon::prelude::*;
 
 /// A distinct local minimum of the coarse problem.
@@ -136,76 +137,15 @@ pub fn search(
             let results: Vec<_> = batch
                 .par_iter()
                 .map(|&(index, start_loop)| {
-                    let u = start_loop
-                        .map_or_else(|| vec![Vector2::zeros(); grid.steps], |s| s.controls(grid));
-                    let r = match limit {
-                        None => Point::new(grid, u, Vector5::zeros())
-                            .and_then(|p| direct::newton(grid, p, &settings)),
-                        Some(a) => {
-                            let u = limits::shrink_into(u, &alpha0, a, grid.h());
-                            Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                                limits::barrier_path(
-                                    grid,
-                                    a,
-                                    settings::coarse_path(index),
-                                    p,
-                                    &settings,
-                                )
-                            })
-                        }
-                    };
+                    let r = run_start(grid, limit, &settings, index, start_loop);
                     progress();
                     (index, start_loop, r)
                 })
                 .collect();
             for (index, start_loop, r) in results {
-                out.starts += usize::from(index > 0);
-                let Ok(run) = r else { continue };
-                if !run.converged {
-                    out.best_residual = out.best_residual.min(run.defect);
-                    continue;
-                }
-                if let Some(c) = out
-                    .candidates
-                    .iter_mut()
-                    .find(|c| same_path(&c.u, &run.point.u, grid.h()))
-                {
-                    c.hits += 1;
-                    if index < c.start {
-                        c.start = index;
-                        c.start_loop = start_loop;
-                    }
-                    continue;
-                }
-                // Checked once per distinct extremal (a rollout 16 times finer).
-                if !grid.resolves(&run.point.u) {
-                    out.unresolved += 1;
-                    continue;
-                }
-                let cost = grid.cost(&run.point.u);
-                let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
-                out.candidates.push(Candidate {
-                    u: run.point.u,
-                    nu: run.point.nu,
-                    cost,
-                    max_abs_alpha,
-                    start: index,
-                    hits: 1,
-                    start_loop,
-                });
+                out.absorb(grid, index, start_loop, r);
             }
-            out.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-            let (unseen, confirmed) = out.rule(admissible);
-            out.unseen = unseen;
-            out.satisfied = confirmed && unseen <= UNSEEN && out.starts >= min_starts;
-            // The zero target is solved by the zero loop; nothing can be cheaper.
-            let trivial =
-                cheapest_admissible(&out.candidates, admissible).is_some_and(|c| c.cost == 0.0);
-            out.satisfied |= trivial;
-            // Nothing at all after a few batches: the target is out of reach (or needs more
-            // starts than the default; `--starts` bounds the search, not this rule).
-            let hopeless = out.candidates.is_empty() && out.starts >= HOPELESS_BATCHES * BATCH;
-            if out.satisfied || hopeless {
+            if out.after_batch(min_starts, admissible) {
                 break;
             }
         }
@@ -219,6 +159,99 @@ pub fn search(
         run(PATIENCE[1], out.best_residual)
     } else {
         out
+    }
+}
+
+/// Start `index` (the loop `start_loop`; `None`: the zero loop) through Newton on `grid`;
+/// with a joint limit `limit`, shrunk into it and along its barrier path.
+fn run_start(
+    grid: &Grid,
+    limit: Option<f64>,
+    settings: &Settings,
+    index: usize,
+    start_loop: Option<StartLoop>,
+) -> Result<Run, Error> {
+    let u = start_loop.map_or_else(|| vec![Vector2::zeros(); grid.steps], |s| s.controls(grid));
+    match limit {
+        None => {
+            Point::new(grid, u, Vector5::zeros()).and_then(|p| direct::newton(grid, p, settings))
+        }
+        Some(a) => {
+            let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+            let u = limits::shrink_into(u, &alpha0, a, grid.h());
+            Point::new(grid, u, Vector5::zeros()).and_then(|p| {
+                limits::barrier_path(grid, a, settings::coarse_path(index), p, settings)
+            })
+        }
+    }
+}
+
+impl Search {
+    /// Counts start `index` (loop `start_loop`) and files its run `r`: a converged one as
+    /// another hit of a candidate with the same path, or as a new candidate if the grid
+    /// resolves its motion; the defect of one that did not converge.
+    fn absorb(
+        &mut self,
+        grid: &Grid,
+        index: usize,
+        start_loop: Option<StartLoop>,
+        r: Result<Run, Error>,
+    ) {
+        self.starts += usize::from(index > 0);
+        let Ok(run) = r else { return };
+        if !run.converged {
+            self.best_residual = self.best_residual.min(run.defect);
+            return;
+        }
+        if let Some(c) = self
+            .candidates
+            .iter_mut()
+            .find(|c| same_path(&c.u, &run.point.u, grid.h()))
+        {
+            c.hits += 1;
+            if index < c.start {
+                c.start = index;
+                c.start_loop = start_loop;
+            }
+            return;
+        }
+        // Checked once per distinct extremal (a rollout 16 times finer).
+        if !grid.resolves(&run.point.u) {
+            self.unresolved += 1;
+            return;
+        }
+        let cost = grid.cost(&run.point.u);
+        let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
+        self.candidates.push(Candidate {
+            u: run.point.u,
+            nu: run.point.nu,
+            cost,
+            max_abs_alpha,
+            start: index,
+            hits: 1,
+            start_loop,
+        });
+    }
+
+    /// After a batch: the candidates sorted, the stopping rule's estimate and verdict
+    /// updated; whether the search stops (the rule is met, or it is hopeless).
+    fn after_batch(
+        &mut self,
+        min_starts: usize,
+        admissible: &(dyn Fn(f64) -> bool + Sync),
+    ) -> bool {
+        self.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        let (unseen, confirmed) = self.rule(admissible);
+        self.unseen = unseen;
+        self.satisfied = confirmed && unseen <= UNSEEN && self.starts >= min_starts;
+        // The zero target is solved by the zero loop; nothing can be cheaper.
+        let trivial =
+            cheapest_admissible(&self.candidates, admissible).is_some_and(|c| c.cost == 0.0);
+        self.satisfied |= trivial;
+        // Nothing at all after a few batches: the target is out of reach (or needs more
+        // starts than the default; `--starts` bounds the search, not this rule).
+        let hopeless = self.candidates.is_empty() && self.starts >= HOPELESS_BATCHES * BATCH;
+        self.satisfied || hopeless
     }
 }
 

@@ -33,7 +33,7 @@
 //! stage function [`step`] on dual numbers.
 
 use crate::dual::Dual;
-use nalgebra::{Matrix2, Matrix3x2, Matrix5, Matrix5x2, Vector2, Vector3, Vector5};
+use nalgebra::{Matrix2, Matrix2x3, Matrix3x2, Matrix5, Matrix5x2, Vector2, Vector3, Vector5};
 use purcell_core::{Error, Kinematics, Real, Swimmer};
 
 /// A state `(α1, α2, x, y, θ)`.
@@ -160,6 +160,12 @@ pub fn sinc_jets(w: f64) -> ([f64; 3], [f64; 3]) {
         }
         return ([a, a1 * w, a2], [b * w, b1, b2 * w]);
     }
+    sinc_closed_forms(w)
+}
+
+/// [`sinc_jets`] by their closed forms (which lose about `−log₁₀(ω³)` digits to cancellation
+/// at small `ω`).
+fn sinc_closed_forms(w: f64) -> ([f64; 3], [f64; 3]) {
     let (s, c) = w.sin_cos();
     let (w2, w3) = (w * w, w * w * w);
     let omc = 1.0 - c;
@@ -233,6 +239,30 @@ impl StageModel {
         u: &Vector2<f64>,
         lambda: &StageState,
     ) -> Result<Linearised, Error> {
+        let t = self.twist(s, u)?;
+        let (a, b) = t.jacobians();
+        let (hss, hsu, huu) = t.hessians(lambda);
+        let finite = |m: &[f64]| m.iter().all(|v| v.is_finite());
+        if finite(a.as_slice())
+            && finite(b.as_slice())
+            && finite(hss.as_slice())
+            && finite(hsu.as_slice())
+            && finite(huu.as_slice())
+        {
+            Ok(Linearised {
+                a,
+                b,
+                hss,
+                hsu,
+                huu,
+            })
+        } else {
+            Err(Error::NonFinite)
+        }
+    }
+
+    /// The twist of the step at `(s, u)` and its derivatives (see [`Twist`]).
+    fn twist(&self, s: &StageState, u: &Vector2<f64>) -> Result<Twist, Error> {
         let h = self.h();
         let c = self.rule.c();
         let alpha = Vector2::new(
@@ -244,29 +274,79 @@ impl StageModel {
         let a = val(&conn.a);
         let da = [val(&conn.da[0]), val(&conn.da[1])];
         // ∂²A/∂α_i∂α_j = ∂(∂A/∂α_i)/∂α_j.
-        let dda = |i: usize, j: usize| conn.da[i].map(|d| d.d[j]);
+        let dda = |i: usize| [0, 1].map(|j| conn.da[i].map(|d| d.d[j]));
 
         let x: Vector3<f64> = -(a * u) * h;
         let (dau0, dau1) = (da[0] * u, da[1] * u);
         let xa = Matrix3x2::from_columns(&[-dau0 * h, -dau1 * h]);
         let xu = -a * h - Matrix3x2::from_columns(&[dau0, dau1]) * (c * h * h);
-        let w_ = x.z;
-        let ([ca, ca1, ca2], [cb, cb1, cb2]) = sinc_jets(w_);
+        let ([ca, ca1, ca2], [cb, cb1, cb2]) = sinc_jets(x.z);
         let vmat = |p: f64, q: f64| Matrix2::new(p, -q, q, p);
         let (v0, v1, v2) = (vmat(ca, cb), vmat(ca1, cb1), vmat(ca2, cb2));
         let v = Vector2::new(x.x, x.y);
         let w = v0 * v;
         // ∂w/∂X = [V | V′v] (2×3).
         let v1v = v1 * v;
-        let dw = nalgebra::Matrix2x3::new(v0.m11, v0.m12, v1v.x, v0.m21, v0.m22, v1v.y);
+        let dw = Matrix2x3::new(v0.m11, v0.m12, v1v.x, v0.m21, v0.m22, v1v.y);
         let (sin, cos) = s[4].sin_cos();
-        let rot = Matrix2::new(cos, -sin, sin, cos);
-        let jw = Vector2::new(-w.y, w.x);
+        Ok(Twist {
+            h,
+            c,
+            u: *u,
+            da,
+            dda: [dda(0), dda(1)],
+            xa,
+            xu,
+            v: [v0, v1, v2],
+            vel: v,
+            v1v,
+            w,
+            dw,
+            rot: Matrix2::new(cos, -sin, sin, cos),
+        })
+    }
+}
 
+/// One stage's twist `X = (v, ω) = −h·A(β)·u` and the translation `w = V(ω)·v` of its
+/// exponential, with the derivatives both the Jacobians and the Hessians are made of.
+struct Twist {
+    /// `h`.
+    h: f64,
+    /// `c` of the rule.
+    c: f64,
+    /// `u`.
+    u: Vector2<f64>,
+    /// `∂A/∂α_i` at `β`.
+    da: [Matrix3x2<f64>; 2],
+    /// `∂²A/∂α_i∂α_j` at `β`.
+    dda: [[Matrix3x2<f64>; 2]; 2],
+    /// `X_α`.
+    xa: Matrix3x2<f64>,
+    /// `X_u`.
+    xu: Matrix3x2<f64>,
+    /// `V`, `V′`, `V″` at `ω`.
+    v: [Matrix2<f64>; 3],
+    /// The linear velocity `v` of `X`.
+    vel: Vector2<f64>,
+    /// `V′v`.
+    v1v: Vector2<f64>,
+    /// `w = Vv`.
+    w: Vector2<f64>,
+    /// `∂w/∂X = [V | V′v]`.
+    dw: Matrix2x3<f64>,
+    /// `R(θ)`.
+    rot: Matrix2<f64>,
+}
+
+impl Twist {
+    /// `∂f/∂s` and `∂f/∂u`.
+    fn jacobians(&self) -> (Matrix5<f64>, Matrix5x2<f64>) {
+        let (h, xa, xu) = (self.h, &self.xa, &self.xu);
+        let jw = Vector2::new(-self.w.y, self.w.x);
         let mut jac_s = Matrix5::<f64>::identity();
-        let rdw = rot * dw;
+        let rdw = self.rot * self.dw;
         let p_alpha = rdw * xa;
-        let rjw = rot * jw;
+        let rjw = self.rot * jw;
         for i in 0..2 {
             for r in 0..2 {
                 jac_s[(2 + r, i)] = p_alpha[(r, i)];
@@ -283,18 +363,24 @@ impl StageModel {
             }
             jac_u[(4, j)] = xu[(2, j)];
         }
+        (jac_s, jac_u)
+    }
 
-        // Second derivatives of λᵀf.
+    /// The Hessian of `λᵀf` as `(∂²/∂s², ∂²/∂s∂u, ∂²/∂u²)`.
+    fn hessians(&self, lambda: &StageState) -> (Matrix5<f64>, Matrix5x2<f64>, Matrix2<f64>) {
+        let (h, c, u, da) = (self.h, self.c, &self.u, &self.da);
+        let [v0, v1, v2] = &self.v;
+        let (xa, xu, dw) = (&self.xa, &self.xu, &self.dw);
         let lp = Vector2::new(lambda[2], lambda[3]);
         let lt = lambda[4];
-        let mb = rot.transpose() * lp;
+        let mb = self.rot.transpose() * lp;
         let phi_x = Vector3::new(
             mb.dot(&v0.column(0)),
             mb.dot(&v0.column(1)),
-            mb.dot(&v1v) + lt,
+            mb.dot(&self.v1v) + lt,
         );
         let c12 = v1.transpose() * mb;
-        let c3 = mb.dot(&(v2 * v));
+        let c3 = mb.dot(&(v2 * self.vel));
         let phi_xx = nalgebra::Matrix3::new(0.0, 0.0, c12.x, 0.0, 0.0, c12.y, c12.x, c12.y, c3);
         // z = (α1, α2, u1, u2).
         let xz = nalgebra::Matrix3x4::from_columns(&[
@@ -306,7 +392,7 @@ impl StageModel {
         let mut hzz = xz.transpose() * phi_xx * xz;
         for i in 0..2 {
             for j in 0..2 {
-                let ddu = phi_x.dot(&(dda(i, j) * u));
+                let ddu = phi_x.dot(&(self.dda[i][j] * u));
                 hzz[(i, j)] -= h * ddu;
                 let cross = h * phi_x.dot(&da[i].column(j)) + c * h * h * ddu;
                 hzz[(i, 2 + j)] -= cross;
@@ -318,7 +404,7 @@ impl StageModel {
             }
         }
         let jmb = Vector2::new(mb.y, -mb.x); // Jᵀμ_b
-        let h_tt = -mb.dot(&w);
+        let h_tt = -mb.dot(&self.w);
         let h_tz = (jmb.transpose() * dw) * xz; // 1×4
 
         let mut hss = Matrix5::<f64>::zeros();
@@ -335,23 +421,7 @@ impl StageModel {
             hsu[(4, i)] = h_tz[2 + i];
         }
         hss[(4, 4)] = h_tt;
-        let finite = |m: &[f64]| m.iter().all(|v| v.is_finite());
-        if finite(jac_s.as_slice())
-            && finite(jac_u.as_slice())
-            && finite(hss.as_slice())
-            && finite(hsu.as_slice())
-            && finite(huu.as_slice())
-        {
-            Ok(Linearised {
-                a: jac_s,
-                b: jac_u,
-                hss,
-                hsu,
-                huu,
-            })
-        } else {
-            Err(Error::NonFinite)
-        }
+        (hss, hsu, huu)
     }
 }
 
@@ -362,22 +432,9 @@ mod tests {
 
     #[test]
     fn sinc_jets_match_closed_forms_and_differences() {
-        let closed = |w: f64| {
-            let (s, c) = w.sin_cos();
-            let (w2, w3, omc) = (w * w, w * w * w, 1.0 - c);
-            [
-                s / w,
-                (w * c - s) / w2,
-                (-w2 * s - 2.0 * w * c + 2.0 * s) / w3,
-                omc / w,
-                (w * s - omc) / w2,
-                (w2 * c - 2.0 * w * s + 2.0 * omc) / w3,
-            ]
-        };
-        let flat = |w: f64| {
-            let (a, b) = sinc_jets(w);
-            [a[0], a[1], a[2], b[0], b[1], b[2]]
-        };
+        let flatten = |(a, b): ([f64; 3], [f64; 3])| [a[0], a[1], a[2], b[0], b[1], b[2]];
+        let closed = |w: f64| flatten(sinc_closed_forms(w));
+        let flat = |w: f64| flatten(sinc_jets(w));
         assert_eq!(flat(0.0), [1.0, 0.0, -1.0 / 3.0, 0.0, 0.5, 0.0]);
         // Series against closed forms on both sides of the switch (the closed forms lose
         // about −log₁₀(ω³) digits to cancellation, so the bound is loose at small ω).
@@ -398,69 +455,95 @@ mod tests {
         }
     }
 
+    /// States, controls and multipliers `(s, u, λ)` the linearisation is checked at.
+    const CASES: [([f64; 5], [f64; 2], [f64; 5]); 4] = [
+        (
+            [0.4, -0.7, 0.1, -0.2, 0.3],
+            [1.3, -0.6],
+            [0.2, -0.5, 1.1, -0.7, 0.4],
+        ),
+        (
+            [2.9, 0.2, -1.0, 0.5, -2.0],
+            [-3.0, 4.0],
+            [-1.0, 0.3, -2.0, 3.0, -0.9],
+        ),
+        // Past the overlap: the connection is periodic.
+        (
+            [3.6, -4.0, 0.2, 0.1, 7.0],
+            [2.0, -1.0],
+            [0.3, -0.2, 0.5, 0.7, -0.4],
+        ),
+        (
+            [0.0, 0.0, 0.0, 0.0, 0.0],
+            [1e-3, 2e-3],
+            [0.1, 0.2, 0.3, 0.4, 0.5],
+        ),
+    ];
+
+    /// `f(z)` and `∂f/∂z` at `z = (s, u)`, on 7-tangent duals.
+    fn dual_step(kin7: &Kinematics<Dual<7>>, rule: Rule, z: [f64; 7]) -> ([f64; 5], [[f64; 7]; 5]) {
+        let d: Vec<Dual<7>> = (0..7).map(|i| Dual::variable(z[i], i)).collect();
+        let next = step(
+            kin7,
+            rule,
+            &[d[0], d[1], d[2], d[3], d[4]],
+            &Vector2::new(d[5], d[6]),
+        )
+        .unwrap();
+        (next.map(|v| v.v), next.map(|v| v.d))
+    }
+
+    /// `∇_z(λᵀf)` at `z = (s, u)`, on 7-tangent duals.
+    fn dual_gradient(
+        kin7: &Kinematics<Dual<7>>,
+        rule: Rule,
+        l: &[f64; 5],
+        z: [f64; 7],
+    ) -> [f64; 7] {
+        let (_, j) = dual_step(kin7, rule, z);
+        let mut g = [0.0; 7];
+        for (r, row) in j.iter().enumerate() {
+            for c in 0..7 {
+                g[c] += l[r] * row[c];
+            }
+        }
+        g
+    }
+
+    /// Entry `(i, j)` of the Hessian of `λᵀf` in `z = (s, u)`.
+    fn hessian_entry(lin: &Linearised, i: usize, j: usize) -> f64 {
+        match (i < 5, j < 5) {
+            (true, true) => lin.hss[(i, j)],
+            (true, false) => lin.hsu[(i, j - 5)],
+            (false, true) => lin.hsu[(j, i - 5)],
+            (false, false) => lin.huu[(i - 5, j - 5)],
+        }
+    }
+
     /// `λᵀf` on 7-tangent duals differentiated once more by central differences of the
     /// exact gradient: the reference for the Hessian; the Jacobian is compared with the
     /// duals directly.
     #[test]
     fn linearisation_matches_dual_numbers() {
         let kin = Kinematics::new(Swimmer::new([1.0, 0.8, 1.3], 1.0, 2.0).unwrap(), 0.05).unwrap();
+        let kin7 = Kinematics::new(
+            Swimmer::new(
+                [1.0, 0.8, 1.3].map(Dual::<7>::constant),
+                Dual::constant(1.0),
+                Dual::constant(2.0),
+            )
+            .unwrap(),
+            Dual::constant(0.05),
+        )
+        .unwrap();
         for rule in [Rule::LEFT_POINT, Rule::matching(0.05, 0.01)] {
             let model = StageModel::new(kin, rule).unwrap();
-            let kin7 = Kinematics::new(
-                Swimmer::new(
-                    [1.0, 0.8, 1.3].map(Dual::<7>::constant),
-                    Dual::constant(1.0),
-                    Dual::constant(2.0),
-                )
-                .unwrap(),
-                Dual::constant(0.05),
-            )
-            .unwrap();
-            let cases = [
-                (
-                    [0.4, -0.7, 0.1, -0.2, 0.3],
-                    [1.3, -0.6],
-                    [0.2, -0.5, 1.1, -0.7, 0.4],
-                ),
-                (
-                    [2.9, 0.2, -1.0, 0.5, -2.0],
-                    [-3.0, 4.0],
-                    [-1.0, 0.3, -2.0, 3.0, -0.9],
-                ),
-                // Past the overlap: the connection is periodic.
-                (
-                    [3.6, -4.0, 0.2, 0.1, 7.0],
-                    [2.0, -1.0],
-                    [0.3, -0.2, 0.5, 0.7, -0.4],
-                ),
-                (
-                    [0.0, 0.0, 0.0, 0.0, 0.0],
-                    [1e-3, 2e-3],
-                    [0.1, 0.2, 0.3, 0.4, 0.5],
-                ),
-            ];
-            for (s, u, l) in cases {
-                let grad = |z: [f64; 7]| -> ([f64; 5], [[f64; 7]; 5]) {
-                    let d: Vec<Dual<7>> = (0..7).map(|i| Dual::variable(z[i], i)).collect();
-                    let next = step(
-                        &kin7,
-                        rule,
-                        &[d[0], d[1], d[2], d[3], d[4]],
-                        &Vector2::new(d[5], d[6]),
-                    )
-                    .unwrap();
-                    (next.map(|v| v.v), next.map(|v| v.d))
-                };
+            for (s, u, l) in CASES {
                 let z = [s[0], s[1], s[2], s[3], s[4], u[0], u[1]];
-                let (val, jac) = grad(z);
-                let lin = model
-                    .linearise(
-                        &StageState::from(s),
-                        &Vector2::from(u),
-                        &StageState::from(l),
-                    )
-                    .unwrap();
-                let next = model.step(&StageState::from(s), &Vector2::from(u)).unwrap();
+                let (val, jac) = dual_step(&kin7, rule, z);
+                let (s, u) = (StageState::from(s), Vector2::from(u));
+                let lin = model.linearise(&s, &u, &StageState::from(l)).unwrap();
+                let next = model.step(&s, &u).unwrap();
                 for (r, row) in jac.iter().enumerate() {
                     assert!((next[r] - val[r]).abs() <= 1e-14);
                     for (c, d) in row.iter().enumerate() {
@@ -473,33 +556,16 @@ mod tests {
                     }
                 }
                 // Hessian of λᵀf by central differences of its exact gradient.
-                let lg = |z: [f64; 7]| -> [f64; 7] {
-                    let (_, j) = grad(z);
-                    let mut g = [0.0; 7];
-                    for (r, row) in j.iter().enumerate() {
-                        for c in 0..7 {
-                            g[c] += l[r] * row[c];
-                        }
-                    }
-                    g
-                };
                 let e = 1e-6;
-                let full = |i: usize, j: usize| -> f64 {
-                    match (i < 5, j < 5) {
-                        (true, true) => lin.hss[(i, j)],
-                        (true, false) => lin.hsu[(i, j - 5)],
-                        (false, true) => lin.hsu[(j, i - 5)],
-                        (false, false) => lin.huu[(i - 5, j - 5)],
-                    }
-                };
                 for j in 0..7 {
                     let (mut zp, mut zm) = (z, z);
                     zp[j] += e;
                     zm[j] -= e;
-                    let (gp, gm) = (lg(zp), lg(zm));
+                    let gp = dual_gradient(&kin7, rule, &l, zp);
+                    let gm = dual_gradient(&kin7, rule, &l, zm);
                     for i in 0..7 {
                         let fd = (gp[i] - gm[i]) / (2.0 * e);
-                        let an = full(i, j);
+                        let an = hessian_entry(&lin, i, j);
                         assert!(
                             (fd - an).abs() <= 1e-7 * (1.0 + an.abs()),
                             "H[{i},{j}] = {an} vs {fd}"
