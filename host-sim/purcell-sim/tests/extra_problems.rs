@@ -1,30 +1,24 @@
 //! The IPOPT-referenced extra problems (`tests/problems/extra.json`, until now run only by
-//! the suite bench): each solves to an admissible strict local minimum at or below its
+//! the suite bench): each solves to an extremal that passes the solver's test kit
+//! (`check_extremal`: admissible, certified, a strict local minimum) at or below its
 //! reference (1e-6 relative). And the costs where we beat IPOPT, pinned to the 7 decimals
 //! recorded in `benches/README.md` and `README.md` (IPOPT multi-start comparison, joint
 //! limits), so that losing one is noticed. All 15 run: 8 s in the test profile on one thread.
 
 use purcell_sim::suite::{SuiteProblem, read_suite};
 use purcell_solver::problem::{Problem, Spec};
-use purcell_solver::solver::{Extremal, SolveOptions, solve};
+use purcell_solver::solver::Extremal;
+use purcell_solver::testkit::check_extremal;
 
 fn extra_problems() -> Vec<SuiteProblem> {
     read_suite(include_str!("../../../tests/problems/extra.json")).unwrap()
 }
 
-fn cheapest(spec: &Spec) -> Extremal {
+/// The problem of `spec` and the extremal its solve returns.
+fn cheapest(spec: &Spec) -> (Problem, Extremal) {
     let p = Problem::new(spec).unwrap();
-    let s = solve(&p, &SolveOptions::default(), &|| {}).unwrap();
-    s.extremals[s.best].clone()
-}
-
-/// Admissible, certified (the tolerances of `tests/solver.rs`) and a strict local minimum.
-fn check(name: &str, x: &Extremal) {
-    assert!(x.admissible, "{name}");
-    assert!(x.local_min, "{name}");
-    assert!(x.kkt_residual.unwrap() <= 1e-8, "{name}: {x:?}");
-    assert!(x.terminal_residual.unwrap() <= 1e-10, "{name}: {x:?}");
-    assert!(x.min_eta.is_none_or(|eta| eta >= 0.0), "{name}: {x:?}");
+    let x = purcell_solver::testkit::cheapest(&p);
+    (p, x)
 }
 
 /// `J` equals `pin`, recorded to 7 decimals, to 1e-7 relative beyond the rounding
@@ -40,16 +34,8 @@ fn assert_pinned(name: &str, cost: f64, pin: f64) {
 fn every_extra_problem_solves_at_or_below_its_ipopt_reference() {
     for sp in extra_problems() {
         let t0 = std::time::Instant::now();
-        let x = cheapest(&sp.spec);
-        check(&sp.name, &x);
-        if let Some(r) = sp.reference {
-            assert!(
-                x.cost <= r * (1.0 + 1e-6),
-                "{}: J = {} above IPOPT's {r}",
-                sp.name,
-                x.cost
-            );
-        }
+        let (p, x) = cheapest(&sp.spec);
+        check_extremal(&sp.name, &p, &x, sp.reference);
         eprintln!(
             "{}: J = {:.10} (IPOPT {:?}) in {:.2} s",
             sp.name,
@@ -75,11 +61,11 @@ fn every_extra_problem_solves_at_or_below_its_ipopt_reference() {
 /// (0.5584204, `tests/problems/public.json`), a distinct admissible extremal.
 #[test]
 fn forward_far_beats_ipopt() {
-    let x = cheapest(&Spec {
+    let (p, x) = cheapest(&Spec {
         target: [0.3, 0.0, 0.0],
         ..Spec::default()
     });
-    check("forward-far", &x);
+    check_extremal("forward-far", &p, &x, None);
     assert_pinned("forward-far", x.cost, 0.5581929);
     assert!(x.cost <= 0.5584204021986213 * (1.0 - 4e-4));
 }

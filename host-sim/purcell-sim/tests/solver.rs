@@ -7,10 +7,11 @@ use purcell_sim::output;
 use purcell_sim::replay;
 use purcell_sim::suite::{SuiteProblem, read_suite};
 use purcell_solver::problem::{Problem, Spec};
-use purcell_solver::solver::settings::PRUNE;
+use purcell_solver::solver::settings::{LAW_TOL, PRUNE};
 use purcell_solver::solver::{
     Extremal, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
 };
+use purcell_solver::testkit::check_extremal;
 
 fn public_problems() -> Vec<SuiteProblem> {
     let text = include_str!("../../../tests/problems/public.json");
@@ -75,43 +76,6 @@ fn arc_steps_reproduce_the_controls(name: &str, p: &Problem, x: &Extremal) -> f6
         assert!(next <= 1e-9 * scale * p.h, "{name}: k = {k}: {next}");
     }
     worst
-}
-
-/// The certificates of a returned extremal: admissible, cost at or below the reference,
-/// residuals, KKT with the joint limit's multipliers all `η ≥ 0`, the core's law, a strict
-/// local minimum.
-fn check_extremal(name: &str, p: &Problem, best: &Extremal, reference: Option<f64>) {
-    assert!(best.admissible, "{name}");
-    assert!(p.admits(best.max_abs_alpha), "{name}");
-    if best.arcs.is_empty() {
-        assert!(best.min_eta.is_none(), "{name}");
-    } else {
-        let eta = best.min_eta.expect("arcs, so multipliers");
-        assert!(
-            eta >= 0.0,
-            "{name}: a joint-limit multiplier is negative: {eta}"
-        );
-    }
-    if let Some(r) = reference {
-        assert!(
-            best.cost <= r * (1.0 + 1e-6) + 1e-15,
-            "{name}: cost {} above the reference {r}",
-            best.cost
-        );
-    }
-    let kkt = best.kkt_residual.expect("admissible, so checked");
-    let term = best.terminal_residual.expect("admissible, so checked");
-    let law = best.law_residual.expect("admissible, so checked");
-    assert!(best.residual <= 1e-10 && term <= 1e-10, "{name}: {best:?}");
-    assert!(kkt <= 1e-8, "{name}: kkt {kkt}");
-    assert!(
-        law <= 1e-9,
-        "{name}: the core's law is off the controls by {law}"
-    );
-    assert!(
-        best.local_min,
-        "{name}: returned extremal is not a strict local minimum"
-    );
 }
 
 #[test]
@@ -185,7 +149,7 @@ fn joint_limit_problems_solve_at_or_below_their_reference() {
         let best = &s.extremals[s.best];
         let [f64_error, f32_error] = check_solution(&sp.name, &p, &s, sp.reference);
         let law = arc_steps_reproduce_the_controls(&sp.name, &p, best);
-        assert!(law <= 1e-9, "{}: {law}", sp.name);
+        assert!(law <= LAW_TOL, "{}: {law}", sp.name);
         eprintln!(
             "{}: {} arcs, replay errors f64 {f64_error:.1e}, f32 {f32_error:.1e}, law on the arcs {law:.1e}",
             sp.name,

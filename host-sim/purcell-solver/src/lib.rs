@@ -29,3 +29,5 @@ pub mod curvature;
 pub mod dual;
 pub mod problem;
 pub mod solver;
+#[cfg(feature = "test-kit")]
+pub mod testkit;

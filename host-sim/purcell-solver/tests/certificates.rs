@@ -2,44 +2,25 @@
 //! extremal of a small problem (the displacement `ḡ = (0.001, 0, 0)` in `T = 10 s` of
 //! `h = 0.01 s`) and rejects the same extremal perturbed (controls nudged, a wrong `μ`, a
 //! gait off its arc, a reversed costate) by at least three orders of magnitude above the
-//! tolerance the solver's tests hold it to (`host-sim/purcell-sim/tests/solver.rs`); and `local_min` is
-//! false on a saddle that passes every first-order certificate.
+//! bound the tests hold every returned extremal to (`purcell_solver::testkit::check_extremal`);
+//! and `local_min` is false on a saddle that passes every first-order certificate.
 
 use nalgebra::{Vector2, Vector3, Vector5};
 use purcell_core::State;
-use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::problem::Problem;
 use purcell_solver::solver::certificate::{kkt, law_residual, terminal_residual};
 use purcell_solver::solver::direct;
 use purcell_solver::solver::grid::{Grid, Point};
 use purcell_solver::solver::linearisation::Linearisation;
 use purcell_solver::solver::refinement::extremal;
 use purcell_solver::solver::riccati::Factor;
-use purcell_solver::solver::settings::Settings;
+use purcell_solver::solver::settings::{KKT_TOL, LAW_TOL, Settings, TERMINAL_TOL};
 use purcell_solver::solver::stage::Rule;
-use purcell_solver::solver::{Extremal, SolveOptions, Trajectory, solve};
+use purcell_solver::solver::{Extremal, Trajectory};
+use purcell_solver::testkit::{cheapest, small};
 
-/// The tolerances of `host-sim/purcell-sim/tests/solver.rs`'s `check_extremal`.
-const TERMINAL_TOL: f64 = 1e-10;
-const KKT_TOL: f64 = 1e-8;
-const LAW_TOL: f64 = 1e-9;
-/// How far above its tolerance a perturbed extremal's residual must be.
+/// How far above its bound a perturbed extremal's residual must be.
 const MARGIN: f64 = 1e3;
-
-fn small(alpha_max: Option<f64>) -> Problem {
-    Problem::new(&Spec {
-        target: [0.001, 0.0, 0.0],
-        horizon: 10.0,
-        step: 0.01,
-        alpha_max,
-        ..Spec::default()
-    })
-    .unwrap()
-}
-
-fn best(p: &Problem) -> Extremal {
-    let s = solve(p, &SolveOptions::default(), &|| {}).unwrap();
-    s.extremals[s.best].clone()
-}
 
 /// The trajectory of `controls` through the core's kinematics, with the costates `xis` kept.
 fn rolled(p: &Problem, controls: Vec<Vector2<f64>>, xis: &[Vector2<f64>]) -> Trajectory {
@@ -73,10 +54,26 @@ fn nudged(p: &Problem, t: &Trajectory) -> Trajectory {
     rolled(p, controls, &t.xis)
 }
 
+/// A certificate's `residual` of the extremal `x` of `p`: as found, with its controls
+/// [`nudged`], and with `μ` off by 1e-4 of its size in one component.
+fn judged(
+    p: &Problem,
+    x: &Extremal,
+    residual: impl Fn(&Trajectory, &Vector3<f64>) -> f64,
+) -> [f64; 3] {
+    let t = &x.trajectory;
+    let mu = x.mu + Vector3::new(1e-4 * x.mu.amax(), 0.0, 0.0);
+    [
+        residual(t, &x.mu),
+        residual(&nudged(p, t), &x.mu),
+        residual(t, &mu),
+    ]
+}
+
 #[test]
 fn terminal_residual_rejects_nudged_controls() {
     let p = small(None);
-    let x = best(&p);
+    let x = cheapest(&p);
     let t = &x.trajectory;
     let good = terminal_residual(&p, &t.controls).unwrap();
     assert!(good <= TERMINAL_TOL, "{good:e}");
@@ -98,14 +95,9 @@ fn terminal_residual_rejects_nudged_controls() {
 #[test]
 fn law_residual_rejects_nudged_controls_and_a_wrong_mu() {
     let p = small(None);
-    let x = best(&p);
-    let t = &x.trajectory;
-    let good = law_residual(&p, t, &x.mu).unwrap();
+    let x = cheapest(&p);
+    let [good, nudge, wrong] = judged(&p, &x, |t, mu| law_residual(&p, t, mu).unwrap());
     assert!(good <= LAW_TOL, "{good:e}");
-    let nudge = law_residual(&p, &nudged(&p, t), &x.mu).unwrap();
-    // μ off by 1e-4 of its size in one component.
-    let mu = x.mu + Vector3::new(1e-4 * x.mu.amax(), 0.0, 0.0);
-    let wrong = law_residual(&p, t, &mu).unwrap();
     eprintln!("law: good {good:.1e}, nudged {nudge:.1e}, wrong mu {wrong:.1e}");
     assert!(nudge >= MARGIN * LAW_TOL, "{nudge:e}");
     assert!(wrong >= MARGIN * LAW_TOL, "{wrong:e}");
@@ -114,14 +106,12 @@ fn law_residual_rejects_nudged_controls_and_a_wrong_mu() {
 #[test]
 fn kkt_rejects_nudged_controls_and_a_wrong_mu() {
     let p = small(None);
-    let x = best(&p);
+    let x = cheapest(&p);
     let t = &x.trajectory;
-    let good = kkt(&p, t, &x.mu).unwrap();
-    assert!(good.residual <= KKT_TOL, "{good:?}");
-    assert_eq!((good.min_eta, good.active), (None, 0));
-    let nudge = kkt(&p, &nudged(&p, t), &x.mu).unwrap().residual;
-    let mu = x.mu + Vector3::new(1e-4 * x.mu.amax(), 0.0, 0.0);
-    let wrong = kkt(&p, t, &mu).unwrap().residual;
+    let found = kkt(&p, t, &x.mu).unwrap();
+    assert_eq!((found.min_eta, found.active), (None, 0));
+    let [good, nudge, wrong] = judged(&p, &x, |t, mu| kkt(&p, t, mu).unwrap().residual);
+    assert!(good <= KKT_TOL, "{found:?}");
     // The terminal multiplier ν = −ξ^{N−1} off too.
     let mut xis = t.xis.clone();
     *xis.last_mut().unwrap() += Vector2::new(1e-4 * x.mu.amax(), 0.0);
@@ -129,8 +119,7 @@ fn kkt_rejects_nudged_controls_and_a_wrong_mu() {
         .unwrap()
         .residual;
     eprintln!(
-        "kkt: good {:.1e}, nudged {nudge:.1e}, wrong mu {wrong:.1e}, wrong nu {wrong_nu:.1e}",
-        good.residual
+        "kkt: good {good:.1e}, nudged {nudge:.1e}, wrong mu {wrong:.1e}, wrong nu {wrong_nu:.1e}"
     );
     for bad in [nudge, wrong, wrong_nu] {
         assert!(bad >= MARGIN * KKT_TOL, "{bad:e}");
@@ -144,10 +133,10 @@ fn kkt_rejects_nudged_controls_and_a_wrong_mu() {
 /// (`η < 0`).
 #[test]
 fn kkt_rejects_a_gait_off_its_arcs_and_a_negative_eta() {
-    let free = best(&small(None));
+    let free = cheapest(&small(None));
     let limit = 0.8 * free.max_abs_alpha;
     let p = small(Some(limit));
-    let x = best(&p);
+    let x = cheapest(&p);
     assert!(!x.arcs.is_empty(), "the limit {limit} binds");
     let t = &x.trajectory;
     let good = kkt(&p, t, &x.mu).unwrap();
@@ -185,7 +174,7 @@ fn kkt_rejects_a_gait_off_its_arcs_and_a_negative_eta() {
 #[test]
 fn local_min_is_false_on_a_saddle() {
     let p = small(None);
-    let min = best(&p);
+    let min = cheapest(&p);
     let grid = Grid::new(&p, p.steps as usize, Rule::LEFT_POINT).unwrap();
     let n = grid.steps;
     let once = &min.trajectory.controls;

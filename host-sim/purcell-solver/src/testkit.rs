@@ -1,0 +1,75 @@
+//! What the test crates share (behind the `test-kit` feature, as nalgebra exports its
+//! proptest strategies behind one): a small problem that solves in a moment ([`small`]), the
+//! extremal a solve returns ([`cheapest`]), and the contract every returned extremal is held
+//! to ([`check_extremal`], with the certificates' bounds of [`crate::solver::settings`]).
+
+use crate::problem::{Problem, Spec};
+use crate::solver::settings::{KKT_TOL, LAW_TOL, TERMINAL_TOL};
+use crate::solver::{Extremal, SolveOptions, solve};
+
+/// The small problem: the displacement `ḡ = (0.001, 0, 0)` in `T = 10 s` of `h = 0.01 s`,
+/// otherwise the paper's, with the joint limit `alpha_max`.
+pub fn small(alpha_max: Option<f64>) -> Problem {
+    Problem::new(&Spec {
+        target: [0.001, 0.0, 0.0],
+        horizon: 10.0,
+        step: 0.01,
+        alpha_max,
+        ..Spec::default()
+    })
+    .expect("the small problem is valid")
+}
+
+/// The extremal the default solve returns for `problem`.
+///
+/// # Panics
+/// If the solve returns none.
+pub fn cheapest(problem: &Problem) -> Extremal {
+    let s = solve(problem, &SolveOptions::default(), &|| {}).expect("the problem solves");
+    s.extremals[s.best].clone()
+}
+
+/// Checks what a returned extremal `x` of `problem` must satisfy (`name` in the messages):
+/// admissible, a strict local minimum, its terminal defect (the direct method's and through
+/// the core's kinematics) within [`TERMINAL_TOL`], KKT within [`KKT_TOL`], the core's law
+/// within [`LAW_TOL`], the joint limit's multipliers `η ≥ 0` on its arcs (none without), and
+/// with a `reference` cost, at most that (to 1e-6 relative).
+///
+/// # Panics
+/// On the first condition that fails.
+pub fn check_extremal(name: &str, problem: &Problem, x: &Extremal, reference: Option<f64>) {
+    assert!(x.admissible, "{name}");
+    assert!(problem.admits(x.max_abs_alpha), "{name}");
+    if x.arcs.is_empty() {
+        assert!(x.min_eta.is_none(), "{name}");
+    } else {
+        let eta = x.min_eta.expect("arcs, so multipliers");
+        assert!(
+            eta >= 0.0,
+            "{name}: a joint-limit multiplier is negative: {eta}"
+        );
+    }
+    if let Some(r) = reference {
+        assert!(
+            x.cost <= r * (1.0 + 1e-6) + 1e-15,
+            "{name}: cost {} above the reference {r}",
+            x.cost
+        );
+    }
+    let kkt = x.kkt_residual.expect("admissible, so checked");
+    let term = x.terminal_residual.expect("admissible, so checked");
+    let law = x.law_residual.expect("admissible, so checked");
+    assert!(
+        x.residual <= TERMINAL_TOL && term <= TERMINAL_TOL,
+        "{name}: {x:?}"
+    );
+    assert!(kkt <= KKT_TOL, "{name}: kkt {kkt}");
+    assert!(
+        law <= LAW_TOL,
+        "{name}: the core's law is off the controls by {law}"
+    );
+    assert!(
+        x.local_min,
+        "{name}: returned extremal is not a strict local minimum"
+    );
+}
