@@ -37,6 +37,17 @@ pub struct Arc {
 }
 
 impl Arc {
+    /// The arc of joint `joint` at `sign·α_max` over the states `first ..= last`.
+    #[inline]
+    pub const fn new(joint: u8, sign: i8, first: u32, last: u32) -> Self {
+        Arc {
+            joint,
+            sign,
+            first,
+            last,
+        }
+    }
+
     /// `Ok` if `joint ∈ {1, 2}`, `sign = ±1` and `1 ≤ first ≤ last < steps`, else
     /// [`Error::ArcInvalid`].
     pub fn check(&self, steps: u32) -> Result<(), Error> {

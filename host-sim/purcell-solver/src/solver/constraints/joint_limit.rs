@@ -216,12 +216,7 @@ pub fn arcs_of(states: &[StageState], alpha_max: f64, near: f64) -> Vec<Arc> {
                     while k + 1 < n && on(k + 1) {
                         k += 1;
                     }
-                    arcs.push(Arc {
-                        joint: Arc::joint_of(i),
-                        sign,
-                        first: first as u32,
-                        last: k as u32,
-                    });
+                    arcs.push(Arc::new(Arc::joint_of(i), sign, first as u32, k as u32));
                 }
                 k += 1;
             }
@@ -250,32 +245,23 @@ pub fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
 mod tests {
     use super::*;
 
-    fn arc(joint: u8, sign: i8, first: u32, last: u32) -> Arc {
-        Arc {
-            joint,
-            sign,
-            first,
-            last,
-        }
-    }
-
     #[test]
     fn touching_or_overlapping_arcs_of_one_joint_and_side_merge() {
         let arcs = vec![
-            arc(2, 1, 20, 25),
-            arc(1, 1, 5, 9),
-            arc(1, 1, 10, 12),
-            arc(1, -1, 13, 14),
-            arc(2, 1, 24, 30),
-            arc(2, 1, 32, 33),
+            Arc::new(2, 1, 20, 25),
+            Arc::new(1, 1, 5, 9),
+            Arc::new(1, 1, 10, 12),
+            Arc::new(1, -1, 13, 14),
+            Arc::new(2, 1, 24, 30),
+            Arc::new(2, 1, 32, 33),
         ];
         assert_eq!(
             merged(arcs),
             vec![
-                arc(1, 1, 5, 12),
-                arc(1, -1, 13, 14),
-                arc(2, 1, 20, 30),
-                arc(2, 1, 32, 33),
+                Arc::new(1, 1, 5, 12),
+                Arc::new(1, -1, 13, 14),
+                Arc::new(2, 1, 20, 30),
+                Arc::new(2, 1, 32, 33),
             ]
         );
     }
