@@ -5,7 +5,11 @@
 //! (global search on a coarse grid, Newton–SQP with a Riccati step on the problem's own grid,
 //! joint limits as state constraints, the costate from the multipliers, certificates through
 //! the core); [`curvature`] is the curvature of the connection over the shape plane; [`dual`]
-//! dual numbers for exact derivatives.
+//! dual numbers for exact derivatives. With the `test-kit` feature, `testkit` holds what the
+//! test crates share (a small problem, the checks of a returned extremal).
+//!
+//! The Newton iterations are traced through the [`log`] crate (see [`solver::direct`]); the
+//! library installs no logger.
 //!
 //! The paper's problem (`ḡ = (0.1, 0.1, 0)`, `T = 100 s`, `h = 0.01 s`, unit links, `k = 1`,
 //! `r = 2`):

@@ -324,7 +324,7 @@ pub const KEEP: usize = 3;
 ///    targets a symmetry maps onto it), until no target's kept extremals change: a cheap
 ///    basin one target found reaches the whole region where it is a minimum;
 /// 3. each target's candidates (its search's and those the passes brought) carried to the
-///    fine grid as `solve` carries them ([`super::refine_candidates`]).
+///    fine grid as `solve` carries them ([`refine_candidates`]).
 ///
 /// Targets are solved in parallel within each phase. `progress` is called once per target
 /// searched and once per target refined.

@@ -108,7 +108,7 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
             du: &du,
             nu,
         };
-        let search = filter.search(grid, &step, &c, &correction, settings);
+        let search = filter.search(grid, &step, &c, correction, settings);
         log::debug!(
             "sqp {iterations}: J {:.6} |c| {:.2e} kkt {:.2e} δ {delta:.1e} inertia {}+{} |ν_qp| {:.2e} t {:.1e} |du| {:.2e}",
             search.phi,

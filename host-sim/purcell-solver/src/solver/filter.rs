@@ -155,7 +155,7 @@ impl Filter {
         grid: &Grid,
         step: &Step,
         c: &Vector5<f64>,
-        correction: &dyn Fn(&Vector5<f64>) -> Option<Vec<Vector2<f64>>>,
+        correction: impl Fn(&Vector5<f64>) -> Option<Vec<Vector2<f64>>>,
         settings: &Settings,
     ) -> Search {
         let pt = step.point;

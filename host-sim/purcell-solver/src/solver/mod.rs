@@ -1,22 +1,28 @@
 //! The solver: the cheapest admissible extremal of the discrete problem (MODEL.md §4).
 //!
+//! The problem on a grid ([`grid`]) is the stage model ([`stage`]), the cost ([`cost`]) and
+//! the constraints ([`constraints`]: the terminal state, the joint limit). The direct method
+//! ([`direct`]) is Newton–SQP on it: derivatives in one backward sweep ([`linearisation`]),
+//! the step by a Riccati recursion ([`riccati`]), a filter line search ([`filter`]).
+//! [`settings`] holds what all of these decide by.
+//!
 //! Pipeline of [`solve`]:
 //! 1. [`starts`]: closed shape loops through `ᾱ`, sized from the problem's geometry;
-//! 2. [`search`]: each start through the direct method ([`direct`]: Newton–SQP with the exact
-//!    Hessian and a Riccati step, [`riccati`], on the stage model [`stage`]) on a coarse grid
-//!    whose rule mimics the fine one; distinct local minima, cheapest first;
+//! 2. [`search`]: each start through the direct method on a coarse grid whose rule mimics
+//!    the fine one; distinct local minima, cheapest first;
 //! 3. [`refinement`]: the cheapest candidates carried to the problem's own grid through finer
 //!    grids, Newton converging in a few steps at each (a candidate dearer than the settled
-//!    cheapest by [`settings::PRUNE`] on an intermediate grid stops there); second-order check by the
-//!    inertia of the last factorisation. With a joint limit ([`limits`]), the search and the
-//!    refinement run an interior-point path and the refinement ends with the limit imposed
-//!    exactly on the arcs where it is active;
+//!    cheapest by [`settings::PRUNE`] on an intermediate grid stops there); second-order
+//!    check by the inertia of the last factorisation. With a joint limit ([`limits`]), the
+//!    search and the refinement run an interior-point path and the refinement ends with the
+//!    limit imposed exactly on the arcs where it is active;
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
 //! 5. [`certificate`]: independent checks (the core's law reproduces the controls, the
-//!    controls reach the target through the core's kinematics, KKT by reverse mode).
+//!    controls reach the target through the core's kinematics, KKT by reverse mode);
+//!    [`solution`]: the extremals with their certificates.
 //!
 //! [`continuation`] solves from a stored extremal (`--from`) and over a grid of targets
-//! (`sweep`).
+//! (`sweep`); [`symmetry`] maps extremals onto their images.
 
 pub mod certificate;
 pub mod constraints;

@@ -97,7 +97,7 @@ pub fn refine(
 }
 
 /// The next grid of a refinement from `n` steps: at most 16 times finer, with the rule that
-/// mimics the problem's discretisation ([`Rule::matching`]), or the problem's own grid
+/// mimics the problem's discretisation ([`super::stage::Rule::matching`]), or the problem's own grid
 /// (`true`) once that is near enough.
 pub fn finer_grid(problem: &Problem, n: usize) -> Result<(Grid, bool), purcell_core::Error> {
     let n_fine = problem.steps as usize;

@@ -24,7 +24,7 @@ use nalgebra::Vector2;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveOptions {
     /// Most start loops of the global search, its budget (it stops earlier once its stopping
-    /// rule is met, [`search`]).
+    /// rule is met, [`super::search`]).
     pub starts: usize,
     /// Fewest start loops of the global search (unless `starts` is smaller).
     pub min_starts: usize,

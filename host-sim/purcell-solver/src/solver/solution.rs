@@ -29,14 +29,14 @@ pub struct Extremal {
     pub xi0: Vector2<f64>,
     /// Largest `|α_i|` along the path.
     pub max_abs_alpha: f64,
-    /// Whether the path is admissible ([`Problem::admits`]).
+    /// Whether the path is admissible ([`crate::problem::Problem::admits`]).
     pub admissible: bool,
     /// Terminal defect of the direct method's trajectory (largest component, m / rad).
     pub residual: f64,
     /// The same after re-integrating the controls through the core's kinematics
-    /// ([`certificate::terminal_residual`]); `None` if the path is not admissible.
+    /// ([`super::certificate::terminal_residual`]); `None` if the path is not admissible.
     pub terminal_residual: Option<f64>,
-    /// Independent KKT residual ([`certificate::kkt`], rad/s, with the joint limit's
+    /// Independent KKT residual ([`super::certificate::kkt`], rad/s, with the joint limit's
     /// multipliers); `None` if the path is not admissible (the core refuses shapes past the
     /// overlap limit).
     pub kkt_residual: Option<f64>,
@@ -45,11 +45,11 @@ pub struct Extremal {
     /// arc table is ([`purcell_core::arc`]).
     pub arcs: Vec<Arc>,
     /// Smallest multiplier `η_k ≥ 0` of the joint limit over the arcs' states, from
-    /// [`certificate::kkt`]; `None` without arcs.
+    /// [`super::certificate::kkt`]; `None` without arcs.
     pub min_eta: Option<f64>,
     /// The direct method's own stationarity residual (rad/s).
     pub stationarity: f64,
-    /// Relative deviation of the core's law from the controls ([`certificate::law_residual`]);
+    /// Relative deviation of the core's law from the controls ([`super::certificate::law_residual`]);
     /// `None` if the path is not admissible.
     pub law_residual: Option<f64>,
     /// Second-order sufficient condition: a strict local minimum.
@@ -60,7 +60,7 @@ pub struct Extremal {
     pub start: usize,
     /// How many starts of the global search reached it.
     pub hits: usize,
-    /// For a problem that a symmetry of the swimmer maps to itself ([`symmetry`]): the
+    /// For a problem that a symmetry of the swimmer maps to itself ([`super::symmetry`]): the
     /// index in [`Solution::extremals`] of this extremal's image (same cost, another loop),
     /// when found too.
     pub twin_of: Option<usize>,
@@ -113,7 +113,7 @@ pub struct Solution {
 pub struct Evidence {
     /// Start loops run.
     pub starts: usize,
-    /// The budget ([`SolveOptions::starts`]).
+    /// The budget ([`super::SolveOptions::starts`]).
     pub budget: usize,
     /// The distinct minima of the coarse problem, cheapest first.
     pub minima: Vec<Minimum>,
