@@ -1,36 +1,13 @@
 //! A firmware log (decoded by `defmt-print --log-format '{s}'`: one result per line,
-//! `name: key=value …`, as `purcell_fly` prints them) and its check against the host's flight.
+//! `name: key=value …`, as `purcell_fly` prints them, named in [`line`](mod@line)) and its
+//! check against the host's flight.
 //!
-//! The QEMU harness reports `insn_per_step` (instructions, exact under `-icount`) and the
+//! The QEMU firmware reports `insn_per_step` (instructions, exact under `-icount`) and the
 //! step's stack; a board reports `cycles_per_step` (its cycle counter) and no stack.
 
-use super::HostError;
-use super::reference::Reference;
-use std::format;
-use std::string::{String, ToString};
-use std::vec::Vec;
-
-/// The lines the firmware prints.
-pub mod line {
-    /// `purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C>
-    /// arcs=<A> gait=<crc32>`.
-    pub const HEADER: &str = "purcell-mcu:";
-    /// `insn_per_step: mean=<M> max=<X>` (instructions per control step, QEMU).
-    pub const INSN: &str = "insn_per_step:";
-    /// `cycles_per_step: mean=<M> max=<X>` (cycles per control step, a board's counter).
-    pub const CYCLES: &str = "cycles_per_step:";
-    /// `arc_steps: steps=<n> mean=<M> max=<X> free_mean=<F> free_max=<Y>` (the per-step
-    /// figures of the steps with a joint at rest on a joint-limit arc, and of the others).
-    pub const ARCS: &str = "arc_steps:";
-    /// `stack_step: bytes=<B>` (deepest stack use below the caller of one step, QEMU).
-    pub const STACK: &str = "stack_step:";
-    /// `digest: <0x…>` ([`purcell_core::TrajectoryDigest`] of the whole flight).
-    pub const DIGEST: &str = "digest:";
-    /// `final_state_bits: <0x…> ×6` (`α1 α2 x y cos θ sin θ` as raw bits).
-    pub const FINAL: &str = "final_state_bits:";
-    /// `result: ok` (the last line of a successful run).
-    pub const RESULT: &str = "result: ok";
-}
+use crate::error::HostError;
+use crate::reference::Reference;
+use purcell_fly::line;
 
 /// What the per-step figures count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,16 +60,21 @@ pub struct FirmwareLog {
     pub final_bits: [u64; 6],
 }
 
-fn find_line<'a>(text: &'a str, prefix: &str) -> Option<&'a str> {
-    text.lines()
-        .map(str::trim)
-        .find_map(|l| l.strip_prefix(prefix))
+/// What follows `<name>:` on line `l`, if `l` is that line.
+fn value<'a>(l: &'a str, name: &str) -> Option<&'a str> {
+    l.trim()
+        .strip_prefix(name)
+        .and_then(|rest| rest.strip_prefix(':'))
         .map(str::trim)
 }
 
-fn need_line<'a>(text: &'a str, prefix: &str) -> Result<&'a str, HostError> {
-    find_line(text, prefix)
-        .ok_or_else(|| HostError::Log(format!("no line starting with `{prefix}`")))
+/// What follows `<name>:` on the first line of that name.
+fn find_line<'a>(text: &'a str, name: &str) -> Option<&'a str> {
+    text.lines().find_map(|l| value(l, name))
+}
+
+fn need_line<'a>(text: &'a str, name: &str) -> Result<&'a str, HostError> {
+    find_line(text, name).ok_or_else(|| HostError::Log(format!("no line starting with `{name}:`")))
 }
 
 fn key<'a>(rest: &'a str, name: &str) -> Result<&'a str, HostError> {
@@ -124,7 +106,7 @@ impl FirmwareLog {
             (None, Some(c)) => (Unit::Cycles, c),
             _ => {
                 return Err(HostError::Log(format!(
-                    "need exactly one of `{}` and `{}`",
+                    "need exactly one of `{}:` and `{}:`",
                     line::INSN,
                     line::CYCLES
                 )));
@@ -134,7 +116,7 @@ impl FirmwareLog {
             Some(s) => Some(parse_num(key(s, "bytes")?, "bytes")?),
             None if unit == Unit::Instructions => {
                 return Err(HostError::Log(format!(
-                    "no line starting with `{}`",
+                    "no line starting with `{}:`",
                     line::STACK
                 )));
             }
@@ -147,8 +129,15 @@ impl FirmwareLog {
         let final_bits: [u64; 6] = bits
             .try_into()
             .map_err(|_| HostError::Log("final_state_bits needs 6 values".into()))?;
-        if !text.lines().any(|l| l.trim() == line::RESULT) {
-            return Err(HostError::Log(format!("no `{}` line", line::RESULT)));
+        if !text
+            .lines()
+            .any(|l| value(l, line::RESULT) == Some(line::OK))
+        {
+            return Err(HostError::Log(format!(
+                "no `{}: {}` line",
+                line::RESULT,
+                line::OK
+            )));
         }
         let crc = parse_hex(key(header, "gait")?)?;
         let arcs = need_line(text, line::ARCS)?;
@@ -268,7 +257,6 @@ pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Resul
 mod tests {
     use super::*;
     use purcell_core::Gait;
-    use std::vec;
 
     const QEMU_LOG: &str = "\
 insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004
@@ -406,7 +394,7 @@ result: ok
         .unwrap();
         let mut bits = log.final_bits;
         bits[5] ^= 1;
-        let bad = vec![
+        let bad = [
             FirmwareLog {
                 digest: log.digest ^ 1,
                 ..log.clone()
