@@ -87,19 +87,13 @@ fn run() -> Result<(), Failure> {
     let overhead = purcell_fly::overhead::<Cycles>();
     // Each step lends its sample: command the joints with `sample.u` in your own loop.
     purcell_fly::fly::<f32, Cycles, _>(BOARD, &gait, overhead, Replay::step)?;
-    defmt::println!("result: ok");
     Ok(())
 }
 
 #[entry]
 fn main() -> ! {
-    match run() {
-        Ok(()) => semihosting::process::exit(0),
-        Err(f) => {
-            defmt::error!("failed: {}", f);
-            semihosting::process::exit(1)
-        }
-    }
+    // Logs `result: ok` or `failed: <why>`; `probe-rs run` exits with the status.
+    semihosting::process::exit(purcell_fly::finish(run()))
 }
 
 #[exception]

@@ -182,38 +182,48 @@ pub struct Budget {
 /// joint-limit arc no dearer than the free ones (mean and largest). Errors:
 /// [`HostError::Mismatch`] naming the first failure.
 pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Result<(), HostError> {
+    same_flight(log, reference)?;
+    within_budget(log, budget)
+}
+
+/// `Ok` if the firmware and the host say the same, else the mismatch `say(firmware, host)`.
+fn same<T: PartialEq>(
+    firmware: T,
+    host: T,
+    say: impl FnOnce(T, T) -> String,
+) -> Result<(), HostError> {
+    if firmware == host {
+        Ok(())
+    } else {
+        Err(HostError::Mismatch(say(firmware, host)))
+    }
+}
+
+/// The firmware flew what the host flew: the same gait, precision and step count, bit for bit.
+fn same_flight(log: &FirmwareLog, reference: &Reference) -> Result<(), HostError> {
+    same(log.gait_crc, reference.gait_crc, |f, h| {
+        format!(
+            "the firmware flew gait {f:#010x}, the host replayed gait {h:#010x} (pass the \
+             firmware's gait with --gait)"
+        )
+    })?;
+    same(log.scalar.as_str(), reference.scalar, |f, h| {
+        format!("firmware ran {f}, reference is {h}")
+    })?;
+    same(log.steps, reference.steps, |f, h| {
+        format!("firmware ran {f} steps, host {h}")
+    })?;
+    same(log.digest, reference.digest, |f, h| {
+        format!("digest: firmware {f:#018x}, host {h:#018x}")
+    })?;
+    same(log.final_bits, reference.final_bits, |f, h| {
+        format!("final state bits: firmware {f:x?}, host {h:x?}")
+    })
+}
+
+/// The per-step figures, the arc steps and the stack within `budget`.
+fn within_budget(log: &FirmwareLog, budget: &Budget) -> Result<(), HostError> {
     let mismatch = |m: String| Err(HostError::Mismatch(m));
-    if log.gait_crc != reference.gait_crc {
-        return mismatch(format!(
-            "the firmware flew gait {:#010x}, the host replayed gait {:#010x} (pass the \
-             firmware's gait with --gait)",
-            log.gait_crc, reference.gait_crc
-        ));
-    }
-    if log.scalar != reference.scalar {
-        return mismatch(format!(
-            "firmware ran {}, reference is {}",
-            log.scalar, reference.scalar
-        ));
-    }
-    if log.steps != reference.steps {
-        return mismatch(format!(
-            "firmware ran {} steps, host {}",
-            log.steps, reference.steps
-        ));
-    }
-    if log.digest != reference.digest {
-        return mismatch(format!(
-            "digest: firmware {:#018x}, host {:#018x}",
-            log.digest, reference.digest
-        ));
-    }
-    if log.final_bits != reference.final_bits {
-        return mismatch(format!(
-            "final state bits: firmware {:x?}, host {:x?}",
-            log.final_bits, reference.final_bits
-        ));
-    }
     let (limits, what) = match log.unit {
         Unit::Instructions => (Some((budget.insn, budget.insn_step)), "instructions"),
         Unit::Cycles => (budget.cycles.map(|c| (c, c)), "cycles"),

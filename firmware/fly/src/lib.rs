@@ -18,9 +18,9 @@
 //! final_state_bits: <0x…> ×6
 //! ```
 //!
-//! and the caller ends a successful run with `result: ok`. `arc_steps` splits the per-step
-//! figures (same units) between the steps with a joint at rest on a joint-limit arc (its
-//! `mean`, `max`; all zero for a gait without arcs) and the others (`free_…`).
+//! and [`finish`] ends the run with `result: ok` (or `failed: <why>`). `arc_steps` splits the
+//! per-step figures (same units) between the steps with a joint at rest on a joint-limit arc
+//! (its `mean`, `max`; all zero for a gait without arcs) and the others (`free_…`).
 
 #![no_std]
 #![deny(missing_docs)]
@@ -50,7 +50,7 @@ pub mod line {
     pub const DIGEST: &str = "digest";
     /// `final_state_bits: <0x…> ×6` (`α1 α2 x y cos θ sin θ` as raw bits).
     pub const FINAL: &str = "final_state_bits";
-    /// `result: ok`, the last line of a successful run (printed by the caller).
+    /// `result: ok`, the last line of a successful run ([`finish`](super::finish)).
     pub const RESULT: &str = "result";
     /// The value of [`RESULT`] on success.
     pub const OK: &str = "ok";
@@ -233,4 +233,19 @@ where
         b[5]
     );
     Ok(flight)
+}
+
+/// Ends a run: logs `result: ok`, or `failed: <why>` for an error, and returns the exit status
+/// for the caller's exit (0 on success, 1 on failure).
+pub fn finish<E: defmt::Format>(run: Result<(), E>) -> i32 {
+    match run {
+        Ok(()) => {
+            defmt::println!("{=str}: {=str}", line::RESULT, line::OK);
+            0
+        }
+        Err(e) => {
+            defmt::error!("failed: {}", e);
+            1
+        }
+    }
 }

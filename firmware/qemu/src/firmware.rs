@@ -199,23 +199,12 @@ fn run() -> Result<(), Failure> {
     if gait.replay::<S>()?.fly(Replay::step)? != flight {
         return Err(Failure::NotDeterministic);
     }
-    defmt::println!(
-        "{=str}: {=str}",
-        purcell_fly::line::RESULT,
-        purcell_fly::line::OK
-    );
     Ok(())
 }
 
 #[entry]
 fn main() -> ! {
-    match run() {
-        Ok(()) => semihosting::process::exit(0),
-        Err(f) => {
-            defmt::error!("failed: {}", f);
-            semihosting::process::exit(1)
-        }
-    }
+    semihosting::process::exit(purcell_fly::finish(run()))
 }
 
 /// Set by the first fault or panic: a second one exits at once without logging (the logger
