@@ -332,16 +332,19 @@ result: ok
         );
     }
 
-    #[test]
-    fn check_accepts_the_reference_and_refuses_any_difference() {
+    /// Within budget on every figure.
+    const BUDGET: Budget = Budget {
+        insn: 1000.0,
+        insn_step: 1100.0,
+        cycles: Some(2000.0),
+        stack_bytes: 2048,
+    };
+
+    /// The host's flight of the paper's gait in f32, and the log of a firmware that flew it
+    /// within [`BUDGET`].
+    fn paper_flight() -> (Reference, FirmwareLog) {
         let gait = Gait::from_bytes(include_bytes!("../../../core/examples/paper.gait")).unwrap();
         let reference = Reference::for_scalar(&gait, "f32").unwrap();
-        let budget = Budget {
-            insn: 1000.0,
-            insn_step: 1100.0,
-            cycles: Some(2000.0),
-            stack_bytes: 2048,
-        };
         let log = FirmwareLog {
             board: "mps2-an386".into(),
             scalar: "f32".into(),
@@ -361,8 +364,12 @@ result: ok
             digest: reference.digest,
             final_bits: reference.final_bits,
         };
-        check(&log, &reference, &budget).unwrap();
-        let arcs = |mean: f64, max: u32| FirmwareLog {
+        (reference, log)
+    }
+
+    /// `log` with 500 steps on joint-limit arcs, of the given mean and largest.
+    fn on_arcs(log: &FirmwareLog, mean: f64, max: u32) -> FirmwareLog {
+        FirmwareLog {
             arcs: Split {
                 steps: 500,
                 mean,
@@ -370,41 +377,53 @@ result: ok
                 ..log.arcs
             },
             ..log.clone()
-        };
-        check(&arcs(880.0, 950), &reference, &budget).unwrap();
-        check(
-            &FirmwareLog {
-                max: 1100,
-                ..log.clone()
-            },
-            &reference,
-            &budget,
-        )
-        .unwrap();
-        let cycles = FirmwareLog {
+        }
+    }
+
+    /// `log` as a board's: cycles within [`BUDGET`], no stack line.
+    fn in_cycles(log: &FirmwareLog) -> FirmwareLog {
+        FirmwareLog {
             unit: Unit::Cycles,
             mean: 1500.0,
             max: 1999,
             stack_bytes: None,
             ..log.clone()
-        };
-        check(&cycles, &reference, &budget).unwrap();
+        }
+    }
+
+    #[test]
+    fn the_host_flight_within_budget_passes() {
+        let (reference, log) = paper_flight();
+        let cycles = in_cycles(&log);
         let unbudgeted = Budget {
             cycles: None,
-            ..budget
+            ..BUDGET
         };
-        check(
-            &FirmwareLog {
-                max: 99_999,
-                ..cycles.clone()
-            },
-            &reference,
-            &unbudgeted,
-        )
-        .unwrap();
+        let passing = [
+            (log.clone(), BUDGET),
+            (on_arcs(&log, 880.0, 950), BUDGET),
+            // The largest step on the per-step budget.
+            (FirmwareLog { max: 1100, ..log }, BUDGET),
+            (cycles.clone(), BUDGET),
+            (
+                FirmwareLog {
+                    max: 99_999,
+                    ..cycles
+                },
+                unbudgeted,
+            ),
+        ];
+        for (log, budget) in passing {
+            check(&log, &reference, &budget).unwrap();
+        }
+    }
+
+    #[test]
+    fn another_flight_is_refused() {
+        let (reference, log) = paper_flight();
         let mut bits = log.final_bits;
         bits[5] ^= 1;
-        let bad = [
+        let others = [
             FirmwareLog {
                 digest: log.digest ^ 1,
                 ..log.clone()
@@ -417,6 +436,30 @@ result: ok
                 gait_crc: log.gait_crc ^ 1,
                 ..log.clone()
             },
+            FirmwareLog {
+                scalar: "f64".into(),
+                ..log.clone()
+            },
+            FirmwareLog {
+                steps: 9999,
+                ..log.clone()
+            },
+        ];
+        for other in others {
+            assert!(
+                matches!(
+                    check(&other, &reference, &BUDGET),
+                    Err(HostError::Mismatch(_))
+                ),
+                "{other:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_figure_above_its_budget_is_refused() {
+        let (reference, log) = paper_flight();
+        let over = [
             FirmwareLog {
                 mean: 1000.1,
                 ..log.clone()
@@ -434,23 +477,16 @@ result: ok
                 ..log.clone()
             },
             FirmwareLog {
-                scalar: "f64".into(),
-                ..log.clone()
-            },
-            FirmwareLog {
-                steps: 9999,
-                ..log.clone()
-            },
-            FirmwareLog {
                 max: 2001,
-                ..cycles.clone()
+                ..in_cycles(&log)
             },
-            arcs(900.1, 900),
+            // Arc steps dearer than the free ones on average.
+            on_arcs(&log, 900.1, 900),
         ];
-        for b in bad {
+        for o in over {
             assert!(
-                matches!(check(&b, &reference, &budget), Err(HostError::Mismatch(_))),
-                "{b:?}"
+                matches!(check(&o, &reference, &BUDGET), Err(HostError::Mismatch(_))),
+                "{o:?}"
             );
         }
     }
