@@ -18,10 +18,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "\
-purcell-mcu-check: checks the firmware (purcell-mcu, which builds for thumbv7em-none-eabihf
-(M4F, M7) and thumbv7m-none-eabi (M3); run it with
-`cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release`, `cargo mcu-m7` or
-`cargo mcu-m3`) on the host.
+purcell-mcu-check: checks on the host what the firmware printed and compiled to. The firmware
+(purcell-mcu) builds for thumbv7em-none-eabihf (M4F, M7) and thumbv7m-none-eabi (M3): run it
+with `cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release`, `cargo mcu-m7` or
+`cargo mcu-m3`.
 
 usage:
   purcell-mcu-check reference [--gait FILE] [f32|f64]
