@@ -51,6 +51,7 @@ use crate::arc::{self, ArcTable, Exits};
 use crate::kinematics::{Kinematics, State};
 use crate::replay::{Checkpoint, CheckpointTable, Costate, Replay, TerminalError};
 use crate::swimmer::check_shape;
+use crate::table::{Table, VALUES, record_len};
 use crate::{Error, Real, Se2, Swimmer};
 use core::mem::size_of;
 use nalgebra::{Vector2, Vector3};
@@ -76,13 +77,6 @@ const SECTIONS: usize = 4;
 /// version 2 `α_max` (`f64`, 0 for none).
 const fn params_len(version: u16) -> usize {
     8 + 16 * 8 + if version == 1 { 0 } else { 8 }
-}
-/// Numbers in a checkpoint: `α1 α2 x y cos θ sin θ ξ1 ξ2`.
-const VALUES: usize = 8;
-/// A checkpoint record of values `width` bytes wide: `k` in a field of that width (`u32`,
-/// then zero padding in `f64` records), then the values.
-const fn record_len(width: usize) -> usize {
-    width * (1 + VALUES)
 }
 /// How far `cos² θ + sin² θ` of a stored rotation may be from 1.
 const UNIT_TOLERANCE: f64 = 1e-9;
@@ -248,24 +242,12 @@ impl CheckpointRecord {
     /// The checkpoint in `T` (each number rounded to nearest; `g` as stored, not
     /// renormalised).
     pub fn to_checkpoint<T: Real>(&self) -> Checkpoint<T> {
-        let v = self.values().map(T::from_f64);
-        checkpoint(self.k, v)
+        Checkpoint::from_values(self.k, self.values().map(T::from_f64))
     }
 
     fn values(&self) -> [f64; VALUES] {
         let ([a1, a2], [x, y, c, s], [x1, x2]) = (self.alpha, self.g, self.xi);
         [a1, a2, x, y, c, s, x1, x2]
-    }
-}
-
-fn checkpoint<T: Real>(k: u32, [a1, a2, x, y, c, s, x1, x2]: [T; VALUES]) -> Checkpoint<T> {
-    Checkpoint {
-        k,
-        state: State {
-            alpha: Vector2::new(a1, a2),
-            g: Se2::from_rotation(x, y, c, s),
-        },
-        xi: Vector2::new(x1, x2),
     }
 }
 
@@ -342,46 +324,6 @@ mod sealed {
     pub trait Sealed {}
     impl Sealed for f32 {}
     impl Sealed for f64 {}
-}
-
-/// A stored checkpoint table of one precision, read front to back in place.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Table<'a> {
-    records: &'a [u8],
-}
-
-impl Table<'_> {
-    /// The step index of the first record.
-    #[inline]
-    pub(crate) fn next_k(&self) -> Option<u32> {
-        self.records.first_chunk().map(|b| u32::from_le_bytes(*b))
-    }
-
-    /// Removes the first record: its step index and values. `T` must be the table's scalar
-    /// (`f32` for `CK32`, `f64` for `CK64`): records are `record_len(size_of::<T>())` bytes.
-    #[inline]
-    fn pop_values<T: Real>(&mut self) -> Option<(u32, [T; VALUES])> {
-        let width = size_of::<T>();
-        let (record, rest) = self.records.split_at_checked(record_len(width))?;
-        self.records = rest;
-        let k = u32::from_le_bytes(*record.first_chunk()?);
-        let mut values = [T::zero(); VALUES];
-        for (v, bytes) in values
-            .iter_mut()
-            .zip(record.get(width..)?.chunks_exact(width))
-        {
-            let mut bits = [0u8; 8];
-            bits.get_mut(..width)?.copy_from_slice(bytes);
-            *v = T::from_bits(u64::from_le_bytes(bits));
-        }
-        Some((k, values))
-    }
-
-    /// Removes the first record as a checkpoint in `T` (the table's scalar).
-    #[inline]
-    pub(crate) fn pop<T: Real>(&mut self) -> Option<Checkpoint<T>> {
-        self.pop_values().map(|(k, v)| checkpoint(k, v))
-    }
 }
 
 /// A gait file, validated, read in place.
@@ -648,8 +590,8 @@ impl<'a> Gait<'a> {
         let gait = Gait {
             params,
             count,
-            table64: Table { records: t64 },
-            table32: Table { records: t32 },
+            table64: Table::new(t64),
+            table32: Table::new(t32),
             arcs,
             crc,
         };
@@ -658,7 +600,7 @@ impl<'a> Gait<'a> {
         // The f64 records' padding is zero, and the f32 table is the f64 one rounded.
         let (mut wide, mut narrow) = (gait.table64, gait.table32);
         for _ in 0..count {
-            let pad = wide.records.get(4..8);
+            let pad = wide.next_padding();
             let (k, v64) = wide.pop_values::<f64>().ok_or(Error::GaitLayout)?;
             let (k32, v32) = narrow.pop_values::<f32>().ok_or(Error::GaitLayout)?;
             let rounded = v64

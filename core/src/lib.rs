@@ -24,6 +24,7 @@ pub mod se2;
 #[cfg(feature = "proptest-strategies")]
 pub mod strategies;
 pub mod swimmer;
+mod table;
 
 pub use arc::Arc;
 pub use digest::TrajectoryDigest;

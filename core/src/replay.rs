@@ -20,9 +20,9 @@
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
 use crate::arc::{Arc, ArcTable, Exits};
-use crate::gait::Table;
 use crate::kinematics::{Kinematics, State};
 use crate::law::{LawStep, OnArcs};
+use crate::table::{Table, VALUES};
 use crate::{Error, Real, Se2, TrajectoryDigest};
 use nalgebra::{Vector2, Vector3};
 
@@ -49,6 +49,20 @@ pub struct Checkpoint<T> {
 }
 
 impl<T: Real> Checkpoint<T> {
+    /// The checkpoint of a stored record's values `α1 α2 x y cos θ sin θ ξ1 ξ2` (`g` as
+    /// stored, not renormalised).
+    #[inline]
+    pub(crate) fn from_values(k: u32, [a1, a2, x, y, c, s, x1, x2]: [T; VALUES]) -> Self {
+        Checkpoint {
+            k,
+            state: State {
+                alpha: Vector2::new(a1, a2),
+                g: Se2::from_rotation(x, y, c, s),
+            },
+            xi: Vector2::new(x1, x2),
+        }
+    }
+
     /// `Ok` if the state is admissible and every number finite.
     fn check(&self) -> Result<(), Error> {
         self.state.check()?;
@@ -129,7 +143,9 @@ impl<T: Real> CheckpointTable<'_, T> {
                 *s = rest;
                 *first
             }),
-            CheckpointTable::Stored(t) => t.pop(),
+            CheckpointTable::Stored(t) => {
+                t.pop_values().map(|(k, v)| Checkpoint::from_values(k, v))
+            }
         }
     }
 }
