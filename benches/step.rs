@@ -13,7 +13,7 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{
-    Checkpoint, Costate, Kinematics, Passes, Real, Replay, Se2, State, Swimmer, se2,
+    Checkpoint, Costate, Kinematics, OnArcs, Passes, Real, Replay, Se2, State, Swimmer, se2,
 };
 use purcell_tests::{STEPS, costate_f32, paper_kinematics};
 use std::hint::black_box;
@@ -41,19 +41,35 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str, cast: fn(f64) -> T) {
     let kin = Kinematics::new(Swimmer::<T>::purcell(), cast(0.01)).expect("valid step");
     let Passes { kind, count } = T::PASSES;
     c.bench_function(&format!("law_step/{name} ({count} {kind:?} passes)"), |b| {
-        b.iter(|| kin.law_step(black_box(&state), black_box(&xi), black_box(&mu)))
+        b.iter(|| {
+            kin.law_step(
+                black_box(&state),
+                black_box(&xi),
+                black_box(&mu),
+                OnArcs::NONE,
+                T::PASSES,
+            )
+        })
     });
     c.bench_function(&format!("law_step/{name} (first iterate only)"), |b| {
         b.iter(|| {
             let first = Passes::plain(0);
-            kin.law_step_with_passes(black_box(&state), black_box(&xi), black_box(&mu), first)
+            kin.law_step(
+                black_box(&state),
+                black_box(&xi),
+                black_box(&mu),
+                OnArcs::NONE,
+                first,
+            )
         })
     });
     let sw = *kin.swimmer();
     c.bench_function(&format!("connection_with_derivatives/{name}"), |b| {
         b.iter(|| sw.connection_with_derivatives(black_box(&state.alpha)))
     });
-    let step = kin.law_step(&state, &xi, &mu).expect("admissible step");
+    let step = kin
+        .law_step(&state, &xi, &mu, OnArcs::NONE, T::PASSES)
+        .expect("admissible step");
     let x = kin.twist(&sw.connection(&state.alpha).expect("admissible"), &step.u);
     c.bench_function(&format!("se2_exp/{name} (|w| ~ 1e-3)"), |b| {
         b.iter(|| se2::exp(black_box(&x)))

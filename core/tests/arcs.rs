@@ -11,7 +11,7 @@ use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::arc;
 use purcell_core::gait::{self, CheckpointRecord, Gait};
-use purcell_core::{Arc, Checkpoint, Error, Kinematics, OnArcs, Passes, Replay, Se2, State};
+use purcell_core::{Arc, Checkpoint, Error, Kinematics, OnArcs, Passes, Real, Replay, Se2, State};
 
 static PAPER_LIMIT: &[u8] = include_bytes!("../examples/paper-limit.gait");
 static TINY_LIMIT: &[u8] = include_bytes!("data/tiny-limit.gait");
@@ -356,7 +356,7 @@ fn jumped_costate(
     };
     let ui = |x: f64| {
         Some(
-            kin.law_step_with_passes(s, &with(x), mu, TO_ROUNDING)
+            kin.law_step(s, &with(x), mu, OnArcs::NONE, TO_ROUNDING)
                 .ok()?
                 .u[i],
         )
@@ -394,7 +394,7 @@ proptest! {
         let mut on = [false; 2];
         on[i] = true;
         // (A step of the other joint past the overlap limit is refused, as by the free law.)
-        let arc = kin.law_step_on_arcs_with_passes(&s, &xi, &mu, OnArcs(on), TO_ROUNDING);
+        let arc = kin.law_step(&s, &xi, &mu, OnArcs(on), TO_ROUNDING);
         prop_assume!(arc != Err(Error::ShapeLimit));
         let arc = arc.unwrap();
         prop_assert_eq!(arc.u[i], 0.0);
@@ -402,7 +402,7 @@ proptest! {
         let jumped = jumped_costate(&kin, &s, &xi, &mu, i);
         prop_assume!(jumped.is_some());
         let jumped = jumped.unwrap();
-        let free = kin.law_step_with_passes(&s, &jumped, &mu, TO_ROUNDING).unwrap();
+        let free = kin.law_step(&s, &jumped, &mu, OnArcs::NONE, TO_ROUNDING).unwrap();
         let scale = 1.0 + arc.u.amax();
         prop_assert!(free.u[i].abs() < 1e-12 * scale, "{:?}", free.u);
         prop_assert!((free.u - arc.u).amax() < 1e-12 * scale, "{:?} {:?}", free.u, arc.u);
@@ -414,11 +414,9 @@ proptest! {
         // below 3): the same root to what it leaves (a wrong row or ζ would be off by about
         // h|B||u|, 1e-2 of u).
         if scale <= 6.0 {
-            let one = kin.law_step_on_arcs(&s, &xi, &mu, OnArcs(on)).unwrap();
+            let one = kin.law_step(&s, &xi, &mu, OnArcs(on), f64::PASSES).unwrap();
             prop_assert!((one.u - arc.u).amax() < 1e-9 * scale, "{:?} {:?}", one.u, arc.u);
         }
-        // No joint on an arc is the free law itself.
-        prop_assert_eq!(kin.law_step_on_arcs(&s, &xi, &mu, OnArcs::NONE), kin.law_step(&s, &xi, &mu));
     }
 
     /// Both joints on arcs: the swimmer rests (`u = 0`, the state unchanged), and the costate
@@ -428,7 +426,8 @@ proptest! {
         let kin = kinematics::<f64>();
         let s = State { alpha: a, g };
         let mu = Vector3::new(1.5, 13.2, 0.6);
-        let step = kin.law_step_on_arcs(&s, &Vector2::new(xi.0, xi.1), &mu, OnArcs([true; 2])).unwrap();
+        let xi = Vector2::new(xi.0, xi.1);
+        let step = kin.law_step(&s, &xi, &mu, OnArcs([true; 2]), f64::PASSES).unwrap();
         prop_assert_eq!(step.u, Vector2::zeros());
         prop_assert_eq!(step.next.alpha, a);
         prop_assert!(dist(&step.next.g, &g) < 1e-15);

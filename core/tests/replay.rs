@@ -5,7 +5,9 @@ mod common;
 
 use common::*;
 use nalgebra::{Vector2, Vector3};
-use purcell_core::{Checkpoint, Checkpoints, Costate, Error, Replay, Sample, Se2, State};
+use purcell_core::{
+    Checkpoint, Checkpoints, Costate, Error, OnArcs, Real, Replay, Sample, Se2, State,
+};
 
 fn start() -> State<f64> {
     State::at_origin(Vector2::zeros())
@@ -26,7 +28,9 @@ fn replay_is_the_law_stepped_in_order() {
     assert_eq!(samples.len(), 200);
     let (mut state, mut xi) = (start(), c.xi);
     for (k, s) in samples.iter().enumerate() {
-        let step = kin.law_step(&state, &xi, &c.mu).unwrap();
+        let step = kin
+            .law_step(&state, &xi, &c.mu, OnArcs::NONE, f64::PASSES)
+            .unwrap();
         assert_eq!(s.k as usize, k);
         assert_eq!((s.state, s.u, s.xi), (state, step.u, step.xi));
         (state, xi) = (step.next, step.xi);
@@ -72,7 +76,9 @@ fn checkpoints_reset_state_and_xi_at_their_steps() {
             (state, xi) = (cp.state, cp.xi);
         }
         assert_eq!(s.state, state, "step {}", s.k);
-        let step = kin.law_step(&state, &xi, &c.mu).unwrap();
+        let step = kin
+            .law_step(&state, &xi, &c.mu, OnArcs::NONE, f64::PASSES)
+            .unwrap();
         assert_eq!((s.u, s.xi), (step.u, step.xi), "step {}", s.k);
         (state, xi) = (step.next, step.xi);
     }
@@ -150,7 +156,9 @@ fn finish_equals_the_last_state() {
         panic!("too few samples")
     };
     assert_eq!(
-        kin.law_step(&last.state, &prev.xi, &c.mu).unwrap().next,
+        kin.law_step(&last.state, &prev.xi, &c.mu, OnArcs::NONE, f64::PASSES)
+            .unwrap()
+            .next,
         end
     );
     // finish() on a fresh replay, and on a half-consumed one, reaches the same state.
@@ -188,7 +196,9 @@ fn replay_in_f32_is_deterministic() {
         .unwrap();
     let (mut state, mut xi) = (s32, c32.xi);
     for _ in 0..1000 {
-        let step = kin.law_step(&state, &xi, &c32.mu).unwrap();
+        let step = kin
+            .law_step(&state, &xi, &c32.mu, OnArcs::NONE, f32::PASSES)
+            .unwrap();
         (state, xi) = (step.next, step.xi);
     }
     assert_eq!(replayed, state);
