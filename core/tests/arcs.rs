@@ -186,7 +186,7 @@ fn exits_follow_the_solution(bytes: &[u8]) -> [f64; 3] {
         if let Some(c) = exits.iter().find(|c| c.k == k) {
             let (s, xi) = (replay.state(), replay.xi());
             let da = (s.alpha - Vector2::from(c.alpha)).amax();
-            let dg = dist(&s.g, &Se2::from_rotation(c.g[0], c.g[1], c.g[2], c.g[3]));
+            let dg = se2_distance(&s.g, &Se2::from_rotation(c.g[0], c.g[1], c.g[2], c.g[3]));
             // ξ_j of a joint off its limit at k carries no jump.
             let free = |j: usize| {
                 !arcs
@@ -309,7 +309,7 @@ fn replays_from_stored_tables_and_from_memory_agree() {
 
 #[test]
 fn replay_refuses_bad_arc_tables() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let start = State::at_origin(Vector2::zeros());
     let c = costate_mu13();
     let cp = |k| Checkpoint {
@@ -378,7 +378,7 @@ fn jumped_costate(
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// On an arc of joint `i` the step is the free law fed the costate with the limit's jump
     /// (which makes its `u_i` zero): the same `u_j`, next state and `ξ^k` (MODEL.md §9), both
@@ -388,7 +388,7 @@ proptest! {
         a in alpha(), g in se2(), xi in (-20.0..20.0f64, -20.0..20.0f64),
         mu in (-15.0..15.0f64, -15.0..15.0f64, -3.0..3.0f64), i in 0usize..2,
     ) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let s = State { alpha: a, g };
         let (xi, mu) = (Vector2::new(xi.0, xi.1), Vector3::new(mu.0, mu.1, mu.2));
         let mut on = [false; 2];
@@ -407,7 +407,7 @@ proptest! {
         prop_assert!(free.u[i].abs() < 1e-12 * scale, "{:?}", free.u);
         prop_assert!((free.u - arc.u).amax() < 1e-12 * scale, "{:?} {:?}", free.u, arc.u);
         prop_assert!((free.next.alpha - arc.next.alpha).amax() < 1e-13 * scale);
-        prop_assert!(dist(&free.next.g, &arc.next.g) < 1e-13 * scale);
+        prop_assert!(se2_distance(&free.next.g, &arc.next.g) < 1e-13 * scale);
         let xi_scale = 1.0 + arc.xi.amax();
         prop_assert!((free.xi - arc.xi).amax() < 1e-12 * xi_scale, "{:?} {:?}", free.xi, arc.xi);
         // The type's single pass at a gait's speeds (|u| ≤ 5 rad/s; the paper's gaits stay
@@ -423,14 +423,14 @@ proptest! {
     /// is `Aᵀm`, both rows made to hold.
     #[test]
     fn both_joints_on_arcs_rest(a in alpha(), g in se2(), xi in (-20.0..20.0f64, -20.0..20.0f64)) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let s = State { alpha: a, g };
         let mu = Vector3::new(1.5, 13.2, 0.6);
         let xi = Vector2::new(xi.0, xi.1);
         let step = kin.law_step(&s, &xi, &mu, OnArcs([true; 2]), f64::PASSES).unwrap();
         prop_assert_eq!(step.u, Vector2::zeros());
         prop_assert_eq!(step.next.alpha, a);
-        prop_assert!(dist(&step.next.g, &g) < 1e-15);
+        prop_assert!(se2_distance(&step.next.g, &g) < 1e-15);
         let conn = kin.swimmer().connection(&a).unwrap();
         let atm = conn.transpose() * g.adjoint_transpose_mul(&mu);
         prop_assert!((step.xi - atm).amax() < 1e-12 * (1.0 + atm.amax()));
@@ -451,7 +451,7 @@ proptest! {
             .map(|&k| Checkpoint { k, state: start, xi: Vector2::new(0.1, -0.1) })
             .collect();
         let costate = purcell_core::Costate { mu: Vector3::new(0.5f32, 1.0, 0.2), xi: Vector2::new(0.3, -0.1) };
-        if let Ok(mut replay) = Replay::with_arcs(kinematics::<f32>(), start, costate, steps, &cps, &arcs) {
+        if let Ok(mut replay) = Replay::with_arcs(paper_kinematics::<f32>(), start, costate, steps, &cps, &arcs) {
             prop_assert!(arc::check(arcs.iter().copied(), steps).is_ok());
             while let Ok(Some(s)) = replay.step() {
                 for a in arcs.iter().filter(|a| a.first <= s.k && s.k < a.last) {
@@ -500,7 +500,7 @@ proptest! {
             .map(|&k| Checkpoint { k, state: at(k), xi: Vector2::new(0.1, -0.1) })
             .collect();
         let costate = purcell_core::Costate { mu: Vector3::new(0.5f32, 1.0, 0.2), xi: Vector2::new(0.3, -0.1) };
-        let mut replay = Replay::with_arcs(kinematics::<f32>(), at(0), costate, steps, &cps, &arcs)
+        let mut replay = Replay::with_arcs(paper_kinematics::<f32>(), at(0), costate, steps, &cps, &arcs)
             .expect("a valid table is accepted");
         let mut previous: Option<purcell_core::Sample<f32>> = None;
         let mut count = 0;

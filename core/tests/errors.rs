@@ -14,7 +14,7 @@ use purcell_core::{
 };
 
 fn kin() -> Kinematics<f64> {
-    kinematics::<f64>()
+    paper_kinematics::<f64>()
 }
 
 #[test]
@@ -218,7 +218,7 @@ fn singular_control_law_matrix_is_refused() {
             .is_ok()
     );
     // f32 as well (the root rounded to f32 leaves |det| ≈ 1e-7 < the 1e-6 threshold).
-    let k32 = kinematics::<f32>();
+    let k32 = paper_kinematics::<f32>();
     let s32 = State::at_origin(Vector2::<f32>::zeros());
     let mu32 = Vector3::new(s as f32, 0.0, 0.0);
     assert_eq!(
@@ -484,7 +484,7 @@ fn exercise<T: Real>(
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// No function of the core panics on any f64 input.
     #[test]
@@ -522,7 +522,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Any `(cos, sin)` entering the core is accepted exactly when finite and of unit length
     /// within the tolerance, and every state a replay from it returns has a unit rotation.
@@ -574,7 +574,7 @@ fn connection_ok_is_finite_for_extreme_parameters() {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Every `Ok` of the connection is finite, for any valid parameters and shape.
     #[test]

@@ -323,7 +323,7 @@ fn checkpoints_are_checked_again_in_the_replay_scalar() {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Any change of one byte of a valid file is refused (CRC-32 catches every error burst of
     /// up to 32 bits), and never panics.

@@ -48,7 +48,7 @@ type Table = [[[(f64, f64); P]; 2]; 2];
 
 /// The residual table of one scalar type over both cases and both kinds of pass.
 fn table<T: Real>(cases: &[(&str, Costate<f64>)], cast: fn(f64) -> T) -> Table {
-    let kin = kinematics::<T>();
+    let kin = paper_kinematics::<T>();
     let mut t = [[[(0.0, 0.0); P]; 2]; 2];
     for (c, (_, costate)) in cases.iter().enumerate() {
         let states: Vec<_> = states_along(*costate, 10_000, 250)
@@ -154,7 +154,7 @@ fn passes_reach_rounding() {
 /// along `∂ζ/∂u` to the new `u` (see `law.rs`), which must agree with `ζ^k` evaluated anew.
 #[test]
 fn type_passes_satisfy_the_law_on_the_papers_loops() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let h = kin.h();
     for costate in [costate_mu4(), costate_mu13()] {
         let mu = costate.mu;
@@ -210,7 +210,7 @@ fn law_input() -> impl Strategy<Value = (State<f64>, Vector2<f64>, Vector3<f64>)
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// The returned step satisfies the law's equations themselves, each evaluated
     /// independently of the recursion: with `X = −hAu`, `ζ = dexp_Xᵀ Ad_gᵀ μ` and
@@ -220,7 +220,7 @@ proptest! {
     /// `passes_reach_rounding` checks each type's passes.
     #[test]
     fn law_step_satisfies_the_discrete_maximum_principle((state, xi, mu) in law_input()) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let h = kin.h();
         let s = kin.law_step(&state, &xi, &mu, OnArcs::NONE, Passes::newton(25)).unwrap();
         let c = kin.swimmer().connection_with_derivatives(&state.alpha).unwrap();
@@ -236,7 +236,7 @@ proptest! {
         prop_assert!((s.xi - xi_next).abs().max() <= 1e-14 * terms);
         prop_assert!((s.next.alpha - (state.alpha + s.u * h)).abs().max() <= 1e-15 * 4.0);
         let g = state.g * se2::exp(&x);
-        prop_assert!(dist(&s.next.g, &g) <= 1e-14 * scale(&state.g));
+        prop_assert!(se2_distance(&s.next.g, &g) <= 1e-14 * scale(&state.g));
     }
 
     /// Equivariance: from `q·g` with `μ' = Ad_q^{−T} μ` the law gives the same `u_k` and
@@ -244,7 +244,7 @@ proptest! {
     /// `Ad_gᵀ μ`). Rounding enters through `Ad` (|q| up to 5 in translation).
     #[test]
     fn law_step_is_left_equivariant((state, xi, mu) in law_input(), q in se2()) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let s = kin.law_step(&state, &xi, &mu, OnArcs::NONE, f64::PASSES).unwrap();
         let moved = State { alpha: state.alpha, g: q * state.g };
         let mu_q = q.inverse().adjoint_transpose_mul(&mu);
@@ -252,7 +252,7 @@ proptest! {
         let sc = scale(&q) * scale(&state.g) * (1.0 + mu.abs().max());
         prop_assert!((s.u - t.u).abs().max() <= 1e-13 * sc, "{:?} vs {:?}", s.u, t.u);
         prop_assert!((s.xi - t.xi).abs().max() <= 1e-14 * sc);
-        prop_assert!(dist(&(q * s.next.g), &t.next.g) <= 1e-13 * sc);
+        prop_assert!(se2_distance(&(q * s.next.g), &t.next.g) <= 1e-13 * sc);
     }
 }
 
@@ -264,7 +264,7 @@ proptest! {
 #[test]
 fn zero_passes_are_the_linearised_root() {
     use nalgebra::{Matrix2, Matrix2x3};
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let (state, xi) = states_along(costate_mu13(), 1000, 500)[1];
     let mu = costate_mu13().mu;
     let h = kin.h();

@@ -14,7 +14,7 @@ fn start() -> State<f64> {
 }
 
 fn run(costate: Costate<f64>, steps: u32, cps: &[Checkpoint<f64>]) -> Vec<Sample<f64>> {
-    Replay::new(kinematics(), start(), costate, steps, cps)
+    Replay::new(paper_kinematics(), start(), costate, steps, cps)
         .unwrap()
         .collect::<Result<_, _>>()
         .unwrap()
@@ -22,7 +22,7 @@ fn run(costate: Costate<f64>, steps: u32, cps: &[Checkpoint<f64>]) -> Vec<Sample
 
 #[test]
 fn replay_is_the_law_stepped_in_order() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let c = costate_mu13();
     let samples = run(c, 200, &[]);
     assert_eq!(samples.len(), 200);
@@ -39,7 +39,7 @@ fn replay_is_the_law_stepped_in_order() {
 
 #[test]
 fn checkpoints_reset_state_and_xi_at_their_steps() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let c = costate_mu13();
     let mut table = Checkpoints::<f64, 4>::new();
     let at = |a1, a2, x, th| State {
@@ -96,7 +96,7 @@ fn checkpoints_reset_state_and_xi_at_their_steps() {
 #[test]
 fn in_place_steps_match_the_iterator() {
     let c = costate_mu13();
-    let mut replay = Replay::new(kinematics::<f64>(), start(), c, 25, &[]).unwrap();
+    let mut replay = Replay::new(paper_kinematics::<f64>(), start(), c, 25, &[]).unwrap();
     let mut lent = Vec::new();
     while let Some(s) = replay.step().unwrap() {
         lent.push(*s);
@@ -112,7 +112,7 @@ fn replay_fuses_after_an_error() {
         mu: Vector3::zeros(),
         xi: Vector2::new(120.0, 0.0),
     };
-    let mut replay = Replay::new(kinematics(), start(), costate, 100, &[]).unwrap();
+    let mut replay = Replay::new(paper_kinematics(), start(), costate, 100, &[]).unwrap();
     let mut oks = 0;
     let err = loop {
         match replay.next() {
@@ -137,13 +137,13 @@ fn replay_fuses_after_an_error() {
     assert_eq!((*replay.state(), replay.steps_done()), (state, done));
     assert!(state.alpha.x < core::f64::consts::PI);
     // finish() reports the error.
-    let replay = Replay::new(kinematics(), start(), costate, 100, &[]).unwrap();
+    let replay = Replay::new(paper_kinematics(), start(), costate, 100, &[]).unwrap();
     assert_eq!(replay.finish(), Err(Error::ShapeLimit));
 }
 
 #[test]
 fn finish_equals_the_last_state() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let c = costate_mu4();
     let n = 500;
     let mut replay = Replay::new(kin, start(), c, n, &[]).unwrap();
@@ -180,17 +180,14 @@ fn finish_equals_the_last_state() {
 #[test]
 fn replay_in_f32_is_deterministic() {
     let c = costate_mu13();
-    let c32 = Costate {
-        mu: c.mu.map(|v| v as f32),
-        xi: c.xi.map(|v| v as f32),
-    };
-    let kin = kinematics::<f32>();
+    let c32 = costate_f32(&c);
+    let kin = paper_kinematics::<f32>();
     let s32 = State::at_origin(Vector2::<f32>::zeros());
     let replayed = Replay::new(kin, s32, c32, 1000, &[])
         .unwrap()
         .finish()
         .unwrap();
-    let again = Replay::new(kinematics::<f32>(), s32, c32, 1000, &[])
+    let again = Replay::new(paper_kinematics::<f32>(), s32, c32, 1000, &[])
         .unwrap()
         .finish()
         .unwrap();

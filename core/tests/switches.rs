@@ -1,6 +1,7 @@
 //! The small-angle switches of SE(2) (`SMALL_ANGLE`, `C3_SERIES_LIMIT`) in f32 and f64, on
-//! both sides and for negative angles: [`common::switch_suite`] run over each type with the
-//! core's exported strategy [`purcell_core::strategies::angle_across_switches`].
+//! both sides and for negative angles: the test kit's switch suite
+//! ([`purcell_core::testkit::switch_suite`]) run over each type with its strategy
+//! [`purcell_core::testkit::strategies::angle_across_switches`].
 //!
 //! Bounds, in units of the type's epsilon, are 10× the worst measured over 300 000 cases of
 //! these strategies (both types alike unless noted): the coefficients `a, b, c₂, sin, cos`
@@ -10,9 +11,9 @@
 
 mod common;
 
-use common::switch_suite::{coefficients, dexp_transpose, exp};
 use common::*;
 use proptest::prelude::*;
+use purcell_core::testkit::switch_suite::{coefficients, dexp_transpose, exp};
 
 const COEFFICIENTS: [f64; 6] = [20.0, 20.0, 20.0, 270.0, 20.0, 20.0];
 const EXP: f64 = 25.0;
@@ -33,7 +34,7 @@ fn within(errors: [f64; 6]) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     #[test]
     fn coefficients_match_their_series_across_the_switches(w in angle_across_switches()) {

@@ -1,19 +1,17 @@
-//! The core's small-angle switch suite (`core/tests/common/switch_suite.rs`) over host-sim's
-//! dual numbers, with the core's exported strategies: the values as in f64, and the
+//! The core's small-angle switch suite (`purcell_core::testkit::switch_suite`) over the
+//! solver's dual numbers, with the core's test kit's strategies: the values as in f64, and the
 //! derivatives the duals carry through either branch of each switch against the series'
 //! derivatives, so that they are continuous across it (the KKT certificate differentiates
 //! the core's kinematics on duals, `purcell_solver::solver::certificate`).
 
-#[path = "../../../core/tests/common/switch_suite.rs"]
-mod switch_suite;
-
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::se2::{C3_SERIES_LIMIT, ExpCoefficients, SMALL_ANGLE};
-use purcell_core::strategies::angle_across_switches;
+use purcell_core::testkit::se2_parts;
+use purcell_core::testkit::strategies::{angle_across_switches, proptest_config};
+use purcell_core::testkit::switch_suite::{coefficients, dexp_transpose, exp, series};
 use purcell_core::{Kinematics, State, Swimmer, Tangent};
 use purcell_solver::dual::Dual;
-use switch_suite::{coefficients, dexp_transpose, exp, series};
 
 type D = Dual<1>;
 
@@ -80,7 +78,7 @@ fn within(errors: [f64; 6], bounds: [f64; 6]) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_config())]
 
     #[test]
     fn dual_values_match_the_series_as_f64_does(x in twist(), m in costate()) {
@@ -160,7 +158,7 @@ fn step_for(alpha: [f64; 2], phi: f64, w: f64) -> Option<(f64, [f64; 2])> {
 fn step_derivatives(alpha: [f64; 2], h: f64, u: [f64; 2]) -> Option<f64> {
     let kin = |h: f64| Kinematics::new(Swimmer::<f64>::purcell(), h).unwrap();
     let s64 = State::at_origin(Vector2::new(alpha[0], alpha[1]));
-    let next = |u: Vector2<f64>| kin(h).step(&s64, &u).ok().map(|s| parts(&s.g));
+    let next = |u: Vector2<f64>| kin(h).step(&s64, &u).ok().map(|s| se2_parts(&s.g));
     let two = Swimmer::<Dual<2>>::purcell();
     let kd = Kinematics::new(two, Dual::constant(h)).unwrap();
     let sd = State::at_origin(Vector2::new(
@@ -183,8 +181,4 @@ fn step_derivatives(alpha: [f64; 2], h: f64, u: [f64; 2]) -> Option<f64> {
         }
     }
     Some(worst)
-}
-
-fn parts<T: purcell_core::Real>(g: &purcell_core::Se2<T>) -> [f64; 4] {
-    [g.x(), g.y(), g.cos(), g.sin()].map(|v| v.to_f64())
 }

@@ -1,26 +1,33 @@
-//! One property suite over a scalar type (`f32`, `f64` here; host-sim runs it over its dual
-//! numbers too, `host-sim/purcell-solver/tests/switches.rs`): the SE(2) coefficients the law and the KKT
-//! certificate evaluate, on both sides of every small-angle switch
-//! ([`purcell_core::se2::SMALL_ANGLE`], [`purcell_core::se2::C3_SERIES_LIMIT`]), against
-//! their Taylor series summed in f64 (independent of the switches). Each check returns its
-//! error in units of the type's [`Real::EPSILON`], for bounds per precision.
-#![allow(dead_code)]
+//! One property suite over a scalar type (`f32`, `f64` in `core/tests/switches.rs`; the
+//! solver's dual numbers in `host-sim/purcell-solver/tests/switches.rs`): the SE(2)
+//! coefficients the law and the KKT certificate evaluate, on both sides of every small-angle
+//! switch ([`crate::se2::SMALL_ANGLE`], [`crate::se2::C3_SERIES_LIMIT`]), against their Taylor
+//! series summed in f64 (independent of the switches). Each check returns its error in units
+//! of the type's [`Real::EPSILON`], for bounds per precision.
 
+use crate::se2::{self, ExpCoefficients};
+use crate::{Real, Tangent};
 use nalgebra::Vector3;
-use purcell_core::se2::{self, ExpCoefficients};
-use purcell_core::{Real, Tangent};
 
 /// The coefficients of `exp`/`dexp` at `ω` and their derivatives in `ω`, by their Taylor
 /// series (30 terms: to rounding for `|ω| ≤ 1`).
 #[derive(Clone, Copy, Debug)]
 pub struct Series {
+    /// `a = sin ω / ω`.
     pub a: f64,
+    /// `b = (1 − cos ω) / ω`.
     pub b: f64,
+    /// `c₂ = (1 − cos ω) / ω²`.
     pub c2: f64,
+    /// `c₃ = (ω − sin ω) / ω³`.
     pub c3: f64,
+    /// `da/dω`.
     pub da: f64,
+    /// `db/dω`.
     pub db: f64,
+    /// `dc₂/dω`.
     pub dc2: f64,
+    /// `dc₃/dω`.
     pub dc3: f64,
 }
 
@@ -39,6 +46,7 @@ fn sum(w: f64, shift: i32, odd: i32) -> (f64, f64) {
     (f, df)
 }
 
+/// The coefficients at `ω` and their derivatives, by their series.
 pub fn series(w: f64) -> Series {
     let (a, da) = sum(w, 1, 0);
     let (b, db) = sum(w, 2, 1);
