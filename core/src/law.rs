@@ -46,7 +46,7 @@
 
 use crate::kinematics::{Kinematics, State};
 use crate::se2::{self, ExpCoefficients, Tangent};
-use crate::swimmer::{Frame, Sym3, sym_mul_vec};
+use crate::swimmer::{Frame, Sym3, connection_mul, sym_mul_vec};
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
 
@@ -297,12 +297,9 @@ impl<T: Real> Equation<T> {
     /// `X = −hAu`.
     #[inline(always)]
     fn twist(&self, u: &Vector2<T>) -> Tangent<T> {
-        let a = &self.frame.a;
-        let (u1, u2) = (-(self.h * u.x), -(self.h * u.y));
-        Tangent::new(
-            a.m11 * u1 + a.m12 * u2,
-            a.m21 * u1 + a.m22 * u2,
-            a.m31 * u1 + a.m32 * u2,
+        connection_mul(
+            &self.frame.a,
+            &Vector2::new(-(self.h * u.x), -(self.h * u.y)),
         )
     }
 

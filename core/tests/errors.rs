@@ -297,13 +297,18 @@ fn a_non_unit_rotation_is_refused_where_states_enter_the_core() {
     }
 }
 
-#[test]
-fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
-    let cp = |k| Checkpoint {
+/// A valid checkpoint at step `k`: `α = 0` at the identity, `ξ = (0.1, 0.2)`.
+fn checkpoint_at_rest<T: Real>(k: u32) -> Checkpoint<T> {
+    Checkpoint {
         k,
         state: State::at_origin(Vector2::zeros()),
-        xi: Vector2::new(0.1, 0.2),
-    };
+        xi: Vector2::new(T::from_f64(0.1), T::from_f64(0.2)),
+    }
+}
+
+#[test]
+fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
+    let cp = checkpoint_at_rest::<f64>;
     let mut table = Checkpoints::<f64, 8>::new();
     table.push(cp(5)).unwrap();
     assert_eq!(table.push(cp(5)), Err(Error::CheckpointOrder));
@@ -334,11 +339,7 @@ fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
 
 #[test]
 fn full_checkpoint_table_is_refused_and_unchanged() {
-    let cp = |k| Checkpoint {
-        k,
-        state: State::at_origin(Vector2::zeros()),
-        xi: Vector2::new(0.1f32, 0.2),
-    };
+    let cp = checkpoint_at_rest::<f32>;
     let mut table = Checkpoints::<f32, 2>::new();
     table.push(cp(1)).unwrap();
     table.push(cp(2)).unwrap();

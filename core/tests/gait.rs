@@ -7,27 +7,35 @@ mod common;
 use common::*;
 use proptest::prelude::*;
 use purcell_core::gait::{self, Arc, CheckpointRecord, Gait, GaitParams, Model};
-use purcell_core::{Checkpoint, Error, Real, Replay, Sample, State};
+use purcell_core::{Checkpoint, Error, Real, Sample, State};
 
-/// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
-/// 100 steps taken from its plain `f64` replay (as `purcell-sim solve` writes them).
-fn example() -> (GaitParams, Vec<CheckpointRecord>) {
-    let c = costate_mu13();
-    let params = GaitParams {
+/// A gait of the paper's swimmer (unit links, `k = 1`, `r = 2`) with `h = 0.01` from `ᾱ = 0`,
+/// checkpoints every 100 steps, no joint limit: the parameters the gaits of these tests share
+/// (each sets its own horizon, target and costate).
+fn paper_gait(steps: u32, target: [f64; 3], mu: [f64; 3], xi0: [f64; 2]) -> GaitParams {
+    GaitParams {
         model: Model {
             links: [1.0; 3],
             drag: 1.0,
             ratio: 2.0,
         },
         h: 0.01,
-        steps: 1000,
+        steps,
         alpha0: [0.0, 0.0],
-        target: [0.1, 0.1, 0.0],
-        mu: [c.mu.x, c.mu.y, c.mu.z],
-        xi0: [c.xi.x, c.xi.y],
+        target,
+        mu,
+        xi0,
         checkpoint_every: 100,
         alpha_max: None,
-    };
+    }
+}
+
+/// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
+/// 100 steps taken from its plain `f64` replay (as `purcell-sim solve` writes them).
+fn example() -> (GaitParams, Vec<CheckpointRecord>) {
+    let c = costate_mu13();
+    let (mu, xi0) = ([c.mu.x, c.mu.y, c.mu.z], [c.xi.x, c.xi.y]);
+    let params = paper_gait(1000, [0.1, 0.1, 0.0], mu, xi0);
     let records = states_along(c, 1000, 100)
         .into_iter()
         .skip(1)
@@ -106,14 +114,7 @@ fn flight_from_memory<T: Real>(
     records: &[CheckpointRecord],
 ) -> (Vec<Sample<T>>, State<T>) {
     let checkpoints: Vec<Checkpoint<T>> = records.iter().map(|r| r.to_checkpoint()).collect();
-    let mut replay = Replay::new(
-        params.kinematics().unwrap(),
-        params.start(),
-        params.costate(),
-        params.steps,
-        &checkpoints,
-    )
-    .unwrap();
+    let mut replay = replay_in_memory(params, &checkpoints, &[]);
     let samples = replay.by_ref().collect::<Result<Vec<_>, _>>().unwrap();
     (samples, *replay.state())
 }
@@ -136,20 +137,13 @@ fn stored_tables_replay_like_the_same_checkpoints_in_memory() {
     assert_eq!((samples, *stored.state()), in_memory);
 
     // The f64 checkpoints are the plain f64 replay's own states: applying them changes no bit.
-    let with = gait.replay::<f64>().unwrap().fly(Replay::step).unwrap();
-    let without = gait
-        .replay_without_checkpoints::<f64>()
-        .unwrap()
-        .fly(Replay::step)
-        .unwrap();
+    let with = fly(gait.replay::<f64>()).unwrap();
+    let without = fly(gait.replay_without_checkpoints::<f64>()).unwrap();
     assert_eq!(with, without);
     assert_eq!(with.end, in_memory.1);
     // In f32 they matter (they reset the drifting recursion).
-    let with32 = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
-    let without32 = gait
-        .replay_without_checkpoints::<f32>()
-        .unwrap()
-        .fly(Replay::step);
+    let with32 = fly(gait.replay::<f32>()).unwrap();
+    let without32 = fly(gait.replay_without_checkpoints::<f32>());
     assert_ne!(Ok(with32), without32);
     assert_eq!(with32.steps, 1000);
 }
@@ -159,7 +153,7 @@ fn fly_digests_every_sample_then_the_end() {
     let (params, records) = example();
     let bytes = encode(&params, &records);
     let gait = Gait::from_bytes(&bytes).unwrap();
-    let flight = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
+    let flight = fly(gait.replay::<f32>()).unwrap();
     let mut digest = purcell_core::TrajectoryDigest::new();
     let mut replay = gait.replay::<f32>().unwrap();
     while let Some(s) = replay.step().unwrap() {
@@ -360,19 +354,13 @@ proptest! {
 fn the_committed_limit_gait_locks_the_layout() {
     let bytes: &[u8] = include_bytes!("data/tiny-limit.gait");
     let params = GaitParams {
-        model: Model {
-            links: [1.0; 3],
-            drag: 1.0,
-            ratio: 2.0,
-        },
-        h: 0.01,
-        steps: 300,
-        alpha0: [0.0, 0.0],
-        target: [0.01, 0.005, 0.0],
-        mu: [-56.867426414422425, 281.2775050523989, 1.2826606795323952],
-        xi0: [47.92457979744187, -46.10058568703169],
-        checkpoint_every: 100,
         alpha_max: Some(0.8),
+        ..paper_gait(
+            300,
+            [0.01, 0.005, 0.0],
+            [-56.867426414422425, 281.2775050523989, 1.2826606795323952],
+            [47.92457979744187, -46.10058568703169],
+        )
     };
     let arcs = [
         Arc {
@@ -458,21 +446,12 @@ fn the_committed_limit_gait_locks_the_layout() {
 #[test]
 fn version_1_gaits_are_still_read() {
     let bytes: &[u8] = include_bytes!("data/tiny-v1.gait");
-    let params = GaitParams {
-        model: Model {
-            links: [1.0; 3],
-            drag: 1.0,
-            ratio: 2.0,
-        },
-        h: 0.01,
-        steps: 200,
-        alpha0: [0.0, 0.0],
-        target: [0.002, 0.001, 0.0],
-        mu: [-102.05775417345498, 590.1701561480827, -31.45148654572925],
-        xi0: [91.01363029151028, -106.55065114553868],
-        checkpoint_every: 100,
-        alpha_max: None,
-    };
+    let params = paper_gait(
+        200,
+        [0.002, 0.001, 0.0],
+        [-102.05775417345498, 590.1701561480827, -31.45148654572925],
+        [91.01363029151028, -106.55065114553868],
+    );
     let records = [CheckpointRecord {
         k: 100,
         alpha: [0.5131721216763051, 0.5285235518697851],
@@ -492,14 +471,9 @@ fn version_1_gaits_are_still_read() {
     let v2 = encode(&params, &records);
     assert_eq!(v2.len(), gait::encoded_len(1, 0));
     let v2 = Gait::from_bytes(&v2).unwrap();
-    for fly in [
-        |g: &Gait| g.replay::<f32>().unwrap().fly(Replay::step),
-        |g: &Gait| {
-            g.replay_without_checkpoints::<f32>()
-                .unwrap()
-                .fly(Replay::step)
-        },
-    ] {
-        assert_eq!(fly(&v1), fly(&v2));
-    }
+    assert_eq!(fly(v1.replay::<f32>()), fly(v2.replay::<f32>()));
+    assert_eq!(
+        fly(v1.replay_without_checkpoints::<f32>()),
+        fly(v2.replay_without_checkpoints::<f32>())
+    );
 }

@@ -7,7 +7,7 @@ use common::*;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::se2::{self, ExpCoefficients};
-use purcell_core::{Se2, Tangent};
+use purcell_core::{Real, Se2, Tangent};
 
 /// Largest componentwise difference of two twists.
 fn tdist(a: &Tangent<f64>, b: &Tangent<f64>) -> f64 {
@@ -43,6 +43,20 @@ fn dexp_series(x: &Tangent<f64>) -> Matrix3<f64> {
         sum += term;
     }
     sum
+}
+
+/// `dexp_X δ` and the central difference of `t ↦ log(exp(X + tδ)·exp(X)⁻¹)` at `t`, which it
+/// must match if `dexp` is the left Jacobian of `exp`.
+fn left_jacobian_and_difference<T: Real>(
+    x: &Tangent<T>,
+    d: &Vector3<T>,
+    t: T,
+) -> (Vector3<T>, Vector3<T>) {
+    let gi = se2::exp(x).inverse();
+    let plus = (se2::exp(&(x + d * t)) * gi).log();
+    let minus = (se2::exp(&(x - d * t)) * gi).log();
+    let fd = (plus - minus) / (T::from_f64(2.0) * t);
+    (fd, se2::dexp(x) * d)
 }
 
 proptest! {
@@ -164,13 +178,7 @@ proptest! {
     /// O(t²|X|²), rounding O(1e-16/t)).
     #[test]
     fn dexp_is_the_left_jacobian_of_exp(x in tangent(), d in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)) {
-        let d = Vector3::new(d.0, d.1, d.2);
-        let t = 1e-5;
-        let gi = se2::exp(&x).inverse();
-        let plus = (se2::exp(&(x + d * t)) * gi).log();
-        let minus = (se2::exp(&(x - d * t)) * gi).log();
-        let fd = (plus - minus) / (2.0 * t);
-        let jac = se2::dexp(&x) * d;
+        let (fd, jac) = left_jacobian_and_difference(&x, &Vector3::new(d.0, d.1, d.2), 1e-5);
         prop_assert!((fd - jac).abs().max() <= 1e-8 * (1.0 + x.abs().max()).powi(2), "{fd:?} vs {jac:?}");
     }
 
@@ -181,12 +189,7 @@ proptest! {
     fn dexp_is_the_left_jacobian_of_exp_f32(x in tangent(), d in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)) {
         let x = x.map(|v| v as f32);
         let d = Vector3::new(d.0 as f32, d.1 as f32, d.2 as f32);
-        let t = 1e-2f32;
-        let gi = se2::exp(&x).inverse();
-        let plus = (se2::exp(&(x + d * t)) * gi).log();
-        let minus = (se2::exp(&(x - d * t)) * gi).log();
-        let fd = (plus - minus) / (2.0 * t);
-        let jac = se2::dexp(&x) * d;
+        let (fd, jac) = left_jacobian_and_difference(&x, &d, 1e-2);
         let n = 1.0 + x.abs().max();
         prop_assert!((fd - jac).abs().max() <= 6e-5 * n * n, "{fd:?} vs {jac:?}");
     }

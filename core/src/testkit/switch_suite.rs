@@ -6,8 +6,30 @@
 //! of the type's [`Real::EPSILON`], for bounds per precision.
 
 use crate::se2::{self, ExpCoefficients};
+use crate::testkit::strategies::angle_across_switches;
 use crate::{Real, Tangent};
 use nalgebra::Vector3;
+use proptest::prelude::*;
+
+/// A twist `[vx, vy, ω]` with `|v_i| < 5` and `ω` on either side of a switch
+/// ([`angle_across_switches`]).
+pub fn twist_across_switches() -> impl Strategy<Value = [f64; 3]> {
+    (-5.0..5.0f64, -5.0..5.0f64, angle_across_switches()).prop_map(|(x, y, w)| [x, y, w])
+}
+
+/// A momentum `m` with components in `]−10, 10[`, for `dexp_Xᵀ m`.
+pub fn momentum() -> impl Strategy<Value = [f64; 3]> {
+    (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64).prop_map(|(a, b, c)| [a, b, c])
+}
+
+/// `Ok` if each of the six errors ([`coefficients`]' order) is within its bound, else the
+/// failing case with the coefficient's index and error.
+pub fn within(errors: [f64; 6], bounds: [f64; 6]) -> Result<(), TestCaseError> {
+    for (i, (e, bound)) in errors.iter().zip(bounds).enumerate() {
+        prop_assert!(*e <= bound, "coefficient {i}: {e} eps");
+    }
+    Ok(())
+}
 
 /// The coefficients of `exp`/`dexp` at `ω` and their derivatives in `ω`, by their Taylor
 /// series (30 terms: to rounding for `|ω| ≤ 1`).

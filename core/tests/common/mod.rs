@@ -1,13 +1,14 @@
 //! What the core's integration tests share beyond the test kit (`purcell_core::testkit`, which
-//! this module re-exports): realistic states along the paper's extremals and a scale for
-//! tolerances.
+//! this module re-exports): realistic states along the paper's extremals, a scale for
+//! tolerances, and replays of a gait's parameters from tables in memory.
 #![allow(dead_code, unused_imports)] // each test binary uses some of it
 
 pub use purcell_core::testkit::strategies::*;
 pub use purcell_core::testkit::*;
 
 use nalgebra::Vector2;
-use purcell_core::{Costate, Replay, Se2, State};
+use purcell_core::gait::GaitParams;
+use purcell_core::{Arc, Checkpoint, Costate, Error, Flight, Real, Replay, Se2, State};
 
 /// Largest magnitude of the translation of a motion, at least 1 (a scale for tolerances).
 pub fn scale(g: &Se2<f64>) -> f64 {
@@ -50,4 +51,28 @@ pub fn states_along(
         xi_prev = s.xi;
     }
     out
+}
+
+/// The replay of `p`'s whole horizon from `(ᾱ, e)` and `(μ, ξ^{−1})` with `checkpoints` and
+/// `arcs` in memory: what `Gait::replay` runs from the same tables stored in a file.
+pub fn replay_in_memory<'a, T: Real>(
+    p: &GaitParams,
+    checkpoints: &'a [Checkpoint<T>],
+    arcs: &'a [Arc],
+) -> Replay<'a, T> {
+    Replay::with_arcs(
+        p.kinematics().unwrap(),
+        p.start(),
+        p.costate(),
+        p.steps,
+        checkpoints,
+        arcs,
+    )
+    .unwrap()
+}
+
+/// The flight of a replay ([`Replay::fly`] with [`Replay::step`]), or the error that made it
+/// or its steps fail.
+pub fn fly<T: Real>(replay: Result<Replay<'_, T>, Error>) -> Result<Flight<T>, Error> {
+    replay?.fly(Replay::step)
 }

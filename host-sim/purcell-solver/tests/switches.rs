@@ -9,7 +9,9 @@ use proptest::prelude::*;
 use purcell_core::se2::{C3_SERIES_LIMIT, ExpCoefficients, SMALL_ANGLE};
 use purcell_core::testkit::se2_parts;
 use purcell_core::testkit::strategies::{angle_across_switches, proptest_config};
-use purcell_core::testkit::switch_suite::{coefficients, dexp_transpose, exp, series};
+use purcell_core::testkit::switch_suite::{
+    coefficients, dexp_transpose, exp, momentum, series, twist_across_switches, within,
+};
 use purcell_core::{Kinematics, State, Swimmer, Tangent};
 use purcell_solver::dual::Dual;
 
@@ -28,14 +30,6 @@ fn derivatives(w: f64) -> [f64; 6] {
         (k.cos, -w * s.a),
     ]
     .map(|(got, want)| (got.d[0] - want).abs() / want.abs() / f64::EPSILON)
-}
-
-fn twist() -> impl Strategy<Value = [f64; 3]> {
-    (-5.0..5.0f64, -5.0..5.0f64, angle_across_switches()).prop_map(|(x, y, w)| [x, y, w])
-}
-
-fn costate() -> impl Strategy<Value = [f64; 3]> {
-    (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64).prop_map(|(a, b, c)| [a, b, c])
 }
 
 /// `∂(dexp_Xᵀm)/∂ω` by duals against the hand-written Jacobian in f64, relative to its size.
@@ -70,18 +64,11 @@ const DERIVATIVES: [f64; 6] = [
     65.0,
 ];
 
-fn within(errors: [f64; 6], bounds: [f64; 6]) -> Result<(), TestCaseError> {
-    for (i, (e, bound)) in errors.iter().zip(bounds).enumerate() {
-        prop_assert!(*e <= bound, "coefficient {i}: {e} eps");
-    }
-    Ok(())
-}
-
 proptest! {
     #![proptest_config(proptest_config())]
 
     #[test]
-    fn dual_values_match_the_series_as_f64_does(x in twist(), m in costate()) {
+    fn dual_values_match_the_series_as_f64_does(x in twist_across_switches(), m in momentum()) {
         within(coefficients::<D>(x[2]), [20.0, 20.0, 20.0, 270.0, 20.0, 20.0])?;
         prop_assert!(exp::<D>(x) <= 25.0);
         prop_assert!(dexp_transpose::<D>(x, m) <= 60.0);
@@ -109,7 +96,7 @@ proptest! {
     }
 
     #[test]
-    fn dual_derivatives_of_dexp_transpose_are_the_jacobian(x in twist(), m in costate()) {
+    fn dual_derivatives_of_dexp_transpose_are_the_jacobian(x in twist_across_switches(), m in momentum()) {
         let e = dual_jacobian(x, m);
         prop_assert!(e <= 4e-12, "{e:e}");
     }
