@@ -195,40 +195,57 @@ fn the_terminal_error_is_the_largest_component_in_f64() {
     assert!((exact.g - 0.1).abs() < 0.01);
 }
 
-/// Each check of `from_bytes`, reached by one edit of a valid file.
+/// The error `from_bytes` gives for the file `good` after `edit`.
+fn refused(good: &[u8], edit: impl FnOnce(&mut Vec<u8>)) -> Option<Error> {
+    let mut b = good.to_vec();
+    edit(&mut b);
+    Gait::from_bytes(&b).err()
+}
+
+/// [`refused`] with the CRC recomputed after the edit, so that a later check refuses the file.
+fn refused_sealed(good: &[u8], edit: impl FnOnce(&mut Vec<u8>)) -> Option<Error> {
+    refused(good, |b| {
+        edit(b);
+        reseal(b)
+    })
+}
+
+/// The header's checks of `from_bytes`, each reached by one edit of a valid file: magic,
+/// version, length, checksum.
 #[test]
-fn every_corruption_is_refused_with_its_reason() {
+fn a_corrupt_header_is_refused_with_its_reason() {
     let (params, records) = example();
     let good = encode(&params, &records);
     let n = records.len();
-    let edit = |f: &dyn Fn(&mut Vec<u8>)| {
-        let mut b = good.clone();
-        f(&mut b);
-        Gait::from_bytes(&b).err()
-    };
-    let sealed = |f: &dyn Fn(&mut Vec<u8>)| {
-        edit(&|b: &mut Vec<u8>| {
-            f(b);
-            reseal(b)
-        })
-    };
-    assert_eq!(edit(&|b| b[0] = b'X'), Some(Error::GaitMagic));
+    assert_eq!(refused(&good, |b| b[0] = b'X'), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(&[]).err(), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(b"PURCGAIT").err(), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b[8] = 3), Some(Error::GaitVersion(3)));
-    assert_eq!(edit(&|b| b[8] = 0), Some(Error::GaitVersion(0)));
-    assert_eq!(edit(&|b| b.truncate(b.len() - 1)), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b.push(0)), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b[ck32(n) + 5] ^= 0x10), Some(Error::GaitChecksum));
-    assert_eq!(edit(&|b| b[PARAMS + 9] ^= 1), Some(Error::GaitChecksum));
+    assert_eq!(refused(&good, |b| b[8] = 3), Some(Error::GaitVersion(3)));
+    assert_eq!(refused(&good, |b| b[8] = 0), Some(Error::GaitVersion(0)));
+    assert_eq!(
+        refused(&good, |b| b.truncate(b.len() - 1)),
+        Some(Error::GaitLength)
+    );
+    assert_eq!(refused(&good, |b| b.push(0)), Some(Error::GaitLength));
+    let checksum = Some(Error::GaitChecksum);
+    assert_eq!(refused(&good, |b| b[ck32(n) + 5] ^= 0x10), checksum);
+    assert_eq!(refused(&good, |b| b[PARAMS + 9] ^= 1), checksum);
     let last = good.len() - 1;
-    assert_eq!(edit(&|b| b[last] ^= 0x80), Some(Error::GaitChecksum));
+    assert_eq!(refused(&good, |b| b[last] ^= 0x80), checksum);
+}
 
-    // Sections (directory entries PARM, ARCS, CK64, CK32 at 16, 32, 48, 64): an unknown
-    // tag, a wrong record size (CK64's, PARM's of version 1 in version 2), a duplicate, a
-    // count mismatch, an offset out of bounds or overlapping, a missing one, a non-zero pad,
-    // an f32 table that is not the f64 one rounded; a version-1 file may not have arcs.
+/// The sections' checks (directory entries PARM, ARCS, CK64, CK32 at 16, 32, 48, 64), each
+/// reached by one edit of a valid file resealed: an unknown tag, a wrong record size (CK64's,
+/// PARM's of version 1 in version 2), a duplicate, a count mismatch, an offset out of bounds
+/// or overlapping, a missing one, a non-zero pad, an f32 table that is not the f64 one
+/// rounded; a version-1 file may not have arcs.
+#[test]
+fn a_corrupt_section_is_refused_as_a_layout_error() {
+    let (params, records) = example();
+    let good = encode(&params, &records);
+    let n = records.len();
     let layout = Some(Error::GaitLayout);
+    let sealed = |edit: &dyn Fn(&mut Vec<u8>)| refused_sealed(&good, edit);
     assert_eq!(sealed(&|b| b[32..36].copy_from_slice(b"ARCZ")), layout);
     assert_eq!(sealed(&|b| b[60] = 73), layout);
     assert_eq!(sealed(&|b| b[28] = 136), layout);
@@ -247,8 +264,16 @@ fn every_corruption_is_refused_with_its_reason() {
     assert_eq!(sealed(&|b| b[CK64 + 4] = 1), layout);
     assert_eq!(sealed(&|b| b[ck32(n) + 4] ^= 1), layout);
     assert_eq!(sealed(&|b| b[ck32(n)] ^= 1), layout);
+}
 
-    // Values, checked as in `gait::check`.
+/// The values' checks, as in `gait::check`, each reached by one edit of a valid file
+/// resealed, or by `encode` of an invalid checkpoint.
+#[test]
+fn invalid_values_are_refused_as_the_gait_check_refuses_them() {
+    let (params, records) = example();
+    let good = encode(&params, &records);
+    let n = records.len();
+    let sealed = |edit: &dyn Fn(&mut Vec<u8>)| refused_sealed(&good, edit);
     assert_eq!(
         sealed(&|b| put_f64(b, PARAMS + 40, f64::NAN)),
         Some(Error::NonFinite)
