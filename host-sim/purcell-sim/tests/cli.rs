@@ -731,6 +731,35 @@ fn sweep_takes_negative_shapes_and_shows_defaults_that_paste_back() {
     assert!(!out.exists());
 }
 
+/// `solve` and `sweep` share their problem's flags (one clap struct): a value that begins
+/// with `-` is read as typed by both and refused by the same check with the same message
+/// (`sweep` once refused `--horizon -inf` as an unknown flag `-i`), and nothing is written.
+#[test]
+fn solve_and_sweep_read_the_problem_flags_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    for flags in [
+        ["--horizon", "-inf"],
+        ["--horizon", "-1"],
+        ["--step", "-nan"],
+        ["--alpha-max", "-inf"],
+        ["--alpha0", "-0.5,-4"],
+        ["--links", "-1,1,1"],
+        ["--drag", "-1"],
+        ["--ratio", "-2"],
+        ["--starts", "0"],
+    ] {
+        let solve = sim(&["solve", flags[0], flags[1], "--out", out]);
+        let sweep = sim(&["sweep", flags[0], flags[1], "--out", out]);
+        assert_eq!(solve.status.code(), Some(2), "{flags:?}: {}", stderr(&solve));
+        assert_eq!(sweep.status.code(), Some(2), "{flags:?}: {}", stderr(&sweep));
+        assert_eq!(stderr(&solve), stderr(&sweep), "{flags:?}");
+        assert!(!stderr(&solve).contains("unexpected argument"), "{flags:?}");
+    }
+    assert!(!Path::new(out).exists());
+}
+
 /// The limits as the binary states them, digits grouped by spaces as in the README.
 fn grouped(n: u64) -> String {
     let digits = n.to_string();
