@@ -752,8 +752,18 @@ fn solve_and_sweep_read_the_problem_flags_alike() {
     ] {
         let solve = sim(&["solve", flags[0], flags[1], "--out", out]);
         let sweep = sim(&["sweep", flags[0], flags[1], "--out", out]);
-        assert_eq!(solve.status.code(), Some(2), "{flags:?}: {}", stderr(&solve));
-        assert_eq!(sweep.status.code(), Some(2), "{flags:?}: {}", stderr(&sweep));
+        assert_eq!(
+            solve.status.code(),
+            Some(2),
+            "{flags:?}: {}",
+            stderr(&solve)
+        );
+        assert_eq!(
+            sweep.status.code(),
+            Some(2),
+            "{flags:?}: {}",
+            stderr(&sweep)
+        );
         assert_eq!(stderr(&solve), stderr(&sweep), "{flags:?}");
         assert!(!stderr(&solve).contains("unexpected argument"), "{flags:?}");
     }
