@@ -4,7 +4,7 @@
 //!
 //! The state is step 2 500 of the f64 replay of a `|μ| ≈ 13` extremal of the paper's problem
 //! (α ≈ (1.6, 0.9), g far from the identity), so every branch taken is the one taken in
-//! flight (the extremals are the fixtures of `purcell-tests`). `replay` runs the whole
+//! flight (the extremals are the fixtures of `purcell_core::testkit`). `replay` runs the whole
 //! 10 000-step horizon of the paper's returned extremal (`J = 0.686`) through
 //! [`Replay::step`], with the f64 replay's checkpoints every 100 steps in f32 (none needed in
 //! f64), and reports the time per step as throughput.
@@ -12,15 +12,15 @@
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Vector2, Vector3};
+use purcell_core::testkit::{STEPS, costate_f32, costate_mu6, costate_mu13, paper_kinematics};
 use purcell_core::{
-    Checkpoint, Costate, Kinematics, Passes, Real, Replay, Se2, State, Swimmer, se2,
+    Checkpoint, Costate, Kinematics, OnArcs, Passes, Real, Replay, Se2, State, Swimmer, se2,
 };
-use purcell_tests::{STEPS, costate_f32, paper_kinematics};
 use std::hint::black_box;
 
 /// `(state, ξ^{k−1}, μ)` at step `k` of the f64 replay of the `|μ| ≈ 13` extremal.
 fn realistic(k: u32) -> (State<f64>, Vector2<f64>, Vector3<f64>) {
-    let costate = purcell_tests::costate_mu13();
+    let costate = costate_mu13();
     let kin = Kinematics::new(Swimmer::purcell(), 0.01).expect("valid step");
     let start = State::at_origin(Vector2::zeros());
     let mut replay = Replay::new(kin, start, costate, k, &[]).expect("valid replay");
@@ -41,19 +41,35 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str, cast: fn(f64) -> T) {
     let kin = Kinematics::new(Swimmer::<T>::purcell(), cast(0.01)).expect("valid step");
     let Passes { kind, count } = T::PASSES;
     c.bench_function(&format!("law_step/{name} ({count} {kind:?} passes)"), |b| {
-        b.iter(|| kin.law_step(black_box(&state), black_box(&xi), black_box(&mu)))
+        b.iter(|| {
+            kin.law_step(
+                black_box(&state),
+                black_box(&xi),
+                black_box(&mu),
+                OnArcs::NONE,
+                T::PASSES,
+            )
+        })
     });
     c.bench_function(&format!("law_step/{name} (first iterate only)"), |b| {
         b.iter(|| {
             let first = Passes::plain(0);
-            kin.law_step_with_passes(black_box(&state), black_box(&xi), black_box(&mu), first)
+            kin.law_step(
+                black_box(&state),
+                black_box(&xi),
+                black_box(&mu),
+                OnArcs::NONE,
+                first,
+            )
         })
     });
     let sw = *kin.swimmer();
     c.bench_function(&format!("connection_with_derivatives/{name}"), |b| {
         b.iter(|| sw.connection_with_derivatives(black_box(&state.alpha)))
     });
-    let step = kin.law_step(&state, &xi, &mu).expect("admissible step");
+    let step = kin
+        .law_step(&state, &xi, &mu, OnArcs::NONE, T::PASSES)
+        .expect("admissible step");
     let x = kin.twist(&sw.connection(&state.alpha).expect("admissible"), &step.u);
     c.bench_function(&format!("se2_exp/{name} (|w| ~ 1e-3)"), |b| {
         b.iter(|| se2::exp(black_box(&x)))
@@ -63,7 +79,7 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str, cast: fn(f64) -> T) {
 /// Full-horizon replay of the returned extremal, per step, as the firmware runs it: f64 from
 /// `(μ, ξ^{−1})` alone, f32 with the f64 replay's checkpoints every 100 steps.
 fn bench_replay(c: &mut Criterion) {
-    let c64 = purcell_tests::costate_mu6();
+    let c64 = costate_mu6();
     let start = State::at_origin(Vector2::zeros());
     let (samples, _) = purcell_tests::replay_all(paper_kinematics(), start, c64, STEPS, &[])
         .expect("admissible extremal");

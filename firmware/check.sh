@@ -2,7 +2,7 @@
 # Flies the firmware in QEMU and checks it against the host:
 #  1. a gait solved for another target (purcell-sim solve → export → include_bytes! through
 #     PURCELL_GAIT) flies on the M4F bit-identical to `purcell-sim replay --gait … --precision
-#     f32` (same digest line) and passes `purcell-mcu check`;
+#     f32` (same digest line) and passes `purcell-mcu-check check`;
 #  2. the committed constrained gait core/examples/paper-limit.gait (the paper's target within
 #     |alpha_i| <= 1.5: five joint-limit arcs) flies on the M4F bit-identical to `purcell-sim
 #     replay --gait … --precision f32`, within the M4F budgets, its steps on the arcs no
@@ -35,7 +35,8 @@ for tool in "${QEMU:-qemu-system-arm}" "${DEFMT_PRINT:-defmt-print}" "$objdump" 
   command -v "$tool" >/dev/null || { echo "check.sh: $tool not found (see firmware/README.md)" >&2; exit 1; }
 done
 
-tool() { cargo run -q -p purcell-mcu -- "$@"; }
+# The checker on the host (firmware/checker/).
+tool() { cargo run -q -p purcell-mcu-check -- "$@"; }
 # purcell-sim in the test profile (optimised; `cargo test` has built it already).
 sim() { cargo run -q --profile test -p purcell-sim -- "$@"; }
 m4f_run() { cargo run -q -p purcell-mcu --target thumbv7em-none-eabihf --release; }
@@ -118,5 +119,5 @@ fly m7 "$m7" "--max-insn ${PURCELL_M7_MAX_INSN:-1200}" "" cargo -q mcu-m7
 fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mcu-m3
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
-PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/qemu-run.sh "$m7"
+PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/qemu/qemu-run.sh "$m7"
 echo "mcu: 7 passed, 0 failed"

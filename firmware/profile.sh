@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Where the instructions of a control step go, exactly: runs the firmware in QEMU with one
 # instruction per translation block and an execution trace of the code reachable from
-# `purcell_mcu_step` (as `purcell-mcu disasm` finds it), counts how often each instruction ran
-# over the first STEPS calls (the measured replay), and attributes every instruction to the
-# innermost `purcell_core` function it was inlined from (the ELF's line tables, through
-# `arm-none-eabi-addr2line -i`). Prints instructions per step by part; they add up to the
-# measured `insn_per_step` mean (less the two counter reads around the call).
+# `purcell_mcu_step` (as `purcell-mcu-check disasm` finds it), counts how often each
+# instruction ran over the first STEPS calls (the measured replay), and attributes every
+# instruction to the innermost `purcell_core` function it was inlined from (the ELF's line
+# tables, through `arm-none-eabi-addr2line -i`). Prints instructions per step by part; they
+# add up to the measured `insn_per_step` mean (less the two counter reads around the call).
 #   firmware/profile.sh [ELF] [STEPS]
 # Default ELF: the M4F release build in $CARGO_TARGET_DIR (build it first); STEPS: 10000.
 # Needs -icount like every run (the firmware checks its counter first). For the M7 build: PURCELL_QEMU_MACHINE=mps2-an500 firmware/profile.sh <mcu-m7 ELF>.
@@ -22,7 +22,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 "$objdump" -d "$elf" >"$work/dis"
-cargo run -q -p purcell-mcu -- disasm "$work/dis" | sed -n 's/^  reachable: //p' >"$work/reachable"
+cargo run -q -p purcell-mcu-check -- disasm "$work/dis" | sed -n 's/^  reachable: //p' >"$work/reachable"
 # Address ranges of the reachable functions: "start end name", 8-digit hex (Thumb bit cleared).
 : >"$work/ranges"
 while read -r addr size _ name; do

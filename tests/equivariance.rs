@@ -5,6 +5,7 @@
 //! checked over 1 000 steps in f64 and the growth is bounded.
 
 use nalgebra::Vector2;
+use purcell_core::testkit::*;
 use purcell_core::{Costate, Se2, State};
 use purcell_tests::*;
 

@@ -9,6 +9,7 @@
 //! Print the picture: `cargo test -p purcell-tests --test precision -- --nocapture`.
 
 use nalgebra::Vector2;
+use purcell_core::testkit::*;
 use purcell_core::{Replay, Sample, State};
 use purcell_tests::*;
 

@@ -3,7 +3,7 @@
 //!
 //! On an arc of joint `i`, `σ·α_{k,i} = α_max` for the states `k = first … last`, so
 //! `u_{k,i} = 0` for `k = first … last − 1` and the law runs its other row only
-//! ([`Kinematics::law_step_on_arcs`](crate::Kinematics::law_step_on_arcs)). The costate's jump
+//! ([`Kinematics::law_step`](crate::Kinematics::law_step) with it `on`). The costate's jump
 //! at the exit `last` is not fixed by the law: a replay restores a full-state checkpoint
 //! `(α, g, ξ̃^{last−1})` there, so every arc's `last` must carry one ([`Error::ArcCheckpoint`]).
 //! A touch point (`first = last`) has no step on the limit, only its checkpoint.

@@ -8,7 +8,7 @@
 //! `u_k` and the connection frozen at `α_k`: no projection, no drift off SE(2).
 
 use crate::se2::{self, Se2, Tangent};
-use crate::swimmer::within_limit;
+use crate::swimmer::{connection_mul, within_limit};
 use crate::{Error, Real, Swimmer};
 use nalgebra::{Matrix3x2, Vector2};
 
@@ -97,12 +97,7 @@ impl<T: Real> Kinematics<T> {
     /// The body twist of one step, `X = −h·A·u`.
     #[inline]
     pub fn twist(&self, a: &Matrix3x2<T>, u: &Vector2<T>) -> Tangent<T> {
-        let hu = Vector2::new(self.h * u.x, self.h * u.y);
-        Tangent::new(
-            -(a.m11 * hu.x + a.m12 * hu.y),
-            -(a.m21 * hu.x + a.m22 * hu.y),
-            -(a.m31 * hu.x + a.m32 * hu.y),
-        )
+        -connection_mul(a, &Vector2::new(self.h * u.x, self.h * u.y))
     }
 
     /// One step of the kinematics under the control `u` (rad/s).

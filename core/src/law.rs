@@ -36,16 +36,17 @@
 //! Both kinds converge to the same `u_k`, the root of the law's equations. The work per step
 //! is fixed: no loop runs to a tolerance.
 //!
-//! **On a joint-limit arc** (MODEL.md §9; [`Kinematics::law_step_on_arcs`]), joint `i` rests:
-//! `u_{k,i} = 0` replaces row `i` of every solve (first iterate and passes alike, with
-//! `X = −hAu` at that `u`), so the other row gives `u_{k,j}` alone, `ξ^k_j = ξ^{k−1}_j +
-//! (hB u)_j` as above, and `ξ^k_i = (Aᵀζ^k)_i`, the value that makes row `i` hold (the costate
-//! jump `η` of the limit is what row `i` leaves over). Both joints on arcs: `u_k = 0`. The
-//! same code runs both (a `Rows` parameter): the free law solves all rows, an arc step fewer.
+//! **On a joint-limit arc** (MODEL.md §9; the `on` argument of [`Kinematics::law_step`]),
+//! joint `i` rests: `u_{k,i} = 0` replaces row `i` of every solve (first iterate and passes
+//! alike, with `X = −hAu` at that `u`), so the other row gives `u_{k,j}` alone, `ξ^k_j =
+//! ξ^{k−1}_j + (hB u)_j` as above, and `ξ^k_i = (Aᵀζ^k)_i`, the value that makes row `i` hold
+//! (the costate jump `η` of the limit is what row `i` leaves over). Both joints on arcs:
+//! `u_k = 0`. The same code runs both (a `Rows` parameter): the free law solves all rows, an
+//! arc step fewer.
 
 use crate::kinematics::{Kinematics, State};
 use crate::se2::{self, ExpCoefficients, Tangent};
-use crate::swimmer::{Frame, Sym3, sym_mul_vec};
+use crate::swimmer::{Frame, Sym3, connection_mul, sym_mul_vec};
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
 
@@ -111,104 +112,48 @@ pub struct LawStep<T> {
 }
 
 impl<T: Real> Kinematics<T> {
-    /// One step of the law with the type's passes, [`Real::PASSES`].
+    /// One step of the law with the joints `on` a joint-limit arc at rest and `passes` after
+    /// the first iterate (see the [module docs](self)): a flight runs [`OnArcs::NONE`] (the
+    /// free law) off the arcs and [`Real::PASSES`]; other passes measure the residual they
+    /// leave. On an arc (MODEL.md §9) each joint on it has `u_{k,i}` exactly 0 and
+    /// `ξ^k_i = (Aᵀζ^k)_i`.
     ///
     /// Errors: [`Error::NonFinite`] for non-finite input or result, [`Error::ShapeLimit`]
     /// if `α_k` or `α_{k+1}` is at or past `|α_i| = π`, [`Error::Singular`] if the first
-    /// iterate's matrix `M` or a plain pass's `I − h B` is singular, [`Error::NotRotation`]
-    /// as [`State::check`].
+    /// iterate's matrix `M` or a plain pass's `I − h B` is singular (or, on an arc, the row
+    /// left), [`Error::NotRotation`] as [`State::check`].
     #[inline]
     pub fn law_step(
         &self,
         state: &State<T>,
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
-    ) -> Result<LawStep<T>, Error> {
-        self.law_step_with_passes(state, xi_prev, mu, T::PASSES)
-    }
-
-    /// One step of the law with the given passes after the first iterate. For measuring the
-    /// residual the passes leave; use [`Kinematics::law_step`] otherwise.
-    pub fn law_step_with_passes(
-        &self,
-        state: &State<T>,
-        xi_prev: &Vector2<T>,
-        mu: &Vector3<T>,
-        passes: Passes,
-    ) -> Result<LawStep<T>, Error> {
-        check_inputs(state, xi_prev, mu)?;
-        self.law_step_trusted(state, xi_prev, mu, passes)
-    }
-
-    /// One step of the law with the type's passes, [`Real::PASSES`], with the joints `on`
-    /// a joint-limit arc at rest (see the [module docs](self); MODEL.md §9): their `u_{k,i}`
-    /// is exactly 0 and their `ξ^k_i = (Aᵀζ^k)_i`. With [`OnArcs::NONE`] it is
-    /// [`Kinematics::law_step`].
-    ///
-    /// Errors: as [`Kinematics::law_step`].
-    pub fn law_step_on_arcs(
-        &self,
-        state: &State<T>,
-        xi_prev: &Vector2<T>,
-        mu: &Vector3<T>,
-        on: OnArcs,
-    ) -> Result<LawStep<T>, Error> {
-        self.law_step_on_arcs_with_passes(state, xi_prev, mu, on, T::PASSES)
-    }
-
-    /// [`Kinematics::law_step_on_arcs`] with the given passes after the first iterate, as
-    /// [`Kinematics::law_step_with_passes`].
-    pub fn law_step_on_arcs_with_passes(
-        &self,
-        state: &State<T>,
-        xi_prev: &Vector2<T>,
-        mu: &Vector3<T>,
         on: OnArcs,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
         check_inputs(state, xi_prev, mu)?;
-        self.law_step_on_arcs_trusted(state, xi_prev, mu, passes, on)
+        // Off the arcs, the free rows: the code a replay's free step runs.
+        if on == OnArcs::NONE {
+            self.law_step_trusted(state, xi_prev, mu, Free, passes)
+        } else {
+            self.law_step_trusted(state, xi_prev, mu, on, passes)
+        }
     }
 
-    /// [`Kinematics::law_step_with_passes`] for inputs already known to be valid: `state`
-    /// passes [`State::check`], `ξ^{k−1}` and `μ` are finite (a [`crate::Replay`] knows
-    /// this from its start checks and the previous step's output checks). Still checks
-    /// every output, so it cannot return a non-finite or inadmissible result.
-    #[inline]
-    pub(crate) fn law_step_trusted(
-        &self,
-        state: &State<T>,
-        xi_prev: &Vector2<T>,
-        mu: &Vector3<T>,
-        passes: Passes,
-    ) -> Result<LawStep<T>, Error> {
-        self.law_step_rows(state, xi_prev, mu, passes, Free)
-    }
-
-    /// [`Kinematics::law_step_on_arcs`] with `passes`, for inputs already known to be valid
-    /// (as [`Kinematics::law_step_trusted`]). Inlined into a replay's arc step, which is out
-    /// of line itself.
+    /// [`Kinematics::law_step`] solving the law's rows `rows` ([`Free`], or the joints off
+    /// their [`OnArcs`]), for inputs already known to be valid: `state` passes
+    /// [`State::check`], `ξ^{k−1}` and `μ` are finite (a [`crate::Replay`] knows this from its
+    /// start checks and the previous step's output checks). Still checks every output, so it
+    /// cannot return a non-finite or inadmissible result. Always inlined: a replay's free step
+    /// and its out-of-line arc step are each this code.
     #[inline(always)]
-    pub(crate) fn law_step_on_arcs_trusted(
+    pub(crate) fn law_step_trusted<R: Rows<T>>(
         &self,
         state: &State<T>,
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
-        passes: Passes,
-        on: OnArcs,
-    ) -> Result<LawStep<T>, Error> {
-        self.law_step_rows(state, xi_prev, mu, passes, on)
-    }
-
-    /// The step, solving the law's rows `rows` (the free law, or an arc step).
-    #[inline(always)]
-    fn law_step_rows<R: Rows<T>>(
-        &self,
-        state: &State<T>,
-        xi_prev: &Vector2<T>,
-        mu: &Vector3<T>,
-        passes: Passes,
         rows: R,
+        passes: Passes,
     ) -> Result<LawStep<T>, Error> {
         let frame = self.swimmer().frame(&state.alpha)?;
         let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
@@ -259,7 +204,7 @@ type Mat2<T> = (T, T, T, T);
 
 /// Which rows of the law's equation a step solves: all ([`Free`]), or those of the joints off
 /// their limit ([`OnArcs`]: `u_i = 0` in place of row `i`, and `ξ^k_i = (Aᵀζ)_i`).
-trait Rows<T: Real>: Copy {
+pub(crate) trait Rows<T: Real>: Copy {
     /// The solution of `P·u = r` with the rows of the joints on an arc replaced by `u_i = 0`.
     fn solve(self, p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error>;
     /// `ξ^k` from the free rows' `ξ` and the `ζ` it goes with: the components of the joints
@@ -269,7 +214,7 @@ trait Rows<T: Real>: Copy {
 
 /// Every row: the free law.
 #[derive(Clone, Copy)]
-struct Free;
+pub(crate) struct Free;
 
 impl<T: Real> Rows<T> for Free {
     #[inline(always)]
@@ -352,12 +297,9 @@ impl<T: Real> Equation<T> {
     /// `X = −hAu`.
     #[inline(always)]
     fn twist(&self, u: &Vector2<T>) -> Tangent<T> {
-        let a = &self.frame.a;
-        let (u1, u2) = (-(self.h * u.x), -(self.h * u.y));
-        Tangent::new(
-            a.m11 * u1 + a.m12 * u2,
-            a.m21 * u1 + a.m22 * u2,
-            a.m31 * u1 + a.m32 * u2,
+        connection_mul(
+            &self.frame.a,
+            &Vector2::new(-(self.h * u.x), -(self.h * u.y)),
         )
     }
 
@@ -482,7 +424,7 @@ fn inverse_det<T: Real>(det: T) -> Result<T, Error> {
 
 #[cfg(test)]
 mod tests {
-    use crate::{Kinematics, Se2, State, Swimmer};
+    use crate::{Kinematics, OnArcs, Real, Se2, State, Swimmer};
     use approx::assert_relative_eq;
     use nalgebra::{Vector2, Vector3};
 
@@ -495,7 +437,13 @@ mod tests {
         };
         let mu = Vector3::new(1.5, 13.2, 0.6);
         let s = kin
-            .law_step(&state, &Vector2::new(0.01, -0.03), &mu)
+            .law_step(
+                &state,
+                &Vector2::new(0.01, -0.03),
+                &mu,
+                OnArcs::NONE,
+                f64::PASSES,
+            )
             .unwrap();
         let eps = 1e-13;
         assert_relative_eq!(

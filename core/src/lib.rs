@@ -21,9 +21,10 @@ pub mod law;
 pub mod real;
 pub mod replay;
 pub mod se2;
-#[cfg(feature = "proptest-strategies")]
-pub mod strategies;
 pub mod swimmer;
+mod table;
+#[cfg(feature = "test-kit")]
+pub mod testkit;
 
 pub use arc::Arc;
 pub use digest::TrajectoryDigest;

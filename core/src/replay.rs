@@ -20,9 +20,9 @@
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
 use crate::arc::{Arc, ArcTable, Exits};
-use crate::gait::Table;
 use crate::kinematics::{Kinematics, State};
-use crate::law::{LawStep, OnArcs};
+use crate::law::{Free, LawStep, OnArcs};
+use crate::table::{Table, VALUES};
 use crate::{Error, Real, Se2, TrajectoryDigest};
 use nalgebra::{Vector2, Vector3};
 
@@ -49,6 +49,20 @@ pub struct Checkpoint<T> {
 }
 
 impl<T: Real> Checkpoint<T> {
+    /// The checkpoint of a stored record's values `α1 α2 x y cos θ sin θ ξ1 ξ2` (`g` as
+    /// stored, not renormalised).
+    #[inline]
+    pub(crate) fn from_values(k: u32, [a1, a2, x, y, c, s, x1, x2]: [T; VALUES]) -> Self {
+        Checkpoint {
+            k,
+            state: State {
+                alpha: Vector2::new(a1, a2),
+                g: Se2::from_rotation(x, y, c, s),
+            },
+            xi: Vector2::new(x1, x2),
+        }
+    }
+
     /// `Ok` if the state is admissible and every number finite.
     fn check(&self) -> Result<(), Error> {
         self.state.check()?;
@@ -129,7 +143,9 @@ impl<T: Real> CheckpointTable<'_, T> {
                 *s = rest;
                 *first
             }),
-            CheckpointTable::Stored(t) => t.pop(),
+            CheckpointTable::Stored(t) => {
+                t.pop_values().map(|(k, v)| Checkpoint::from_values(k, v))
+            }
         }
     }
 }
@@ -185,8 +201,8 @@ impl<'a, T: Real> Replay<'a, T> {
     }
 
     /// [`Replay::new`] for a constrained gait: on an arc the law keeps the joint at rest
-    /// ([`Kinematics::law_step_on_arcs`]), and each arc's exit restores its checkpoint (MODEL.md
-    /// §9).
+    /// ([`Kinematics::law_step`] with the joints on arcs), and each arc's exit restores its
+    /// checkpoint (MODEL.md §9).
     ///
     /// Errors: those of [`Replay::new`], [`Error::ArcInvalid`] and [`Error::ArcOrder`] (see
     /// [`crate::arc::check`]), [`Error::ArcCheckpoint`] if an arc's `last` has no checkpoint.
@@ -288,23 +304,24 @@ impl<'a, T: Real> Replay<'a, T> {
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
-        let step = self
-            .kinematics
-            .law_step_trusted(&self.state, &self.xi, &self.mu, T::PASSES);
+        let step =
+            self.kinematics
+                .law_step_trusted(&self.state, &self.xi, &self.mu, Free, T::PASSES);
         self.record(step)
     }
 
     /// [`Replay::step`] on an arc: the law with the joints on it at rest
-    /// ([`Kinematics::law_step_on_arcs`]). Out of line, so that the free step stays the code
-    /// it is without arcs (measured on the M4F: an arc step costs no more than a free one).
+    /// ([`Kinematics::law_step`] with the joints on arcs). Out of line, so that the free step
+    /// stays the code it is without arcs (measured on the M4F: an arc step costs no more than a
+    /// free one).
     #[inline(never)]
     fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
-        let step = self.kinematics.law_step_on_arcs_trusted(
+        let step = self.kinematics.law_step_trusted(
             &self.state,
             &self.xi,
             &self.mu,
-            T::PASSES,
             self.on_arcs,
+            T::PASSES,
         );
         self.record(step)
     }

@@ -241,6 +241,18 @@ pub(crate) fn sym_mul_vec<T: Real>(s: &Sym3<T>, v: &Vector3<T>) -> Vector3<T> {
     )
 }
 
+/// `A·v` for the connection `A` and a shape velocity `v`, row by row (`A₁₁v₁ + A₁₂v₂`, …): the
+/// body twist of a shape change, in the kinematics (`X = −A·(h u)`) and the law
+/// (`X = A·(−h u)`) alike.
+#[inline(always)]
+pub(crate) fn connection_mul<T: Real>(a: &Matrix3x2<T>, v: &Vector2<T>) -> Vector3<T> {
+    Vector3::new(
+        a.m11 * v.x + a.m12 * v.y,
+        a.m21 * v.x + a.m22 * v.y,
+        a.m31 * v.x + a.m32 * v.y,
+    )
+}
+
 /// The per-shape quantities shared by `A` and its derivatives.
 pub(crate) struct Frame<T> {
     /// `W_ξ⁻¹` (symmetric).

@@ -11,7 +11,7 @@ use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::arc;
 use purcell_core::gait::{self, CheckpointRecord, Gait};
-use purcell_core::{Arc, Checkpoint, Error, Kinematics, OnArcs, Passes, Replay, Se2, State};
+use purcell_core::{Arc, Checkpoint, Error, Kinematics, OnArcs, Passes, Real, Replay, Se2, State};
 
 static PAPER_LIMIT: &[u8] = include_bytes!("../examples/paper-limit.gait");
 static TINY_LIMIT: &[u8] = include_bytes!("data/tiny-limit.gait");
@@ -186,7 +186,7 @@ fn exits_follow_the_solution(bytes: &[u8]) -> [f64; 3] {
         if let Some(c) = exits.iter().find(|c| c.k == k) {
             let (s, xi) = (replay.state(), replay.xi());
             let da = (s.alpha - Vector2::from(c.alpha)).amax();
-            let dg = dist(&s.g, &Se2::from_rotation(c.g[0], c.g[1], c.g[2], c.g[3]));
+            let dg = se2_distance(&s.g, &Se2::from_rotation(c.g[0], c.g[1], c.g[2], c.g[3]));
             // ξ_j of a joint off its limit at k carries no jump.
             let free = |j: usize| {
                 !arcs
@@ -271,45 +271,19 @@ fn replays_from_stored_tables_and_from_memory_agree() {
         .copied()
         .filter(|c| arcs.iter().any(|a| a.last == c.k))
         .collect();
-    let memory = |cps: &[Checkpoint<f32>]| {
-        Replay::with_arcs(
-            p.kinematics().unwrap(),
-            p.start(),
-            p.costate(),
-            p.steps,
-            cps,
-            &arcs,
-        )
-        .unwrap()
-        .fly(Replay::step)
-        .unwrap()
-    };
-    let stored = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
-    let exits_only = gait
-        .replay_without_checkpoints::<f32>()
-        .unwrap()
-        .fly(Replay::step)
-        .unwrap();
-    assert_eq!(stored, memory(&all));
-    assert_eq!(exits_only, memory(&exits));
+    let memory = |cps: &[Checkpoint<f32>], arcs: &[Arc]| fly(Ok(replay_in_memory(p, cps, arcs)));
+    let stored = fly(gait.replay::<f32>()).unwrap();
+    let exits_only = fly(gait.replay_without_checkpoints::<f32>()).unwrap();
+    assert_eq!(Ok(stored), memory(&all, &arcs));
+    assert_eq!(Ok(exits_only), memory(&exits, &arcs));
     assert_ne!(stored, exits_only);
     // Without the arc table the same costate is the free law: another flight.
-    let free = Replay::new(
-        p.kinematics().unwrap(),
-        p.start(),
-        p.costate(),
-        p.steps,
-        &all,
-    )
-    .unwrap()
-    .fly(Replay::step)
-    .unwrap();
-    assert_ne!(free, stored);
+    assert_ne!(memory(&all, &[]), Ok(stored));
 }
 
 #[test]
 fn replay_refuses_bad_arc_tables() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let start = State::at_origin(Vector2::zeros());
     let c = costate_mu13();
     let cp = |k| Checkpoint {
@@ -356,7 +330,7 @@ fn jumped_costate(
     };
     let ui = |x: f64| {
         Some(
-            kin.law_step_with_passes(s, &with(x), mu, TO_ROUNDING)
+            kin.law_step(s, &with(x), mu, OnArcs::NONE, TO_ROUNDING)
                 .ok()?
                 .u[i],
         )
@@ -378,7 +352,7 @@ fn jumped_costate(
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// On an arc of joint `i` the step is the free law fed the costate with the limit's jump
     /// (which makes its `u_i` zero): the same `u_j`, next state and `ξ^k` (MODEL.md §9), both
@@ -388,13 +362,13 @@ proptest! {
         a in alpha(), g in se2(), xi in (-20.0..20.0f64, -20.0..20.0f64),
         mu in (-15.0..15.0f64, -15.0..15.0f64, -3.0..3.0f64), i in 0usize..2,
     ) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let s = State { alpha: a, g };
         let (xi, mu) = (Vector2::new(xi.0, xi.1), Vector3::new(mu.0, mu.1, mu.2));
         let mut on = [false; 2];
         on[i] = true;
         // (A step of the other joint past the overlap limit is refused, as by the free law.)
-        let arc = kin.law_step_on_arcs_with_passes(&s, &xi, &mu, OnArcs(on), TO_ROUNDING);
+        let arc = kin.law_step(&s, &xi, &mu, OnArcs(on), TO_ROUNDING);
         prop_assume!(arc != Err(Error::ShapeLimit));
         let arc = arc.unwrap();
         prop_assert_eq!(arc.u[i], 0.0);
@@ -402,36 +376,35 @@ proptest! {
         let jumped = jumped_costate(&kin, &s, &xi, &mu, i);
         prop_assume!(jumped.is_some());
         let jumped = jumped.unwrap();
-        let free = kin.law_step_with_passes(&s, &jumped, &mu, TO_ROUNDING).unwrap();
+        let free = kin.law_step(&s, &jumped, &mu, OnArcs::NONE, TO_ROUNDING).unwrap();
         let scale = 1.0 + arc.u.amax();
         prop_assert!(free.u[i].abs() < 1e-12 * scale, "{:?}", free.u);
         prop_assert!((free.u - arc.u).amax() < 1e-12 * scale, "{:?} {:?}", free.u, arc.u);
         prop_assert!((free.next.alpha - arc.next.alpha).amax() < 1e-13 * scale);
-        prop_assert!(dist(&free.next.g, &arc.next.g) < 1e-13 * scale);
+        prop_assert!(se2_distance(&free.next.g, &arc.next.g) < 1e-13 * scale);
         let xi_scale = 1.0 + arc.xi.amax();
         prop_assert!((free.xi - arc.xi).amax() < 1e-12 * xi_scale, "{:?} {:?}", free.xi, arc.xi);
         // The type's single pass at a gait's speeds (|u| ≤ 5 rad/s; the paper's gaits stay
         // below 3): the same root to what it leaves (a wrong row or ζ would be off by about
         // h|B||u|, 1e-2 of u).
         if scale <= 6.0 {
-            let one = kin.law_step_on_arcs(&s, &xi, &mu, OnArcs(on)).unwrap();
+            let one = kin.law_step(&s, &xi, &mu, OnArcs(on), f64::PASSES).unwrap();
             prop_assert!((one.u - arc.u).amax() < 1e-9 * scale, "{:?} {:?}", one.u, arc.u);
         }
-        // No joint on an arc is the free law itself.
-        prop_assert_eq!(kin.law_step_on_arcs(&s, &xi, &mu, OnArcs::NONE), kin.law_step(&s, &xi, &mu));
     }
 
     /// Both joints on arcs: the swimmer rests (`u = 0`, the state unchanged), and the costate
     /// is `Aᵀm`, both rows made to hold.
     #[test]
     fn both_joints_on_arcs_rest(a in alpha(), g in se2(), xi in (-20.0..20.0f64, -20.0..20.0f64)) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let s = State { alpha: a, g };
         let mu = Vector3::new(1.5, 13.2, 0.6);
-        let step = kin.law_step_on_arcs(&s, &Vector2::new(xi.0, xi.1), &mu, OnArcs([true; 2])).unwrap();
+        let xi = Vector2::new(xi.0, xi.1);
+        let step = kin.law_step(&s, &xi, &mu, OnArcs([true; 2]), f64::PASSES).unwrap();
         prop_assert_eq!(step.u, Vector2::zeros());
         prop_assert_eq!(step.next.alpha, a);
-        prop_assert!(dist(&step.next.g, &g) < 1e-15);
+        prop_assert!(se2_distance(&step.next.g, &g) < 1e-15);
         let conn = kin.swimmer().connection(&a).unwrap();
         let atm = conn.transpose() * g.adjoint_transpose_mul(&mu);
         prop_assert!((step.xi - atm).amax() < 1e-12 * (1.0 + atm.amax()));
@@ -452,7 +425,7 @@ proptest! {
             .map(|&k| Checkpoint { k, state: start, xi: Vector2::new(0.1, -0.1) })
             .collect();
         let costate = purcell_core::Costate { mu: Vector3::new(0.5f32, 1.0, 0.2), xi: Vector2::new(0.3, -0.1) };
-        if let Ok(mut replay) = Replay::with_arcs(kinematics::<f32>(), start, costate, steps, &cps, &arcs) {
+        if let Ok(mut replay) = Replay::with_arcs(paper_kinematics::<f32>(), start, costate, steps, &cps, &arcs) {
             prop_assert!(arc::check(arcs.iter().copied(), steps).is_ok());
             while let Ok(Some(s)) = replay.step() {
                 for a in arcs.iter().filter(|a| a.first <= s.k && s.k < a.last) {
@@ -501,7 +474,7 @@ proptest! {
             .map(|&k| Checkpoint { k, state: at(k), xi: Vector2::new(0.1, -0.1) })
             .collect();
         let costate = purcell_core::Costate { mu: Vector3::new(0.5f32, 1.0, 0.2), xi: Vector2::new(0.3, -0.1) };
-        let mut replay = Replay::with_arcs(kinematics::<f32>(), at(0), costate, steps, &cps, &arcs)
+        let mut replay = Replay::with_arcs(paper_kinematics::<f32>(), at(0), costate, steps, &cps, &arcs)
             .expect("a valid table is accepted");
         let mut previous: Option<purcell_core::Sample<f32>> = None;
         let mut count = 0;

@@ -22,7 +22,7 @@ fn max_abs(m: &Matrix3x2<f64>) -> f64 {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// `∂A/∂αᵢ` equals the central difference `(A(α + tεᵢ) − A(α − tεᵢ))/2t`, `t = 1e-6`
     /// (truncation `t²/6·|∂³A| ≲ 1e-11`, rounding `1e-16/t = 1e-10`).

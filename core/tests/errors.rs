@@ -9,12 +9,12 @@ use core::f64::consts::PI;
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::{
-    Checkpoint, Checkpoints, Costate, Error, Kinematics, Passes, Real, Replay, Se2, State, Swimmer,
-    se2,
+    Checkpoint, Checkpoints, Costate, Error, Kinematics, OnArcs, Passes, Real, Replay, Se2, State,
+    Swimmer, se2,
 };
 
 fn kin() -> Kinematics<f64> {
-    kinematics::<f64>()
+    paper_kinematics::<f64>()
 }
 
 #[test]
@@ -39,13 +39,22 @@ fn non_finite_input_is_refused_everywhere() {
             Err(Error::NonFinite)
         );
         let (xi, mu) = (Vector2::zeros(), Vector3::new(1.0, 2.0, 3.0));
-        assert_eq!(kin().law_step(&nan_g, &xi, &mu), Err(Error::NonFinite));
         assert_eq!(
-            kin().law_step(&ok, &Vector2::new(0.0, bad), &mu),
+            kin().law_step(&nan_g, &xi, &mu, OnArcs::NONE, f64::PASSES),
             Err(Error::NonFinite)
         );
         assert_eq!(
-            kin().law_step(&ok, &xi, &Vector3::new(0.0, 0.0, bad)),
+            kin().law_step(&ok, &Vector2::new(0.0, bad), &mu, OnArcs::NONE, f64::PASSES),
+            Err(Error::NonFinite)
+        );
+        assert_eq!(
+            kin().law_step(
+                &ok,
+                &xi,
+                &Vector3::new(0.0, 0.0, bad),
+                OnArcs::NONE,
+                f64::PASSES
+            ),
             Err(Error::NonFinite)
         );
         let costate = Costate {
@@ -86,7 +95,7 @@ fn shapes_at_or_past_the_overlap_limit_are_refused() {
         assert_eq!(s.check(), Err(Error::ShapeLimit));
         let mu = Vector3::new(1.0, 0.0, 0.0);
         assert_eq!(
-            kin().law_step(&s, &Vector2::zeros(), &mu),
+            kin().law_step(&s, &Vector2::zeros(), &mu, OnArcs::NONE, f64::PASSES),
             Err(Error::ShapeLimit)
         );
         let c = Costate {
@@ -113,7 +122,7 @@ fn shapes_at_or_past_the_overlap_limit_are_refused() {
     );
     let xi = Vector2::new(1e3, 0.0); // u ≈ ξ ≈ 1e3 rad/s: the law also ends past π.
     assert_eq!(
-        kin().law_step(&s, &xi, &Vector3::zeros()),
+        kin().law_step(&s, &xi, &Vector3::zeros(), OnArcs::NONE, f64::PASSES),
         Err(Error::ShapeLimit)
     );
 }
@@ -182,26 +191,38 @@ fn singular_control_law_matrix_is_refused() {
     let state = State::at_origin(Vector2::zeros());
     let mu = Vector3::new(s, 0.0, 0.0);
     assert_eq!(
-        kin().law_step(&state, &Vector2::zeros(), &mu),
+        kin().law_step(&state, &Vector2::zeros(), &mu, OnArcs::NONE, f64::PASSES),
         Err(Error::Singular)
     );
     assert_eq!(
-        kin().law_step_with_passes(&state, &Vector2::zeros(), &mu, Passes::plain(0)),
+        kin().law_step(
+            &state,
+            &Vector2::zeros(),
+            &mu,
+            OnArcs::NONE,
+            Passes::plain(0)
+        ),
         Err(Error::Singular)
     );
     // 10% away from the root the step goes through.
     let mu = Vector3::new(0.9 * s, 0.0, 0.0);
     assert!(
         kin()
-            .law_step_with_passes(&state, &Vector2::zeros(), &mu, Passes::plain(0))
+            .law_step(
+                &state,
+                &Vector2::zeros(),
+                &mu,
+                OnArcs::NONE,
+                Passes::plain(0)
+            )
             .is_ok()
     );
     // f32 as well (the root rounded to f32 leaves |det| ≈ 1e-7 < the 1e-6 threshold).
-    let k32 = kinematics::<f32>();
+    let k32 = paper_kinematics::<f32>();
     let s32 = State::at_origin(Vector2::<f32>::zeros());
     let mu32 = Vector3::new(s as f32, 0.0, 0.0);
     assert_eq!(
-        k32.law_step(&s32, &Vector2::zeros(), &mu32),
+        k32.law_step(&s32, &Vector2::zeros(), &mu32, OnArcs::NONE, f32::PASSES),
         Err(Error::Singular)
     );
 }
@@ -242,7 +263,12 @@ fn a_non_unit_rotation_is_refused_where_states_enter_the_core() {
     let refused = Some(Error::NotRotation);
     assert_eq!(bad.check().err(), refused);
     assert_eq!(kin().step(&bad, &xi).err(), refused);
-    assert_eq!(kin().law_step(&bad, &xi, &mu).err(), refused);
+    assert_eq!(
+        kin()
+            .law_step(&bad, &xi, &mu, OnArcs::NONE, f64::PASSES)
+            .err(),
+        refused
+    );
     assert_eq!(Replay::new(kin(), bad, costate, 10, &[]).err(), refused);
     assert_eq!(Replay::new(kin(), ok, costate, 10, &cp).err(), refused);
     let mut table = Checkpoints::<f64, 4>::new();
@@ -271,13 +297,18 @@ fn a_non_unit_rotation_is_refused_where_states_enter_the_core() {
     }
 }
 
-#[test]
-fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
-    let cp = |k| Checkpoint {
+/// A valid checkpoint at step `k`: `α = 0` at the identity, `ξ = (0.1, 0.2)`.
+fn checkpoint_at_rest<T: Real>(k: u32) -> Checkpoint<T> {
+    Checkpoint {
         k,
         state: State::at_origin(Vector2::zeros()),
-        xi: Vector2::new(0.1, 0.2),
-    };
+        xi: Vector2::new(T::from_f64(0.1), T::from_f64(0.2)),
+    }
+}
+
+#[test]
+fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
+    let cp = checkpoint_at_rest::<f64>;
     let mut table = Checkpoints::<f64, 8>::new();
     table.push(cp(5)).unwrap();
     assert_eq!(table.push(cp(5)), Err(Error::CheckpointOrder));
@@ -308,11 +339,7 @@ fn checkpoints_out_of_order_or_beyond_the_horizon_are_refused() {
 
 #[test]
 fn full_checkpoint_table_is_refused_and_unchanged() {
-    let cp = |k| Checkpoint {
-        k,
-        state: State::at_origin(Vector2::zeros()),
-        xi: Vector2::new(0.1f32, 0.2),
-    };
+    let cp = checkpoint_at_rest::<f32>;
     let mut table = Checkpoints::<f32, 2>::new();
     table.push(cp(1)).unwrap();
     table.push(cp(2)).unwrap();
@@ -430,7 +457,7 @@ fn exercise<T: Real>(
         prop_assert!(sane(&next));
     }
     for p in [Passes::plain(passes), Passes::newton(passes), T::PASSES] {
-        if let Ok(s) = kin.law_step_with_passes(&state, &xi, &mu, p) {
+        if let Ok(s) = kin.law_step(&state, &xi, &mu, OnArcs::NONE, p) {
             prop_assert!(sane(&s.next));
             prop_assert!(s.u.iter().chain(s.xi.iter()).all(|v| v.is_finite()));
         }
@@ -458,7 +485,7 @@ fn exercise<T: Real>(
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// No function of the core panics on any f64 input.
     #[test]
@@ -496,7 +523,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Any `(cos, sin)` entering the core is accepted exactly when finite and of unit length
     /// within the tolerance, and every state a replay from it returns has a unit rotation.
@@ -548,7 +575,7 @@ fn connection_ok_is_finite_for_extreme_parameters() {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Every `Ok` of the connection is finite, for any valid parameters and shape.
     #[test]

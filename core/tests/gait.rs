@@ -7,27 +7,35 @@ mod common;
 use common::*;
 use proptest::prelude::*;
 use purcell_core::gait::{self, Arc, CheckpointRecord, Gait, GaitParams, Model};
-use purcell_core::{Checkpoint, Error, Real, Replay, Sample, State};
+use purcell_core::{Checkpoint, Error, Real, Sample, State};
 
-/// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
-/// 100 steps taken from its plain `f64` replay (as `purcell-sim solve` writes them).
-fn example() -> (GaitParams, Vec<CheckpointRecord>) {
-    let c = costate_mu13();
-    let params = GaitParams {
+/// A gait of the paper's swimmer (unit links, `k = 1`, `r = 2`) with `h = 0.01` from `ᾱ = 0`,
+/// checkpoints every 100 steps, no joint limit: the parameters the gaits of these tests share
+/// (each sets its own horizon, target and costate).
+fn paper_gait(steps: u32, target: [f64; 3], mu: [f64; 3], xi0: [f64; 2]) -> GaitParams {
+    GaitParams {
         model: Model {
             links: [1.0; 3],
             drag: 1.0,
             ratio: 2.0,
         },
         h: 0.01,
-        steps: 1000,
+        steps,
         alpha0: [0.0, 0.0],
-        target: [0.1, 0.1, 0.0],
-        mu: [c.mu.x, c.mu.y, c.mu.z],
-        xi0: [c.xi.x, c.xi.y],
+        target,
+        mu,
+        xi0,
         checkpoint_every: 100,
         alpha_max: None,
-    };
+    }
+}
+
+/// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
+/// 100 steps taken from its plain `f64` replay (as `purcell-sim solve` writes them).
+fn example() -> (GaitParams, Vec<CheckpointRecord>) {
+    let c = costate_mu13();
+    let (mu, xi0) = ([c.mu.x, c.mu.y, c.mu.z], [c.xi.x, c.xi.y]);
+    let params = paper_gait(1000, [0.1, 0.1, 0.0], mu, xi0);
     let records = states_along(c, 1000, 100)
         .into_iter()
         .skip(1)
@@ -106,14 +114,7 @@ fn flight_from_memory<T: Real>(
     records: &[CheckpointRecord],
 ) -> (Vec<Sample<T>>, State<T>) {
     let checkpoints: Vec<Checkpoint<T>> = records.iter().map(|r| r.to_checkpoint()).collect();
-    let mut replay = Replay::new(
-        params.kinematics().unwrap(),
-        params.start(),
-        params.costate(),
-        params.steps,
-        &checkpoints,
-    )
-    .unwrap();
+    let mut replay = replay_in_memory(params, &checkpoints, &[]);
     let samples = replay.by_ref().collect::<Result<Vec<_>, _>>().unwrap();
     (samples, *replay.state())
 }
@@ -136,20 +137,13 @@ fn stored_tables_replay_like_the_same_checkpoints_in_memory() {
     assert_eq!((samples, *stored.state()), in_memory);
 
     // The f64 checkpoints are the plain f64 replay's own states: applying them changes no bit.
-    let with = gait.replay::<f64>().unwrap().fly(Replay::step).unwrap();
-    let without = gait
-        .replay_without_checkpoints::<f64>()
-        .unwrap()
-        .fly(Replay::step)
-        .unwrap();
+    let with = fly(gait.replay::<f64>()).unwrap();
+    let without = fly(gait.replay_without_checkpoints::<f64>()).unwrap();
     assert_eq!(with, without);
     assert_eq!(with.end, in_memory.1);
     // In f32 they matter (they reset the drifting recursion).
-    let with32 = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
-    let without32 = gait
-        .replay_without_checkpoints::<f32>()
-        .unwrap()
-        .fly(Replay::step);
+    let with32 = fly(gait.replay::<f32>()).unwrap();
+    let without32 = fly(gait.replay_without_checkpoints::<f32>());
     assert_ne!(Ok(with32), without32);
     assert_eq!(with32.steps, 1000);
 }
@@ -159,7 +153,7 @@ fn fly_digests_every_sample_then_the_end() {
     let (params, records) = example();
     let bytes = encode(&params, &records);
     let gait = Gait::from_bytes(&bytes).unwrap();
-    let flight = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
+    let flight = fly(gait.replay::<f32>()).unwrap();
     let mut digest = purcell_core::TrajectoryDigest::new();
     let mut replay = gait.replay::<f32>().unwrap();
     while let Some(s) = replay.step().unwrap() {
@@ -201,40 +195,57 @@ fn the_terminal_error_is_the_largest_component_in_f64() {
     assert!((exact.g - 0.1).abs() < 0.01);
 }
 
-/// Each check of `from_bytes`, reached by one edit of a valid file.
+/// The error `from_bytes` gives for the file `good` after `edit`.
+fn refused(good: &[u8], edit: impl FnOnce(&mut Vec<u8>)) -> Option<Error> {
+    let mut b = good.to_vec();
+    edit(&mut b);
+    Gait::from_bytes(&b).err()
+}
+
+/// [`refused`] with the CRC recomputed after the edit, so that a later check refuses the file.
+fn refused_sealed(good: &[u8], edit: impl FnOnce(&mut Vec<u8>)) -> Option<Error> {
+    refused(good, |b| {
+        edit(b);
+        reseal(b)
+    })
+}
+
+/// The header's checks of `from_bytes`, each reached by one edit of a valid file: magic,
+/// version, length, checksum.
 #[test]
-fn every_corruption_is_refused_with_its_reason() {
+fn a_corrupt_header_is_refused_with_its_reason() {
     let (params, records) = example();
     let good = encode(&params, &records);
     let n = records.len();
-    let edit = |f: &dyn Fn(&mut Vec<u8>)| {
-        let mut b = good.clone();
-        f(&mut b);
-        Gait::from_bytes(&b).err()
-    };
-    let sealed = |f: &dyn Fn(&mut Vec<u8>)| {
-        edit(&|b: &mut Vec<u8>| {
-            f(b);
-            reseal(b)
-        })
-    };
-    assert_eq!(edit(&|b| b[0] = b'X'), Some(Error::GaitMagic));
+    assert_eq!(refused(&good, |b| b[0] = b'X'), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(&[]).err(), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(b"PURCGAIT").err(), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b[8] = 3), Some(Error::GaitVersion(3)));
-    assert_eq!(edit(&|b| b[8] = 0), Some(Error::GaitVersion(0)));
-    assert_eq!(edit(&|b| b.truncate(b.len() - 1)), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b.push(0)), Some(Error::GaitLength));
-    assert_eq!(edit(&|b| b[ck32(n) + 5] ^= 0x10), Some(Error::GaitChecksum));
-    assert_eq!(edit(&|b| b[PARAMS + 9] ^= 1), Some(Error::GaitChecksum));
+    assert_eq!(refused(&good, |b| b[8] = 3), Some(Error::GaitVersion(3)));
+    assert_eq!(refused(&good, |b| b[8] = 0), Some(Error::GaitVersion(0)));
+    assert_eq!(
+        refused(&good, |b| b.truncate(b.len() - 1)),
+        Some(Error::GaitLength)
+    );
+    assert_eq!(refused(&good, |b| b.push(0)), Some(Error::GaitLength));
+    let checksum = Some(Error::GaitChecksum);
+    assert_eq!(refused(&good, |b| b[ck32(n) + 5] ^= 0x10), checksum);
+    assert_eq!(refused(&good, |b| b[PARAMS + 9] ^= 1), checksum);
     let last = good.len() - 1;
-    assert_eq!(edit(&|b| b[last] ^= 0x80), Some(Error::GaitChecksum));
+    assert_eq!(refused(&good, |b| b[last] ^= 0x80), checksum);
+}
 
-    // Sections (directory entries PARM, ARCS, CK64, CK32 at 16, 32, 48, 64): an unknown
-    // tag, a wrong record size (CK64's, PARM's of version 1 in version 2), a duplicate, a
-    // count mismatch, an offset out of bounds or overlapping, a missing one, a non-zero pad,
-    // an f32 table that is not the f64 one rounded; a version-1 file may not have arcs.
+/// The sections' checks (directory entries PARM, ARCS, CK64, CK32 at 16, 32, 48, 64), each
+/// reached by one edit of a valid file resealed: an unknown tag, a wrong record size (CK64's,
+/// PARM's of version 1 in version 2), a duplicate, a count mismatch, an offset out of bounds
+/// or overlapping, a missing one, a non-zero pad, an f32 table that is not the f64 one
+/// rounded; a version-1 file may not have arcs.
+#[test]
+fn a_corrupt_section_is_refused_as_a_layout_error() {
+    let (params, records) = example();
+    let good = encode(&params, &records);
+    let n = records.len();
     let layout = Some(Error::GaitLayout);
+    let sealed = |edit: &dyn Fn(&mut Vec<u8>)| refused_sealed(&good, edit);
     assert_eq!(sealed(&|b| b[32..36].copy_from_slice(b"ARCZ")), layout);
     assert_eq!(sealed(&|b| b[60] = 73), layout);
     assert_eq!(sealed(&|b| b[28] = 136), layout);
@@ -253,8 +264,16 @@ fn every_corruption_is_refused_with_its_reason() {
     assert_eq!(sealed(&|b| b[CK64 + 4] = 1), layout);
     assert_eq!(sealed(&|b| b[ck32(n) + 4] ^= 1), layout);
     assert_eq!(sealed(&|b| b[ck32(n)] ^= 1), layout);
+}
 
-    // Values, checked as in `gait::check`.
+/// The values' checks, as in `gait::check`, each reached by one edit of a valid file
+/// resealed, or by `encode` of an invalid checkpoint.
+#[test]
+fn invalid_values_are_refused_as_the_gait_check_refuses_them() {
+    let (params, records) = example();
+    let good = encode(&params, &records);
+    let n = records.len();
+    let sealed = |edit: &dyn Fn(&mut Vec<u8>)| refused_sealed(&good, edit);
     assert_eq!(
         sealed(&|b| put_f64(b, PARAMS + 40, f64::NAN)),
         Some(Error::NonFinite)
@@ -323,7 +342,7 @@ fn checkpoints_are_checked_again_in_the_replay_scalar() {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Any change of one byte of a valid file is refused (CRC-32 catches every error burst of
     /// up to 32 bits), and never panics.
@@ -360,19 +379,13 @@ proptest! {
 fn the_committed_limit_gait_locks_the_layout() {
     let bytes: &[u8] = include_bytes!("data/tiny-limit.gait");
     let params = GaitParams {
-        model: Model {
-            links: [1.0; 3],
-            drag: 1.0,
-            ratio: 2.0,
-        },
-        h: 0.01,
-        steps: 300,
-        alpha0: [0.0, 0.0],
-        target: [0.01, 0.005, 0.0],
-        mu: [-56.867426414422425, 281.2775050523989, 1.2826606795323952],
-        xi0: [47.92457979744187, -46.10058568703169],
-        checkpoint_every: 100,
         alpha_max: Some(0.8),
+        ..paper_gait(
+            300,
+            [0.01, 0.005, 0.0],
+            [-56.867426414422425, 281.2775050523989, 1.2826606795323952],
+            [47.92457979744187, -46.10058568703169],
+        )
     };
     let arcs = [
         Arc {
@@ -458,21 +471,12 @@ fn the_committed_limit_gait_locks_the_layout() {
 #[test]
 fn version_1_gaits_are_still_read() {
     let bytes: &[u8] = include_bytes!("data/tiny-v1.gait");
-    let params = GaitParams {
-        model: Model {
-            links: [1.0; 3],
-            drag: 1.0,
-            ratio: 2.0,
-        },
-        h: 0.01,
-        steps: 200,
-        alpha0: [0.0, 0.0],
-        target: [0.002, 0.001, 0.0],
-        mu: [-102.05775417345498, 590.1701561480827, -31.45148654572925],
-        xi0: [91.01363029151028, -106.55065114553868],
-        checkpoint_every: 100,
-        alpha_max: None,
-    };
+    let params = paper_gait(
+        200,
+        [0.002, 0.001, 0.0],
+        [-102.05775417345498, 590.1701561480827, -31.45148654572925],
+        [91.01363029151028, -106.55065114553868],
+    );
     let records = [CheckpointRecord {
         k: 100,
         alpha: [0.5131721216763051, 0.5285235518697851],
@@ -492,14 +496,9 @@ fn version_1_gaits_are_still_read() {
     let v2 = encode(&params, &records);
     assert_eq!(v2.len(), gait::encoded_len(1, 0));
     let v2 = Gait::from_bytes(&v2).unwrap();
-    for fly in [
-        |g: &Gait| g.replay::<f32>().unwrap().fly(Replay::step),
-        |g: &Gait| {
-            g.replay_without_checkpoints::<f32>()
-                .unwrap()
-                .fly(Replay::step)
-        },
-    ] {
-        assert_eq!(fly(&v1), fly(&v2));
-    }
+    assert_eq!(fly(v1.replay::<f32>()), fly(v2.replay::<f32>()));
+    assert_eq!(
+        fly(v1.replay_without_checkpoints::<f32>()),
+        fly(v2.replay_without_checkpoints::<f32>())
+    );
 }

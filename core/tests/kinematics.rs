@@ -16,7 +16,7 @@ fn controls() -> impl Strategy<Value = Vec<Vector2<f64>>> {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// Left invariance: the same controls replayed from `q·g₀` give `q·g_k` at every step
     /// (and the same shapes).
@@ -27,7 +27,7 @@ proptest! {
         q in se2(),
         us in controls(),
     ) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let alpha = Vector2::new(a0.0, a0.1);
         let mut s = State { alpha, g: g0 };
         let mut t = State { alpha, g: q * g0 };
@@ -35,7 +35,7 @@ proptest! {
             s = kin.step(&s, u).unwrap();
             t = kin.step(&t, u).unwrap();
             prop_assert_eq!(s.alpha, t.alpha);
-            prop_assert!(dist(&(q * s.g), &t.g) <= 1e-13 * scale(&q) * scale(&g0));
+            prop_assert!(se2_distance(&(q * s.g), &t.g) <= 1e-13 * scale(&q) * scale(&g0));
         }
     }
 
@@ -46,7 +46,7 @@ proptest! {
         g in se2(),
         u in (-5.0..5.0f64, -5.0..5.0f64),
     ) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let (alpha, u) = (Vector2::new(a0.0, a0.1), Vector2::new(u.0, u.1));
         let next = kin.step(&State { alpha, g }, &u).unwrap();
         prop_assert_eq!(next.alpha, alpha + u * kin.h());
@@ -59,11 +59,11 @@ proptest! {
     /// A zero control moves nothing.
     #[test]
     fn zero_control_is_a_fixed_point(a0 in (-3.0..3.0f64, -3.0..3.0f64), g in se2()) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let s = State { alpha: Vector2::new(a0.0, a0.1), g };
         let next = kin.step(&s, &Vector2::zeros()).unwrap();
         prop_assert_eq!(next.alpha, s.alpha);
         // Only the renormalisation of the rotation in `compose` may move it, by an ulp.
-        prop_assert!(dist(&next.g, &g) <= 4.0 * f64::EPSILON);
+        prop_assert!(se2_distance(&next.g, &g) <= 4.0 * f64::EPSILON);
     }
 }

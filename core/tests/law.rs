@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
-use purcell_core::{Costate, Kinematics, PassKind, Passes, Real, Se2, State, se2};
+use purcell_core::{Costate, Kinematics, OnArcs, PassKind, Passes, Real, Se2, State, se2};
 
 /// The residual `passes` leave on one set of states: the largest change of `u_k` against 25
 /// Newton passes, relative to `|u_k|` and relative to the size of the terms `u_k` is
@@ -22,9 +22,9 @@ fn residual<T: Real>(
     let (mut rel_u, mut rel_terms) = (0.0f64, 0.0f64);
     let mu64 = mu.map(|v| v.to_f64());
     for (state, xi) in states {
-        let p = kin.law_step_with_passes(state, xi, mu, passes).unwrap().u;
+        let p = kin.law_step(state, xi, mu, OnArcs::NONE, passes).unwrap().u;
         let r = kin
-            .law_step_with_passes(state, xi, mu, Passes::newton(25))
+            .law_step(state, xi, mu, OnArcs::NONE, Passes::newton(25))
             .unwrap()
             .u;
         let (p, r) = (p.map(|v| v.to_f64()), r.map(|v| v.to_f64()));
@@ -48,7 +48,7 @@ type Table = [[[(f64, f64); P]; 2]; 2];
 
 /// The residual table of one scalar type over both cases and both kinds of pass.
 fn table<T: Real>(cases: &[(&str, Costate<f64>)], cast: fn(f64) -> T) -> Table {
-    let kin = kinematics::<T>();
+    let kin = paper_kinematics::<T>();
     let mut t = [[[(0.0, 0.0); P]; 2]; 2];
     for (c, (_, costate)) in cases.iter().enumerate() {
         let states: Vec<_> = states_along(*costate, 10_000, 250)
@@ -154,12 +154,14 @@ fn passes_reach_rounding() {
 /// along `∂ζ/∂u` to the new `u` (see `law.rs`), which must agree with `ζ^k` evaluated anew.
 #[test]
 fn type_passes_satisfy_the_law_on_the_papers_loops() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let h = kin.h();
     for costate in [costate_mu4(), costate_mu13()] {
         let mu = costate.mu;
         for (state, xi) in states_along(costate, 10_000, 250) {
-            let s = kin.law_step(&state, &xi, &mu).unwrap();
+            let s = kin
+                .law_step(&state, &xi, &mu, OnArcs::NONE, f64::PASSES)
+                .unwrap();
             let c = kin
                 .swimmer()
                 .connection_with_derivatives(&state.alpha)
@@ -208,7 +210,7 @@ fn law_input() -> impl Strategy<Value = (State<f64>, Vector2<f64>, Vector3<f64>)
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config())]
 
     /// The returned step satisfies the law's equations themselves, each evaluated
     /// independently of the recursion: with `X = −hAu`, `ζ = dexp_Xᵀ Ad_gᵀ μ` and
@@ -218,9 +220,9 @@ proptest! {
     /// `passes_reach_rounding` checks each type's passes.
     #[test]
     fn law_step_satisfies_the_discrete_maximum_principle((state, xi, mu) in law_input()) {
-        let kin = kinematics::<f64>();
+        let kin = paper_kinematics::<f64>();
         let h = kin.h();
-        let s = kin.law_step_with_passes(&state, &xi, &mu, Passes::newton(25)).unwrap();
+        let s = kin.law_step(&state, &xi, &mu, OnArcs::NONE, Passes::newton(25)).unwrap();
         let c = kin.swimmer().connection_with_derivatives(&state.alpha).unwrap();
         let x = -(c.a * s.u) * h;
         let zeta = se2::dexp(&x).transpose() * state.g.adjoint_transpose_mul(&mu);
@@ -234,19 +236,7 @@ proptest! {
         prop_assert!((s.xi - xi_next).abs().max() <= 1e-14 * terms);
         prop_assert!((s.next.alpha - (state.alpha + s.u * h)).abs().max() <= 1e-15 * 4.0);
         let g = state.g * se2::exp(&x);
-        prop_assert!(dist(&s.next.g, &g) <= 1e-14 * scale(&state.g));
-    }
-
-    /// `law_step` is `law_step_with_passes` at the type's passes, bit for bit.
-    #[test]
-    fn law_step_uses_the_types_passes((state, xi, mu) in law_input()) {
-        let kin = kinematics::<f64>();
-        let p = <f64 as Real>::PASSES;
-        prop_assert_eq!(kin.law_step(&state, &xi, &mu), kin.law_step_with_passes(&state, &xi, &mu, p));
-        let k32 = kinematics::<f32>();
-        let (s, x, m) = (state_f32(&state), xi.map(|v| v as f32), mu.map(|v| v as f32));
-        let p = <f32 as Real>::PASSES;
-        prop_assert_eq!(k32.law_step(&s, &x, &m), k32.law_step_with_passes(&s, &x, &m, p));
+        prop_assert!(se2_distance(&s.next.g, &g) <= 1e-14 * scale(&state.g));
     }
 
     /// Equivariance: from `q·g` with `μ' = Ad_q^{−T} μ` the law gives the same `u_k` and
@@ -254,15 +244,15 @@ proptest! {
     /// `Ad_gᵀ μ`). Rounding enters through `Ad` (|q| up to 5 in translation).
     #[test]
     fn law_step_is_left_equivariant((state, xi, mu) in law_input(), q in se2()) {
-        let kin = kinematics::<f64>();
-        let s = kin.law_step(&state, &xi, &mu).unwrap();
+        let kin = paper_kinematics::<f64>();
+        let s = kin.law_step(&state, &xi, &mu, OnArcs::NONE, f64::PASSES).unwrap();
         let moved = State { alpha: state.alpha, g: q * state.g };
         let mu_q = q.inverse().adjoint_transpose_mul(&mu);
-        let t = kin.law_step(&moved, &xi, &mu_q).unwrap();
+        let t = kin.law_step(&moved, &xi, &mu_q, OnArcs::NONE, f64::PASSES).unwrap();
         let sc = scale(&q) * scale(&state.g) * (1.0 + mu.abs().max());
         prop_assert!((s.u - t.u).abs().max() <= 1e-13 * sc, "{:?} vs {:?}", s.u, t.u);
         prop_assert!((s.xi - t.xi).abs().max() <= 1e-14 * sc);
-        prop_assert!(dist(&(q * s.next.g), &t.next.g) <= 1e-13 * sc);
+        prop_assert!(se2_distance(&(q * s.next.g), &t.next.g) <= 1e-13 * sc);
     }
 }
 
@@ -274,15 +264,15 @@ proptest! {
 #[test]
 fn zero_passes_are_the_linearised_root() {
     use nalgebra::{Matrix2, Matrix2x3};
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let (state, xi) = states_along(costate_mu13(), 1000, 500)[1];
     let mu = costate_mu13().mu;
     let h = kin.h();
     let s0 = kin
-        .law_step_with_passes(&state, &xi, &mu, Passes::plain(0))
+        .law_step(&state, &xi, &mu, OnArcs::NONE, Passes::plain(0))
         .unwrap();
     let q0 = kin
-        .law_step_with_passes(&state, &xi, &mu, Passes::newton(0))
+        .law_step(&state, &xi, &mu, OnArcs::NONE, Passes::newton(0))
         .unwrap();
     assert_eq!(s0, q0);
     let c = kin
@@ -300,7 +290,9 @@ fn zero_passes_are_the_linearised_root() {
     let u0 = lin.lu().solve(&rhs).unwrap();
     assert!((s0.u - u0).abs().max() <= 1e-14 * (1.0 + u0.abs().max()));
     let explicit = (Matrix2::identity() - b * h).lu().solve(&rhs).unwrap();
-    let exact = kin.law_step(&state, &xi, &mu).unwrap();
+    let exact = kin
+        .law_step(&state, &xi, &mu, OnArcs::NONE, f64::PASSES)
+        .unwrap();
     let rel = |u: &Vector2<f64>| (exact.u - u).norm() / exact.u.norm();
     let (first, zeta_m) = (rel(&s0.u), rel(&explicit));
     assert!(

@@ -44,27 +44,23 @@ fn specials_f32() -> [f32; 12] {
     ]
 }
 
+/// `Real::all_finite` answers [`plain_all_finite`] on every single, pair and triple of `xs`.
+fn assert_all_finite_is_the_definition<T: Real>(xs: &[T]) {
+    for &a in xs {
+        assert_eq!(T::all_finite([a]), a.is_finite(), "{a:?}");
+        for &b in xs {
+            assert_eq!(T::all_finite([a, b]), plain_all_finite([a, b]));
+            for &c in xs {
+                assert_eq!(T::all_finite([a, b, c]), plain_all_finite([a, b, c]));
+            }
+        }
+    }
+}
+
 #[test]
 fn all_finite_matches_the_definition_on_every_pair_and_triple_of_specials() {
-    let (s64, s32) = (specials_f64(), specials_f32());
-    for &a in &s64 {
-        assert_eq!(f64::all_finite([a]), a.is_finite(), "{a}");
-        for &b in &s64 {
-            assert_eq!(f64::all_finite([a, b]), plain_all_finite([a, b]));
-            for &c in &s64 {
-                assert_eq!(f64::all_finite([a, b, c]), plain_all_finite([a, b, c]));
-            }
-        }
-    }
-    for &a in &s32 {
-        assert_eq!(f32::all_finite([a]), a.is_finite(), "{a}");
-        for &b in &s32 {
-            assert_eq!(f32::all_finite([a, b]), plain_all_finite([a, b]));
-            for &c in &s32 {
-                assert_eq!(f32::all_finite([a, b, c]), plain_all_finite([a, b, c]));
-            }
-        }
-    }
+    assert_all_finite_is_the_definition(&specials_f64());
+    assert_all_finite_is_the_definition(&specials_f32());
     // Nothing to check is vacuously finite; a NaN anywhere in a long list is found.
     assert!(f32::all_finite::<0>([]));
     let mut ten = [1.0f32; 10];
@@ -78,22 +74,20 @@ fn all_finite_matches_the_definition_on_every_pair_and_triple_of_specials() {
 
 #[test]
 fn abs_is_the_magnitude() {
-    for x in specials_f64() {
-        let a = <f64 as Real>::abs(x);
-        if x.is_nan() {
-            assert!(a.is_nan());
+    assert_abs_is_the_magnitude(specials_f64());
+    assert_abs_is_the_magnitude(specials_f32());
+}
+
+/// `Real::abs(x)` is `x` or `−x`, whichever is not negative, and NaN for NaN.
+fn assert_abs_is_the_magnitude<T: Real>(xs: impl IntoIterator<Item = T>) {
+    for x in xs {
+        let a = x.abs();
+        #[allow(clippy::eq_op)] // x ≠ x: NaN
+        if x != x {
+            assert!(a != a, "{x:?}");
         } else {
-            assert_eq!(a, if x < 0.0 { -x } else { x });
-            assert!(a >= 0.0);
-        }
-    }
-    for x in specials_f32() {
-        let a = <f32 as Real>::abs(x);
-        if x.is_nan() {
-            assert!(a.is_nan());
-        } else {
-            assert_eq!(a, if x < 0.0 { -x } else { x });
-            assert!(a >= 0.0);
+            assert_eq!(a, if x < T::zero() { -x } else { x });
+            assert!(a >= T::zero());
         }
     }
 }

@@ -5,14 +5,16 @@ mod common;
 
 use common::*;
 use nalgebra::{Vector2, Vector3};
-use purcell_core::{Checkpoint, Checkpoints, Costate, Error, Replay, Sample, Se2, State};
+use purcell_core::{
+    Checkpoint, Checkpoints, Costate, Error, OnArcs, Real, Replay, Sample, Se2, State,
+};
 
 fn start() -> State<f64> {
     State::at_origin(Vector2::zeros())
 }
 
 fn run(costate: Costate<f64>, steps: u32, cps: &[Checkpoint<f64>]) -> Vec<Sample<f64>> {
-    Replay::new(kinematics(), start(), costate, steps, cps)
+    Replay::new(paper_kinematics(), start(), costate, steps, cps)
         .unwrap()
         .collect::<Result<_, _>>()
         .unwrap()
@@ -20,13 +22,15 @@ fn run(costate: Costate<f64>, steps: u32, cps: &[Checkpoint<f64>]) -> Vec<Sample
 
 #[test]
 fn replay_is_the_law_stepped_in_order() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let c = costate_mu13();
     let samples = run(c, 200, &[]);
     assert_eq!(samples.len(), 200);
     let (mut state, mut xi) = (start(), c.xi);
     for (k, s) in samples.iter().enumerate() {
-        let step = kin.law_step(&state, &xi, &c.mu).unwrap();
+        let step = kin
+            .law_step(&state, &xi, &c.mu, OnArcs::NONE, f64::PASSES)
+            .unwrap();
         assert_eq!(s.k as usize, k);
         assert_eq!((s.state, s.u, s.xi), (state, step.u, step.xi));
         (state, xi) = (step.next, step.xi);
@@ -35,7 +39,7 @@ fn replay_is_the_law_stepped_in_order() {
 
 #[test]
 fn checkpoints_reset_state_and_xi_at_their_steps() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let c = costate_mu13();
     let mut table = Checkpoints::<f64, 4>::new();
     let at = |a1, a2, x, th| State {
@@ -72,7 +76,9 @@ fn checkpoints_reset_state_and_xi_at_their_steps() {
             (state, xi) = (cp.state, cp.xi);
         }
         assert_eq!(s.state, state, "step {}", s.k);
-        let step = kin.law_step(&state, &xi, &c.mu).unwrap();
+        let step = kin
+            .law_step(&state, &xi, &c.mu, OnArcs::NONE, f64::PASSES)
+            .unwrap();
         assert_eq!((s.u, s.xi), (step.u, step.xi), "step {}", s.k);
         (state, xi) = (step.next, step.xi);
     }
@@ -90,7 +96,7 @@ fn checkpoints_reset_state_and_xi_at_their_steps() {
 #[test]
 fn in_place_steps_match_the_iterator() {
     let c = costate_mu13();
-    let mut replay = Replay::new(kinematics::<f64>(), start(), c, 25, &[]).unwrap();
+    let mut replay = Replay::new(paper_kinematics::<f64>(), start(), c, 25, &[]).unwrap();
     let mut lent = Vec::new();
     while let Some(s) = replay.step().unwrap() {
         lent.push(*s);
@@ -106,7 +112,7 @@ fn replay_fuses_after_an_error() {
         mu: Vector3::zeros(),
         xi: Vector2::new(120.0, 0.0),
     };
-    let mut replay = Replay::new(kinematics(), start(), costate, 100, &[]).unwrap();
+    let mut replay = Replay::new(paper_kinematics(), start(), costate, 100, &[]).unwrap();
     let mut oks = 0;
     let err = loop {
         match replay.next() {
@@ -131,13 +137,13 @@ fn replay_fuses_after_an_error() {
     assert_eq!((*replay.state(), replay.steps_done()), (state, done));
     assert!(state.alpha.x < core::f64::consts::PI);
     // finish() reports the error.
-    let replay = Replay::new(kinematics(), start(), costate, 100, &[]).unwrap();
+    let replay = Replay::new(paper_kinematics(), start(), costate, 100, &[]).unwrap();
     assert_eq!(replay.finish(), Err(Error::ShapeLimit));
 }
 
 #[test]
 fn finish_equals_the_last_state() {
-    let kin = kinematics::<f64>();
+    let kin = paper_kinematics::<f64>();
     let c = costate_mu4();
     let n = 500;
     let mut replay = Replay::new(kin, start(), c, n, &[]).unwrap();
@@ -150,7 +156,9 @@ fn finish_equals_the_last_state() {
         panic!("too few samples")
     };
     assert_eq!(
-        kin.law_step(&last.state, &prev.xi, &c.mu).unwrap().next,
+        kin.law_step(&last.state, &prev.xi, &c.mu, OnArcs::NONE, f64::PASSES)
+            .unwrap()
+            .next,
         end
     );
     // finish() on a fresh replay, and on a half-consumed one, reaches the same state.
@@ -172,23 +180,22 @@ fn finish_equals_the_last_state() {
 #[test]
 fn replay_in_f32_is_deterministic() {
     let c = costate_mu13();
-    let c32 = Costate {
-        mu: c.mu.map(|v| v as f32),
-        xi: c.xi.map(|v| v as f32),
-    };
-    let kin = kinematics::<f32>();
+    let c32 = costate_f32(&c);
+    let kin = paper_kinematics::<f32>();
     let s32 = State::at_origin(Vector2::<f32>::zeros());
     let replayed = Replay::new(kin, s32, c32, 1000, &[])
         .unwrap()
         .finish()
         .unwrap();
-    let again = Replay::new(kinematics::<f32>(), s32, c32, 1000, &[])
+    let again = Replay::new(paper_kinematics::<f32>(), s32, c32, 1000, &[])
         .unwrap()
         .finish()
         .unwrap();
     let (mut state, mut xi) = (s32, c32.xi);
     for _ in 0..1000 {
-        let step = kin.law_step(&state, &xi, &c32.mu).unwrap();
+        let step = kin
+            .law_step(&state, &xi, &c32.mu, OnArcs::NONE, f32::PASSES)
+            .unwrap();
         (state, xi) = (step.next, step.xi);
     }
     assert_eq!(replayed, state);

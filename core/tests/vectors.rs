@@ -3,7 +3,7 @@
 
 use approx::assert_abs_diff_eq;
 use nalgebra::{Matrix2, Matrix3x2, Vector2, Vector3};
-use purcell_core::{Kinematics, Se2, State, Swimmer, se2};
+use purcell_core::{Kinematics, OnArcs, Real, Se2, State, Swimmer, se2};
 
 /// f32 unit roundoff scale: the spacing of f32 numbers at 1.
 const EPS32: f64 = f32::EPSILON as f64;
@@ -166,7 +166,9 @@ fn law_step_matches_model_vector_f64() {
         alpha: v.alpha,
         g: Se2::new(v.g.x, v.g.y, v.g.z),
     };
-    let s = kin.law_step(&state, &v.xi, &v.mu).unwrap();
+    let s = kin
+        .law_step(&state, &v.xi, &v.mu, OnArcs::NONE, f64::PASSES)
+        .unwrap();
     assert_abs_diff_eq!(s.u, v.u, epsilon = 1e-12);
     assert_abs_diff_eq!(s.next.alpha, v.alpha_next, epsilon = 1e-12);
     assert_abs_diff_eq!(s.next.g.to_xytheta(), v.g_next, epsilon = 1e-12);
@@ -199,7 +201,13 @@ fn law_step_matches_model_vector_f32() {
         g: Se2::new(v.g.x as f32, v.g.y as f32, v.g.z as f32),
     };
     let s = kin
-        .law_step(&state, &v.xi.map(|x| x as f32), &v.mu.map(|x| x as f32))
+        .law_step(
+            &state,
+            &v.xi.map(|x| x as f32),
+            &v.mu.map(|x| x as f32),
+            OnArcs::NONE,
+            f32::PASSES,
+        )
         .unwrap();
 
     // Sizes of the terms, from the f64 computation.

@@ -1,7 +1,7 @@
 //! A gait on an STM32F4-Discovery (STM32F407VG, Cortex-M4F): flies it in `f32` through
 //! `purcell-core` with `purcell_fly`, times every step with the DWT cycle counter, and logs
 //! over RTT (defmt) the cycles per step, the trajectory digest and the final state's bits,
-//! which `purcell-mcu check` compares with the host's flight of the same gait.
+//! which `purcell-mcu-check check` compares with the host's flight of the same gait.
 //!
 //! It runs on the 16 MHz HSI oscillator the chip starts on (no clock set-up: flash without
 //! wait states, so the cycle counts are the core's own); exits through semihosting, which
@@ -30,7 +30,7 @@ const BOARD: &str = "stm32f4-discovery";
 struct Cycles;
 
 impl Counter for Cycles {
-    const LINE: &'static str = "cycles_per_step";
+    const LINE: &'static str = purcell_fly::line::CYCLES;
 
     #[inline(always)]
     fn now() -> u32 {
@@ -87,19 +87,13 @@ fn run() -> Result<(), Failure> {
     let overhead = purcell_fly::overhead::<Cycles>();
     // Each step lends its sample: command the joints with `sample.u` in your own loop.
     purcell_fly::fly::<f32, Cycles, _>(BOARD, &gait, overhead, Replay::step)?;
-    defmt::println!("result: ok");
     Ok(())
 }
 
 #[entry]
 fn main() -> ! {
-    match run() {
-        Ok(()) => semihosting::process::exit(0),
-        Err(f) => {
-            defmt::error!("failed: {}", f);
-            semihosting::process::exit(1)
-        }
-    }
+    // Logs `result: ok` or `failed: <why>`; `probe-rs run` exits with the status.
+    semihosting::process::exit(purcell_fly::finish(run()))
 }
 
 #[exception]

@@ -1,9 +1,11 @@
 //! Flies a gait on a microcontroller: the replay every firmware of this repository runs, timed
-//! step by step, digested, and reported in the log lines that `purcell-mcu check` reads.
+//! step by step, digested, and reported in the log lines ([`line`](mod@line)) that
+//! `purcell-mcu-check` reads.
 //!
-//! The board example (`../board-stm32f4-discovery`, DWT cycles) and the QEMU harness (`..`,
-//! instructions under `-icount`) both call [`fly`], so what CI checks in QEMU is what a board
-//! runs. Copy this file into your firmware, or depend on it, with a [`Counter`] for your chip.
+//! The board example (`../board-stm32f4-discovery`, DWT cycles) and the QEMU firmware
+//! (`../qemu`, instructions under `-icount`) both call [`fly`], so what CI checks in QEMU is
+//! what a board runs. Copy this file into your firmware, or depend on it, with a [`Counter`]
+//! for your chip.
 //!
 //! The lines (defmt, printed with `defmt-print --log-format '{s}'`):
 //!
@@ -16,9 +18,9 @@
 //! final_state_bits: <0x…> ×6
 //! ```
 //!
-//! and the caller ends a successful run with `result: ok`. `arc_steps` splits the per-step
-//! figures (same units) between the steps with a joint at rest on a joint-limit arc (its
-//! `mean`, `max`; all zero for a gait without arcs) and the others (`free_…`).
+//! and [`finish`] ends the run with `result: ok` (or `failed: <why>`). `arc_steps` splits the
+//! per-step figures (same units) between the steps with a joint at rest on a joint-limit arc
+//! (its `mean`, `max`; all zero for a gait without arcs) and the others (`free_…`).
 
 #![no_std]
 #![deny(missing_docs)]
@@ -27,9 +29,36 @@ use core::iter::Peekable;
 use purcell_core::gait::Stored;
 use purcell_core::{Arc, Error, Flight, Gait, Replay, Sample};
 
+/// The names of the log lines (`<name>: …`), the one definition for the firmware that prints
+/// them and the checker that reads them.
+pub mod line {
+    /// `purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C>
+    /// arcs=<A> gait=<crc32>`.
+    pub const HEADER: &str = "purcell-mcu";
+    /// `insn_per_step: mean=<M> max=<X>` (instructions per control step, QEMU).
+    pub const INSN: &str = "insn_per_step";
+    /// `cycles_per_step: mean=<M> max=<X>` (cycles per control step, a board's counter).
+    pub const CYCLES: &str = "cycles_per_step";
+    /// `arc_steps: steps=<n> mean=<M> max=<X> free_mean=<F> free_max=<Y>` (the per-step
+    /// figures of the steps with a joint at rest on a joint-limit arc, and of the others).
+    pub const ARCS: &str = "arc_steps";
+    /// `replay_total: steps=<N> units=<sum>` (the per-step figures' sum).
+    pub const TOTAL: &str = "replay_total";
+    /// `stack_step: bytes=<B>` (deepest stack use below the caller of one step, QEMU).
+    pub const STACK: &str = "stack_step";
+    /// `digest: <0x…>` (`purcell_core::TrajectoryDigest` of the whole flight).
+    pub const DIGEST: &str = "digest";
+    /// `final_state_bits: <0x…> ×6` (`α1 α2 x y cos θ sin θ` as raw bits).
+    pub const FINAL: &str = "final_state_bits";
+    /// `result: ok`, the last line of a successful run ([`finish`](super::finish)).
+    pub const RESULT: &str = "result";
+    /// The value of [`RESULT`] on success.
+    pub const OK: &str = "ok";
+}
+
 /// A free-running counter that times each step.
 pub trait Counter {
-    /// The line that reports the figures: `"cycles_per_step"` or `"insn_per_step"`.
+    /// The line that reports the figures: [`line::CYCLES`] or [`line::INSN`].
     const LINE: &'static str;
     /// Reported units per raw count, as `(numerator, denominator)`.
     const SCALE: (u64, u64) = (1, 1);
@@ -137,7 +166,8 @@ where
         "f64"
     };
     defmt::println!(
-        "purcell-mcu: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} arcs={=usize} gait={=u32:#010x}",
+        "{=str}: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} arcs={=usize} gait={=u32:#010x}",
+        line::HEADER,
         board,
         scalar,
         gait.params().steps,
@@ -174,7 +204,8 @@ where
     let ((arc_mean, arc_tenths), (free_mean, free_tenths)) =
         (scaled_mean::<C>(&on_arcs), scaled_mean::<C>(&free));
     defmt::println!(
-        "arc_steps: steps={=u32} mean={=u64}.{=u64} max={=u64} free_mean={=u64}.{=u64} free_max={=u64}",
+        "{=str}: steps={=u32} mean={=u64}.{=u64} max={=u64} free_mean={=u64}.{=u64} free_max={=u64}",
+        line::ARCS,
         on_arcs.n,
         arc_mean,
         arc_tenths,
@@ -184,14 +215,16 @@ where
         scaled::<C>(u64::from(free.max))
     );
     defmt::println!(
-        "replay_total: steps={=u32} units={=u64}",
+        "{=str}: steps={=u32} units={=u64}",
+        line::TOTAL,
         stats.n,
         scaled::<C>(stats.sum)
     );
-    defmt::println!("digest: {=u64:#018x}", flight.digest.value());
+    defmt::println!("{=str}: {=u64:#018x}", line::DIGEST, flight.digest.value());
     let b = flight.final_bits();
     defmt::println!(
-        "final_state_bits: {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x}",
+        "{=str}: {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x} {=u64:#x}",
+        line::FINAL,
         b[0],
         b[1],
         b[2],
@@ -200,4 +233,19 @@ where
         b[5]
     );
     Ok(flight)
+}
+
+/// Ends a run: logs `result: ok`, or `failed: <why>` for an error, and returns the exit status
+/// for the caller's exit (0 on success, 1 on failure).
+pub fn finish<E: defmt::Format>(run: Result<(), E>) -> i32 {
+    match run {
+        Ok(()) => {
+            defmt::println!("{=str}: {=str}", line::RESULT, line::OK);
+            0
+        }
+        Err(e) => {
+            defmt::error!("failed: {}", e);
+            1
+        }
+    }
 }

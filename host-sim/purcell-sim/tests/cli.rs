@@ -1,5 +1,7 @@
-//! The `purcell-sim` binary: bad input, limits, exit codes, unreachable targets, costate
-//! files, connection, closed stdout. (Outputs: `outputs.rs`; random inputs: `cli_props.rs`.)
+//! The `purcell-sim` command line: bad input and limits refused before any work, number
+//! flags and their defaults, help, exit codes, connection, closed stdout. (No solution:
+//! `exit3.rs`; costate files: `costate_files.rs`; gait files: `gait_files.rs`; outputs:
+//! `outputs.rs`; random inputs: `cli_props.rs`.)
 
 mod common;
 
@@ -8,35 +10,13 @@ use std::path::Path;
 use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-/// The `digest: 0x…` lines of a replay's output (each `0x` and 16 hex digits).
-fn digests(o: &Output) -> Vec<String> {
-    let text = stdout(o);
-    let lines: Vec<String> = text
-        .lines()
-        .filter_map(|l| l.strip_prefix("digest: "))
-        .map(str::to_string)
-        .collect();
-    for d in &lines {
-        let hex = d.strip_prefix("0x").unwrap_or_else(|| panic!("{d}"));
-        assert!(
-            hex.len() == 16 && hex.chars().all(|c| c.is_ascii_hexdigit()),
-            "{d}"
-        );
-    }
-    lines
-}
-
+/// `solve` of the paper's problem with `extra` flags exits 2 saying `needle`, at once and
+/// writing nothing.
 fn refused_before_work(extra: &[&str], needle: &str) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let mut args = vec!["solve", "--out", out.to_str().unwrap()];
-    args.extend_from_slice(extra);
     let t0 = Instant::now();
-    let o = sim(&args);
+    let o = Solve::paper().out(&out).with(extra).run();
     assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
     assert!(stderr(&o).contains(needle), "{extra:?}: {}", stderr(&o));
     assert!(t0.elapsed() < Duration::from_secs(10), "{extra:?} did work");
@@ -78,272 +58,10 @@ fn every_subcommand_validates_the_model_the_same_way() {
     let blame = "connection A(alpha) cannot be computed";
     refused_before_work(&["--links", "1e300,1,1"], blame);
     let o = sim(&["connection", "--alpha", "0.5,-0.3", "--links", "1e300,1,1"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains(blame), "{}", stderr(&o));
+    assert_exit(&o, 2, blame);
     assert!(!stderr(&o).contains("I - h"), "{}", stderr(&o));
     refused_before_work(&["--links", "1e39,1,1"], "in f32");
     refused_before_work(&["--step", "1e-50", "--horizon", "1e-48"], "in f32");
-}
-
-#[test]
-fn unreachable_target_exits_3_with_best_residual_and_no_output() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("new/parents/far");
-    let o = sim(&[
-        "solve",
-        "--target",
-        "40,0,0",
-        "--horizon",
-        "10",
-        "--starts",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert!(stderr(&o).contains("best residual"), "{}", stderr(&o));
-    // No output, no staging directory, not even the parents it created.
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.to_str().unwrap().to_string()
-}
-
-const GOOD: &str = r#"{"format":"purcell-costate","version":2,
- "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
- "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":100,
- "checkpoints":[{"k":100,"alpha":[0.01,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;
-
-/// [`GOOD`] in version 3 with a joint limit and one arc of joint 1 ending at its checkpoint.
-const GOOD_V3: &str = r#"{"format":"purcell-costate","version":3,
- "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
- "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":100,
- "alpha_max":0.5,"arcs":[{"joint":1,"sign":1,"first":90,"last":100}],
- "checkpoints":[{"k":100,"alpha":[0.5,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;
-const ARC: &str = r#""arcs":[{"joint":1,"sign":1,"first":90,"last":100}],"#;
-
-fn refused_file(name: &str, text: &str, needle: &str) {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(dir.path(), name, text);
-    let o = sim(&["replay", "--costate", &p]);
-    assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
-    assert!(stderr(&o).contains(needle), "{name}: {}", stderr(&o));
-}
-
-#[test]
-fn costate_files_are_read_strictly() {
-    let dir = tempfile::tempdir().unwrap();
-    let ok = write(dir.path(), "ok.json", GOOD);
-    let o = sim(&["replay", "--costate", &ok]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert_eq!(digests(&o).len(), 4, "{}", stdout(&o));
-
-    let cases = [
-        ("truncated.json", &GOOD[..GOOD.len() / 2], "malformed"),
-        (
-            "version.json",
-            &GOOD.replace("\"version\":2", "\"version\":1")[..],
-            "version 1",
-        ),
-        (
-            "v1-checkpoint.json",
-            &GOOD.replace("\"alpha\":[0.01,-0.02],\"g\":[0.001,0.0,1,0],", "")[..],
-            "malformed",
-        ),
-        (
-            "overlap.json",
-            &GOOD.replace("[0.01,-0.02],\"g\"", "[3.2,-0.02],\"g\"")[..],
-            "link-overlap",
-        ),
-        (
-            "rotation.json",
-            &GOOD.replace("[0.001,0.0,1,0]", "[0.001,0.0,1,0.5]")[..],
-            "unit length",
-        ),
-        (
-            "format.json",
-            &GOOD.replace("purcell-costate", "other")[..],
-            "not a costate file",
-        ),
-        (
-            "extra.json",
-            &GOOD.replace("\"h\":0.01", "\"h\":0.01,\"x\":1")[..],
-            "malformed",
-        ),
-        (
-            "beyond.json",
-            &GOOD.replace("\"k\":100", "\"k\":300")[..],
-            "gait checkpoints must sit at every multiple of checkpoint_every below the horizon",
-        ),
-        (
-            "short.json",
-            &GOOD.replace("[0.1,0.2,0.0]", "[0.1,0.2]")[..],
-            "malformed",
-        ),
-        (
-            "step.json",
-            &GOOD.replace("\"h\":0.01", "\"h\":-0.01")[..],
-            "step h must be finite and positive",
-        ),
-        (
-            "version4.json",
-            &GOOD.replace("\"version\":2", "\"version\":4")[..],
-            "version 4 (this build reads versions 2 and 3)",
-        ),
-        // Version 2 knows no joint limit; version 3 states it (null: none) and its arcs.
-        (
-            "v2-arcs.json",
-            &GOOD.replace("\"h\":0.01", "\"h\":0.01,\"arcs\":[]")[..],
-            "version 2 does not have the field \"arcs\"",
-        ),
-        (
-            "v3-no-limit.json",
-            &GOOD_V3.replace("\"alpha_max\":0.5,", "")[..],
-            "version 3 needs the field \"alpha_max\"",
-        ),
-        (
-            "v3-no-arcs.json",
-            &GOOD_V3.replace(ARC, "")[..],
-            "version 3 needs the field \"arcs\"",
-        ),
-        (
-            "v3-joint.json",
-            &GOOD_V3.replace("\"joint\":1", "\"joint\":0")[..],
-            "joint-limit arc must have joint 1 or 2",
-        ),
-        (
-            "v3-exit.json",
-            &GOOD_V3.replace("\"last\":100", "\"last\":90")[..],
-            "a joint-limit arc's last step has no checkpoint",
-        ),
-        (
-            "v3-off-limit.json",
-            &GOOD_V3.replace("\"alpha_max\":0.5", "\"alpha_max\":0.6")[..],
-            "not on its limit",
-        ),
-        (
-            "v3-unlimited.json",
-            &GOOD_V3.replace("\"alpha_max\":0.5", "\"alpha_max\":null")[..],
-            "present with arcs",
-        ),
-        (
-            "v3-sign.json",
-            &GOOD_V3.replace("\"sign\":1", "\"sign\":1.0")[..],
-            "malformed",
-        ),
-    ];
-    for (name, text, needle) in cases {
-        refused_file(name, text, needle);
-    }
-    // The version-3 file itself, and without arcs (`"arcs": []`, `"alpha_max": null`).
-    for (name, text) in [
-        ("v3.json", GOOD_V3.to_string()),
-        (
-            "v3-free.json",
-            GOOD.replace("\"version\":2", "\"version\":3")
-                .replace("\"h\":0.01", "\"h\":0.01,\"alpha_max\":null,\"arcs\":[]"),
-        ),
-    ] {
-        let p = write(dir.path(), name, &text);
-        let o = sim(&["replay", "--costate", &p]);
-        assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
-    }
-}
-
-/// Issue 9, defect 11: values outside f32 range were accepted and every f32 replay failed
-/// (exit 0); a checkpoint at k = 0 silently replaced the start; `checkpoint_every` was not
-/// checked against the checkpoints.
-#[test]
-fn costate_files_fit_f32_and_their_checkpoints_sit_where_checkpoint_every_says() {
-    let cases = [
-        (
-            GOOD.replace("[1,1,1]", "[1e39,1,1]"),
-            "links = 1e39,1.0,1.0 overflows or rounds to zero in f32",
-        ),
-        (
-            GOOD.replace("[0.1,0.2,0.0]", "[0.1,1e39,0.0]"),
-            "mu = 0.1,1e39,0.0 overflows",
-        ),
-        (
-            GOOD.replace("\"h\":0.01", "\"h\":1e-50"),
-            "step h = 1e-50 overflows or rounds to zero in f32",
-        ),
-        (
-            GOOD.replace("\"k\":100", "\"k\":0"),
-            "gait checkpoints must sit at every multiple of checkpoint_every below the horizon",
-        ),
-        (
-            GOOD.replace("\"checkpoint_every\":100", "\"checkpoint_every\":50"),
-            "gait checkpoints must sit at every multiple of checkpoint_every below the horizon",
-        ),
-        (
-            GOOD.replace("\"checkpoint_every\":100", "\"checkpoint_every\":0"),
-            "gait checkpoints must sit at every multiple of checkpoint_every below the horizon",
-        ),
-    ];
-    for (text, needle) in &cases {
-        refused_file("c.json", text, needle);
-    }
-    // An f64-only replay of a file beyond f32 range is not refused: it runs, and the law
-    // fails at its first step (a μ of 1e39 makes `I − h·B` singular), exit 3.
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        dir.path(),
-        "mu.json",
-        &GOOD.replace("[0.1,0.2,0.0]", "[1e-39,1e39,0.0]"),
-    );
-    let o = sim(&["replay", "--costate", &p, "--precision", "f64"]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("f64 replay with checkpoints failed at step 0"),
-        "{}",
-        stderr(&o)
-    );
-    assert!(!stderr(&o).contains("f32"), "{}", stderr(&o));
-}
-
-/// Issue 9, defect 7: `replay` exited 0 when every replay failed, with the failure only in
-/// the JSON. Now exit 3, and stderr names the replay, the step and the reason.
-#[test]
-fn a_failed_replay_exits_3_naming_the_step_and_the_reason() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        dir.path(),
-        "fast.json",
-        &GOOD.replace("\"xi0\":[0.01,-0.02]", "\"xi0\":[50,-0.02]"),
-    );
-    let o = sim(&["replay", "--costate", &p, "--precision", "f32"]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    let e = stderr(&o);
-    assert!(
-        e.contains("f32 replay with checkpoints failed at step 6 of 200 (t = 0.06 s): joint angle at or past the link-overlap limit"),
-        "{e}"
-    );
-    // The report is still printed, with the step, and so is `--out`'s JSON.
-    assert!(
-        stdout(&o).contains("failed at step 6: joint angle"),
-        "{}",
-        stdout(&o)
-    );
-    let json = dir.path().join("report.json");
-    let o = sim(&[
-        "replay",
-        "--costate",
-        &p,
-        "--precision",
-        "f32",
-        "--out",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
-    assert_eq!(report["replays"][0]["failed_at_step"], 6);
-    // Exit 0 only when every replay succeeds.
-    let ok = write(dir.path(), "ok.json", GOOD);
-    assert_eq!(sim(&["replay", "--costate", &ok]).status.code(), Some(0));
 }
 
 #[test]
@@ -412,150 +130,6 @@ fn help_explains_units() {
     }
 }
 
-/// `export` writes the binary gait of a costate file; replaying it is replaying the costate
-/// file; the committed `tiny-limit` pair (a gait on its joint limit) is what `export` writes
-/// today, byte for byte.
-#[test]
-fn export_writes_the_gait_that_replays_like_its_costate_file() {
-    let dir = tempfile::tempdir().unwrap();
-    let json = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tiny-limit.costate.json");
-    let gait = dir.path().join("tiny-limit.gait");
-    let o = sim(&[
-        "export",
-        "--costate",
-        json.to_str().unwrap(),
-        "--out",
-        gait.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stdout(&o).contains("684 bytes") && stdout(&o).contains("arcs=2"),
-        "{}",
-        stdout(&o)
-    );
-    let committed =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../core/tests/data/tiny-limit.gait");
-    assert_eq!(
-        std::fs::read(&gait).unwrap(),
-        std::fs::read(committed).unwrap()
-    );
-
-    for precision in ["f32", "f64"] {
-        let from_gait = sim(&[
-            "replay",
-            "--gait",
-            gait.to_str().unwrap(),
-            "--precision",
-            precision,
-        ]);
-        let from_json = sim(&[
-            "replay",
-            "--costate",
-            json.to_str().unwrap(),
-            "--precision",
-            precision,
-        ]);
-        assert_eq!(from_gait.status.code(), Some(0), "{}", stderr(&from_gait));
-        assert_eq!(digests(&from_gait).len(), 1);
-        assert_eq!(stdout(&from_gait), stdout(&from_json));
-    }
-    // The periodic checkpoints change the f32 flight (the arcs' exits are restored either way).
-    let f32_without = sim(&[
-        "replay",
-        "--gait",
-        gait.to_str().unwrap(),
-        "--precision",
-        "f32",
-        "--no-checkpoints",
-    ]);
-    let f32_with = sim(&[
-        "replay",
-        "--gait",
-        gait.to_str().unwrap(),
-        "--precision",
-        "f32",
-    ]);
-    assert_ne!(digests(&f32_with), digests(&f32_without));
-    let all = digests(&sim(&["replay", "--gait", gait.to_str().unwrap()]));
-    assert_eq!(all.len(), 4);
-}
-
-/// The previous versions are still read: the version-2 costate file `tiny.costate.json` and
-/// the version-1 gait `tiny-v1.gait` exported from it fly the same; exported again, the gait
-/// is version 2 and flies the same too.
-#[test]
-fn previous_versions_are_still_read() {
-    let dir = tempfile::tempdir().unwrap();
-    let json = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tiny.costate.json");
-    let v1 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../core/tests/data/tiny-v1.gait");
-    let v2 = dir.path().join("tiny.gait");
-    let o = sim(&[
-        "export",
-        "--costate",
-        json.to_str().unwrap(),
-        "--out",
-        v2.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let v2_bytes = std::fs::read(&v2).unwrap();
-    assert_eq!(u16::from_le_bytes([v2_bytes[8], v2_bytes[9]]), 2);
-    let replay = |flag: &str, path: &Path| {
-        let o = sim(&["replay", flag, path.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        digests(&o)
-    };
-    let from_json = replay("--costate", &json);
-    assert_eq!(from_json.len(), 4);
-    assert_eq!(replay("--gait", &v1), from_json);
-    assert_eq!(replay("--gait", &v2), from_json);
-}
-
-/// A damaged gait file is refused with exit 2 and the reason; `export` of a bad costate file
-/// writes nothing.
-#[test]
-fn corrupted_gaits_are_refused_with_the_reason() {
-    let dir = tempfile::tempdir().unwrap();
-    let good = std::fs::read(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../core/tests/data/tiny-limit.gait"),
-    )
-    .unwrap();
-    let mut flipped = good.clone();
-    flipped[250] ^= 4;
-    let mut version = good.clone();
-    version[8] = 9;
-    let cases: [(&str, Vec<u8>, &str); 5] = [
-        ("flipped.gait", flipped, "checksum"),
-        ("short.gait", good[..good.len() - 1].to_vec(), "length"),
-        ("version.gait", version, "version 9"),
-        ("json.gait", GOOD.as_bytes().to_vec(), "not a gait file"),
-        ("empty.gait", Vec::new(), "not a gait file"),
-    ];
-    for (name, bytes, needle) in cases {
-        let p = dir.path().join(name);
-        std::fs::write(&p, bytes).unwrap();
-        let o = sim(&["replay", "--gait", p.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
-        assert!(stderr(&o).contains(needle), "{name}: {}", stderr(&o));
-        assert!(o.stdout.is_empty());
-    }
-    let missing = dir.path().join("missing.gait");
-    let o = sim(&["replay", "--gait", missing.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-
-    let bad = write(
-        dir.path(),
-        "bad.json",
-        &GOOD.replace("[0.001,0.0,1,0]", "[0.001,0.0,1,0.5]"),
-    );
-    let out = dir.path().join("bad.gait");
-    let o = sim(&["export", "--costate", &bad, "--out", out.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("unit length"), "{}", stderr(&o));
-    assert!(!out.exists());
-    let o = sim(&["replay"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-}
-
 /// Issue 9, defect 9: a closed stdout panicked (exit 101 with a backtrace). A closed pipe
 /// ends quietly with exit 0; a full disk is an I/O error, exit 1, said on stderr.
 #[test]
@@ -582,126 +156,6 @@ fn a_closed_or_full_stdout_does_not_panic() {
     }
 }
 
-/// [`GOOD`] as a binary gait file, after `edit`.
-fn gait_of(edit: impl FnOnce(&mut purcell_sim::costate_file::CostateFile)) -> Vec<u8> {
-    let mut file = purcell_sim::costate_file::CostateFile::parse(GOOD).unwrap();
-    edit(&mut file);
-    file.to_gait().expect("the core's own check accepts it")
-}
-
-/// Issue 21, defect 2: `replay --gait` had no step limit (a gait patched to 2^32 − 1 steps
-/// ran for 90 minutes; 10 000 001 steps were accepted). Now the costate route's limit,
-/// refused at once with exit 2.
-#[test]
-fn gait_files_are_held_to_the_step_limit() {
-    let dir = tempfile::tempdir().unwrap();
-    for steps in [10_000_001, u32::MAX] {
-        let p = dir.path().join(format!("{steps}.gait"));
-        std::fs::write(
-            &p,
-            gait_of(|f| {
-                f.gait.steps = steps;
-                f.gait.checkpoint_every = 0;
-                f.checkpoints.clear();
-            }),
-        )
-        .unwrap();
-        let t0 = Instant::now();
-        let o = sim(&[
-            "replay",
-            "--gait",
-            p.to_str().unwrap(),
-            "--precision",
-            "f64",
-        ]);
-        assert_eq!(o.status.code(), Some(2), "{steps}: {}", stderr(&o));
-        assert!(
-            stderr(&o).contains("more than the limit 10000000"),
-            "{steps}: {}",
-            stderr(&o)
-        );
-        assert!(t0.elapsed() < Duration::from_secs(10), "{steps} steps ran");
-    }
-}
-
-/// Issue 21, defect 4: `export` wrote gait files the f32 firmware cannot fly (exit 0), and
-/// `replay --gait` of them exited 3 with wrong reasons. Both now refuse them with exit 2 and
-/// the costate route's reason; an f64-only replay of such a gait still runs.
-#[test]
-fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
-    type Edit = fn(&mut purcell_sim::costate_file::CostateFile);
-    // With the exit code of the f64-only replay: 0 where it lands, 3 where the law fails on
-    // the way (a μ or ξ of 1e39).
-    let cases: [(Edit, &str, i32); 6] = [
-        (|f| f.gait.model.links[0] = 1e39, "links = 1e39,1.0,1.0", 0),
-        (
-            |f| f.gait.model.links[1] = 1e-50,
-            "links = 1.0,1e-50,1.0",
-            0,
-        ),
-        (|f| f.gait.mu[1] = 1e39, "mu = 0.1,1e39,0.0", 3),
-        (|f| f.gait.h = 1e-50, "step h = 1e-50", 0),
-        (
-            |f| f.checkpoints[0].xi[0] = 1e39,
-            "xi of the checkpoint at k = 100",
-            3,
-        ),
-        (|f| f.gait.model.drag = 1e39, "drag k = 1e39", 0),
-    ];
-    let dir = tempfile::tempdir().unwrap();
-    for (i, (edit, needle, f64_code)) in cases.into_iter().enumerate() {
-        let mut file = purcell_sim::costate_file::CostateFile::parse(GOOD).unwrap();
-        edit(&mut file);
-        let json = write(dir.path(), &format!("{i}.json"), &file.to_json());
-        let out = dir.path().join(format!("{i}.gait"));
-        let o = sim(&["export", "--costate", &json, "--out", out.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
-        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
-        assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
-        assert!(!out.exists(), "{needle}");
-
-        std::fs::write(&out, file.to_gait().unwrap()).unwrap();
-        let o = sim(&["replay", "--gait", out.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
-        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
-        assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
-        let o = sim(&[
-            "replay",
-            "--gait",
-            out.to_str().unwrap(),
-            "--precision",
-            "f64",
-        ]);
-        assert_eq!(o.status.code(), Some(f64_code), "{needle}: {}", stderr(&o));
-    }
-}
-
-/// Issue 21, defect 5: duplicate keys were accepted (the last one won), and `export` turned
-/// such a file into a gait with a fresh checksum.
-#[test]
-fn duplicate_keys_are_refused() {
-    let cases = [
-        GOOD.replace("\"version\":2", "\"version\":2,\"version\":3"),
-        GOOD.replace(
-            "\"version\":2",
-            "\"format\":\"purcell-costate\",\"version\":2",
-        ),
-        GOOD.replace("\"xi0\"", "\"mu\":[0.1,0.2,0.0],\"xi0\""),
-        GOOD.replace("\"drag\":1", "\"links\":[2,2,2],\"drag\":1"),
-        GOOD.replace("\"k\":100", "\"k\":100,\"k\":100"),
-    ];
-    let dir = tempfile::tempdir().unwrap();
-    for text in &cases {
-        refused_file("dup.json", text, "duplicate key");
-        let p = write(dir.path(), "dup.json", text);
-        let out = dir.path().join("dup.gait");
-        let o = sim(&["export", "--costate", &p, "--out", out.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
-        assert!(stderr(&o).contains("duplicate key"), "{}", stderr(&o));
-        assert!(!out.exists());
-    }
-}
-
 /// Issue 21, defect 7: `sweep --alpha0 -0.5,0.3` was refused ("unexpected argument '-0'"),
 /// and its help showed a default `0 0` that could not be typed back.
 #[test]
@@ -719,16 +173,50 @@ fn sweep_takes_negative_shapes_and_shows_defaults_that_paste_back() {
             "--step",
             "0",
             "--out",
-            out.to_str().unwrap(),
+            arg(&out),
         ]);
-        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-        assert!(
-            stderr(&o).contains("step h must be positive"),
-            "{alpha0}: {}",
-            stderr(&o)
-        );
+        assert_exit(&o, 2, "step h must be positive");
     }
     assert!(!out.exists());
+}
+
+/// `solve` and `sweep` share their problem's flags (one clap struct): a value that begins
+/// with `-` is read as typed by both and refused by the same check with the same message
+/// (`sweep` once refused `--horizon -inf` as an unknown flag `-i`), and nothing is written.
+#[test]
+fn solve_and_sweep_read_the_problem_flags_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out = arg(&out);
+    for flags in [
+        ["--horizon", "-inf"],
+        ["--horizon", "-1"],
+        ["--step", "-nan"],
+        ["--alpha-max", "-inf"],
+        ["--alpha0", "-0.5,-4"],
+        ["--links", "-1,1,1"],
+        ["--drag", "-1"],
+        ["--ratio", "-2"],
+        ["--starts", "0"],
+    ] {
+        let solve = sim(&["solve", flags[0], flags[1], "--out", out]);
+        let sweep = sim(&["sweep", flags[0], flags[1], "--out", out]);
+        assert_eq!(
+            solve.status.code(),
+            Some(2),
+            "{flags:?}: {}",
+            stderr(&solve)
+        );
+        assert_eq!(
+            sweep.status.code(),
+            Some(2),
+            "{flags:?}: {}",
+            stderr(&sweep)
+        );
+        assert_eq!(stderr(&solve), stderr(&sweep), "{flags:?}");
+        assert!(!stderr(&solve).contains("unexpected argument"), "{flags:?}");
+    }
+    assert!(!Path::new(out).exists());
 }
 
 /// The limits as the binary states them, digits grouped by spaces as in the README.
@@ -819,11 +307,12 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
 fn quick_report(target: &str, extra: &[&str]) -> (Output, Option<serde_json::Value>) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let mut args = vec!["solve", "--out", out.to_str().unwrap(), "--no-plots"];
-    args.extend_from_slice(&["--horizon", "10", "--step", "0.1", "--starts", "1"]);
-    args.extend_from_slice(&["--target", target]);
-    args.extend_from_slice(extra);
-    let o = sim(&args);
+    let o = Solve::quick()
+        .target(target)
+        .no_plots()
+        .out(&out)
+        .with(extra)
+        .run();
     let report = std::fs::read(out.join("report.json"))
         .ok()
         .map(|b| serde_json::from_slice(&b).unwrap());
@@ -852,14 +341,8 @@ fn the_target_angle_is_taken_modulo_two_pi() {
 fn an_explicit_checkpoint_spacing_is_below_the_horizon() {
     for every in ["100", "150"] {
         let (o, report) = quick_report("0.01,0.01,0", &["--checkpoint-every", every]);
-        assert_eq!(o.status.code(), Some(2), "{every}: {}", stderr(&o));
-        assert!(
-            stderr(&o).contains(&format!(
-                "--checkpoint-every {every} is not below the horizon's 100 steps"
-            )),
-            "{}",
-            stderr(&o)
-        );
+        let says = format!("--checkpoint-every {every} is not below the horizon's 100 steps");
+        assert_exit(&o, 2, &says);
         assert!(report.is_none());
     }
     for every in [
@@ -880,34 +363,13 @@ fn an_explicit_checkpoint_spacing_is_below_the_horizon() {
 /// the shape `0.1,0.2`). It is a usage error now, lists and numbers alike.
 #[test]
 fn a_flag_given_twice_is_refused() {
-    for args in [
-        &["connection", "--alpha", "0.1", "--alpha", "0.2"][..],
-        &[
-            "connection",
-            "--alpha",
-            "0.1,0.2",
-            "--links",
-            "1,1",
-            "--links",
-            "1",
-        ],
-        &[
-            "connection",
-            "--alpha",
-            "0.1,0.2",
-            "--drag",
-            "1",
-            "--drag",
-            "2",
-        ],
+    for flags in [
+        &["--alpha", "0.1", "--alpha", "0.2"][..],
+        &["--alpha", "0.1,0.2", "--links", "1,1", "--links", "1"],
+        &["--alpha", "0.1,0.2", "--drag", "1", "--drag", "2"],
     ] {
-        let o = sim(args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-        assert!(
-            stderr(&o).contains("cannot be used multiple times"),
-            "{args:?}: {}",
-            stderr(&o)
-        );
+        let args = [&["connection"][..], flags].concat();
+        assert_exit(&sim(&args), 2, "cannot be used multiple times");
     }
 }
 
@@ -939,24 +401,11 @@ fn no_worker_threads_is_exit_1_not_a_panic() {
         "--clear-groups",
     ])
     .arg(env!("CARGO_BIN_EXE_purcell-sim"))
-    .args([
-        "solve",
-        "--out",
-        out.to_str().unwrap(),
-        "--no-plots",
-        "--horizon",
-        "10",
-    ])
-    .args(["--step", "0.1", "--starts", "1", "--target", "0.01,0.01,0"])
+    .args(Solve::quick().no_plots().out(&out).args())
     .stdin(Stdio::null())
     .stdout(Stdio::piped())
     .stderr(Stdio::piped());
     let o = wait(c.spawn().unwrap(), LIMIT, "solve without threads");
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("cannot start worker threads"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&o, 1, "cannot start worker threads");
     assert!(!out.exists());
 }

@@ -5,6 +5,7 @@
 
 mod common;
 
+use common::fixtures::COSTATE_V3;
 use common::*;
 use proptest::prelude::*;
 use std::time::Duration;
@@ -110,17 +111,11 @@ proptest! {
             std::fs::create_dir(&out).unwrap();
             std::fs::write(out.join("mine.txt"), "precious").unwrap();
         }
-        let starts = starts.to_string();
-        let mut args = vec![
-            "solve", "--out", out.to_str().unwrap(), "--no-plots",
-            "--target", &target, "--alpha0", &alpha0, "--links", &links,
-            "--horizon", &horizon, "--step", &step, "--alpha-max", &alpha_max,
-            "--starts", &starts,
-        ];
-        if force {
-            args.push("--force");
-        }
-        let o = sim_in(None, &args, RANDOM_LIMIT);
+        let solve = Solve::paper().out(&out).no_plots()
+            .target(&target).alpha0(&alpha0).flag("links", &links)
+            .horizon(&horizon).step(&step).alpha_max(&alpha_max)
+            .starts(starts);
+        let o = if force { solve.force() } else { solve }.run_within(RANDOM_LIMIT);
         let replaced = o.status.code() == Some(0) && occupied && force;
         contract(&o, !occupied && out.exists())?;
         if occupied && !replaced {
@@ -136,7 +131,7 @@ proptest! {
             prop_assert!(out.join("purcell-sim-manifest.json").exists());
             prop_assert_eq!(out.join("mine.txt").exists(), false);
             let c = out.join("costate.json");
-            let r = sim_in(None, &["replay", "--costate", c.to_str().unwrap()], RANDOM_LIMIT);
+            let r = sim_in(None, &["replay", "--costate", arg(&c)], RANDOM_LIMIT);
             contract(&r, false)?;
             // A solved problem is valid in f32 (solve checks it), so its replay is not
             // refused: it lands (0) or a replay misses (3, say which).
@@ -168,13 +163,13 @@ proptest! {
             .find(|c: char| !(c == '-' || c == '.' || c == 'e' || c.is_ascii_digit()))
             .map_or(pattern.len(), |e| start + e);
         let mutated = format!("{}{}{}", &pattern[..start], value, &pattern[end..]);
-        let text = COSTATE_FILE.replacen(pattern, &mutated, 1);
+        let text = COSTATE_V3.replacen(pattern, &mutated, 1);
         let tmp = tempfile::tempdir().unwrap();
         let c = tmp.path().join("c.json");
         std::fs::write(&c, &text).unwrap();
         let report = tmp.path().join("r.json");
-        let o = sim_in(None, &["replay", "--costate", c.to_str().unwrap(),
-                               "--out", report.to_str().unwrap()], RANDOM_LIMIT);
+        let o = sim_in(None, &["replay", "--costate", arg(&c), "--out", arg(&report)],
+                       RANDOM_LIMIT);
         contract(&o, report.exists())?;
         prop_assert_eq!(std::fs::read_to_string(&c).unwrap(), text);
         if o.status.code() == Some(3) {
@@ -182,10 +177,3 @@ proptest! {
         }
     }
 }
-
-/// A version-3 costate file with a joint limit and one arc.
-const COSTATE_FILE: &str = r#"{"format":"purcell-costate","version":3,
- "model":{"links":[1,1,1],"drag":1,"ratio":2},"h":0.01,"steps":200,"alpha0":[0,0],
- "target":[0.1,0.1,0],"mu":[0.1,0.2,0.0],"xi0":[0.01,-0.02],"checkpoint_every":100,
- "alpha_max":0.5,"arcs":[{"joint":1,"sign":1,"first":90,"last":100}],
- "checkpoints":[{"k":100,"alpha":[0.5,-0.02],"g":[0.001,0.0,1,0],"xi":[0.01,-0.02]}]}"#;

@@ -1,33 +1,40 @@
-//! The "no solution" paths: `solve` exits 3 and writes nothing when every extremal found is
-//! inadmissible (`NoneAdmissible`) or none of the coarse search's extremals can be carried to
-//! the problem's grid (`NotRefined`); `sweep` reports each target it cannot solve in its CSV
-//! and still exits 0.
+//! The "no solution" paths: `solve` exits 3 and writes nothing when no start reaches the
+//! target, every extremal found is inadmissible (`NoneAdmissible`) or none of the coarse
+//! search's extremals can be carried to the problem's grid (`NotRefined`); `sweep` reports
+//! each target it cannot solve in its CSV and still exits 0.
 
 mod common;
 
 use common::*;
 
+/// Runs `solve` into a missing `new/parents/out`: exit 3 with an error message, nothing on
+/// stdout, nothing written (no output, no staging directory, not even the parents it
+/// created); what it said on stderr.
+fn no_solution(solve: Solve) -> String {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = solve.out(&tmp.path().join("new/parents/out")).run();
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{e}");
+    assert!(e.starts_with("error: "), "{e}");
+    assert!(o.stdout.is_empty());
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
+    e
+}
+
+/// A target 40 m away in 10 s: no start reaches it; the message names the best residual.
+#[test]
+fn unreachable_target_exits_3_with_best_residual_and_no_output() {
+    let e = no_solution(Solve::paper().target("40,0,0").horizon("10").starts(2));
+    assert!(e.contains("best residual"), "{e}");
+}
+
 /// `ḡ = (0.15, 0.25, −0.6)` on the paper's grid: every extremal the search finds swings a
 /// joint past the links' overlap (`|α_i| ≥ π`), so none is admissible.
 #[test]
 fn solve_exits_3_when_no_extremal_is_admissible() {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("out");
-    let o = sim(&[
-        "solve",
-        "--target",
-        "0.15,0.25,-0.6",
-        "--no-plots",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let e = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{e}");
-    assert!(e.starts_with("error: "), "{e}");
+    let e = no_solution(Solve::paper().target("0.15,0.25,-0.6").no_plots());
     assert!(e.contains("none admissible"), "{e}");
     assert!(e.contains("at or past the joint limit"), "{e}");
-    assert!(!out.exists());
-    assert!(o.stdout.is_empty());
 }
 
 /// `ḡ = (0.02, 0.02, 0)` within `|α_i| ≤ 0.62` in 20 s: at the edge of what the limit can
@@ -37,33 +44,20 @@ fn solve_exits_3_when_no_extremal_is_admissible() {
 /// guards the exit path, not the failure.)
 #[test]
 fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("out");
-    let o = sim(&[
-        "solve",
-        "--target",
-        "0.02,0.02,0",
-        "--horizon",
-        "20",
-        "--step",
-        "0.02",
-        "--alpha-max",
-        "0.62",
-        "--starts",
-        "16",
-        "--no-plots",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let e = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{e}");
-    assert!(e.starts_with("error: "), "{e}");
+    let e = no_solution(
+        Solve::paper()
+            .target("0.02,0.02,0")
+            .horizon("20")
+            .step("0.02")
+            .alpha_max("0.62")
+            .starts(16)
+            .no_plots(),
+    );
     assert!(
         e.contains("extremal(s) of the coarse search, none carried to the problem's grid"),
         "{e}"
     );
     assert!(e.contains("smallest terminal defect"), "{e}");
-    assert!(!out.exists());
 }
 
 /// Isotropic drag (`--ratio 1`): the swimmer cannot move, so no target of the lattice is
@@ -89,7 +83,7 @@ fn sweep_reports_unreachable_targets_and_exits_0() {
         "4",
         "--no-plots",
         "--out",
-        out.to_str().unwrap(),
+        arg(&out),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
@@ -101,8 +95,7 @@ fn sweep_reports_unreachable_targets_and_exits_0() {
             "{row}"
         );
     }
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let report = report(&out);
     assert_eq!(report["solved"], 0);
     assert_eq!(report["targets"], 2);
 }

@@ -4,6 +4,9 @@
 //! are drawn (dashed bound, shaded spans, highlighted stretches, legend entries) exactly when
 //! the gait has them. (How they look is checked by looking at them.)
 
+mod common;
+
+use common::{Solve, arg, assert_exit, read_dir, sim};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::{Arc, Costate, Kinematics, Replay, State, Swimmer};
 use purcell_sim::costate_file::{CheckpointRecord, CostateFile, GaitParams, Model};
@@ -15,6 +18,7 @@ use purcell_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
 use purcell_solver::problem::{OVERLAP, Problem};
 use purcell_solver::solver::Trajectory;
 use std::collections::BTreeMap;
+use std::path::Path;
 
 /// A gait of 1 000 steps from an arbitrary costate (figures do not need an extremal), its
 /// costate file with checkpoints every 100 steps, and the problem it solves.
@@ -351,43 +355,10 @@ fn a_trajectory_that_is_not_a_gait_is_refused() {
     assert!(matches!(e, PlotError::Trajectory { .. }), "{e}");
 }
 
-fn sim(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_purcell-sim"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
-
-fn read_dir(dir: &std::path::Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            (
-                e.file_name().to_string_lossy().into_owned(),
-                std::fs::read(e.path()).unwrap(),
-            )
-        })
-        .collect()
-}
-
-/// `solve --degrees` of a small problem (10 s) with `extra` arguments into `out`: exit 0, every
-/// figure written; what it wrote.
-fn solve_small(out: &std::path::Path, extra: &[&str]) -> BTreeMap<String, Vec<u8>> {
-    let mut args = vec![
-        "solve",
-        "--target",
-        "0.02,0.02,0",
-        "--horizon",
-        "10",
-        "--starts",
-        "2",
-        "--degrees",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let o = sim(&args);
+/// `solve` of [`Solve::small`] with `extra` arguments into `out`: exit 0, every figure
+/// written; what it wrote.
+fn solve_small(out: &Path, extra: &[&str]) -> BTreeMap<String, Vec<u8>> {
+    let o = Solve::small().out(out).with(extra).run();
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{extra:?}: {err}");
     let files = read_dir(out);
@@ -396,11 +367,18 @@ fn solve_small(out: &std::path::Path, extra: &[&str]) -> BTreeMap<String, Vec<u8
     files
 }
 
+/// `field` with `args`, which must succeed.
+fn field(args: &[&str]) {
+    let o = sim(&[&["field"][..], args].concat());
+    assert_exit(&o, 0, "");
+}
+
+/// `solve` draws every figure; under a joint limit it reaches, the gait slides along it on
+/// arcs, which the figures mark, and `field --gait` of its costate file draws them too.
 #[test]
-fn solve_and_field_commands_write_every_figure() {
+fn solve_writes_every_figure_and_marks_the_arcs_on_a_joint_limit() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("small");
-    let files = solve_small(&out, &[]);
+    let files = solve_small(&dir.path().join("small"), &[]);
     for name in ["trajectory.csv", "costate.json", "report.json"] {
         assert!(files.contains_key(name), "{name}");
     }
@@ -410,7 +388,8 @@ fn solve_and_field_commands_write_every_figure() {
 
     // The same problem under a joint limit it reaches: the gait slides along it on arcs
     // (two, on the lower limit, found by the solver), which the figures mark.
-    let files = solve_small(&dir.path().join("limited"), &["--alpha-max", "1.2"]);
+    let limited = dir.path().join("limited");
+    let files = solve_small(&limited, &["--alpha-max", "1.2"]);
     let report: serde_json::Value = serde_json::from_slice(&files["report.json"]).unwrap();
     let arcs = report["arcs"].as_array().unwrap().len();
     assert!(arcs > 0);
@@ -433,75 +412,52 @@ fn solve_and_field_commands_write_every_figure() {
 
     // `field --gait` of the constrained gait's costate file: its limit and arcs come with it.
     let limited_field = dir.path().join("limited-field");
-    let costate = dir.path().join("limited").join("costate.json");
-    let o = sim(&[
-        "field",
-        "--gait",
-        costate.to_str().unwrap(),
-        "--out",
-        limited_field.to_str().unwrap(),
-    ]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let costate = limited.join("costate.json");
+    field(&["--gait", arg(&costate), "--out", arg(&limited_field)]);
     let m = limit_marks(&read_dir(&limited_field)["field.svg"]);
     assert!(m.limit_label && m.arc_label && m.stretches >= 2, "{m:?}");
+}
 
-    // The field of that gait, one row, and the field of a swimmer given by its parameters.
-    let costate = out.join("costate.json");
-    let field = dir.path().join("field");
-    let o = sim(&[
-        "field",
+/// `field` of a gait (the small problem's, one row) and of a swimmer given by its
+/// parameters; a gait's file brings its own swimmer, and a missing file writes nothing.
+#[test]
+fn field_draws_a_gait_or_a_swimmer() {
+    let dir = tempfile::tempdir().unwrap();
+    let small = dir.path().join("small");
+    assert_exit(&Solve::small().no_plots().out(&small).run(), 0, "");
+    let costate = small.join("costate.json");
+    let out = dir.path().join("field");
+    field(&[
         "--gait",
-        costate.to_str().unwrap(),
+        arg(&costate),
         "--component",
         "theta",
         "--out",
-        field.to_str().unwrap(),
+        arg(&out),
     ]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let files = read_dir(&field);
+    let files = read_dir(&out);
     // field.svg, field.png, field.csv and the output manifest.
     assert_eq!(files.len(), 4);
     assert!(files.contains_key(purcell_sim::output::MANIFEST));
     check_figures(&files, &["field"]);
-    let o = sim(&["field", "--ratio", "3", "--out", field.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    check_field_csv(&read_dir(&field)["field.csv"]);
+    field(&["--ratio", "3", "--out", arg(&out)]);
+    check_field_csv(&read_dir(&out)["field.csv"]);
 
     // A gait's file brings its own swimmer; a missing file writes nothing.
     let o = sim(&[
         "field",
         "--gait",
-        costate.to_str().unwrap(),
+        arg(&costate),
         "--links",
         "1,2,1",
         "--out",
-        field.to_str().unwrap(),
+        arg(&out),
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--links"));
     let nowhere = dir.path().join("nowhere");
-    let o = sim(&[
-        "field",
-        "--gait",
-        dir.path().join("missing.json").to_str().unwrap(),
-        "--out",
-        nowhere.to_str().unwrap(),
-    ]);
+    let missing = dir.path().join("missing.json");
+    let o = sim(&["field", "--gait", arg(&missing), "--out", arg(&nowhere)]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!nowhere.exists());
 }

@@ -30,17 +30,16 @@ fn solve_into_a_directory_of_other_files_changes_nothing() {
     let dir = tmp.path().join("mine");
     users_files(&dir);
     let before = snapshot(tmp.path());
-    let o = quick_solve(&dir, &[]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+    let solve = Solve::quick().out(&dir);
+    assert_exit(&solve.run(), 2, "--force");
     assert_eq!(snapshot(tmp.path()), before);
     // Also when it holds only a file of a name we write, or an empty manifest.
     std::fs::remove_dir_all(&dir).unwrap();
     std::fs::create_dir(&dir).unwrap();
     std::fs::write(dir.join("costate.json"), "mine").unwrap();
-    assert_eq!(quick_solve(&dir, &[]).status.code(), Some(2));
+    assert_eq!(solve.run().status.code(), Some(2));
     std::fs::write(dir.join("purcell-sim-manifest.json"), "{}").unwrap();
-    assert_eq!(quick_solve(&dir, &[]).status.code(), Some(2));
+    assert_eq!(solve.run().status.code(), Some(2));
     assert_eq!(std::fs::read(dir.join("costate.json")).unwrap(), b"mine");
 }
 
@@ -50,11 +49,9 @@ fn solve_into_the_current_directory_changes_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     users_files(tmp.path());
     let before = snapshot(tmp.path());
-    let pwd = tmp.path().to_str().unwrap().to_string();
+    let pwd = arg(tmp.path()).to_string();
     for out in [".", &pwd[..], "chapter/.."] {
-        let mut args = vec!["solve", "--out", out];
-        args.extend_from_slice(QUICK);
-        let o = sim_in(Some(tmp.path()), &args, LIMIT);
+        let o = Solve::quick().out(Path::new(out)).run_in(tmp.path());
         assert_eq!(o.status.code(), Some(2), "{out}: {}", stderr(&o));
         assert_eq!(snapshot(tmp.path()), before, "{out}");
     }
@@ -67,7 +64,7 @@ fn solve_onto_a_file_or_a_device_changes_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     let file = tmp.path().join("results");
     std::fs::write(&file, "precious").unwrap();
-    let o = quick_solve(&file, &[]);
+    let o = Solve::quick().out(&file).run();
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert_eq!(
         snapshot(tmp.path()),
@@ -75,9 +72,8 @@ fn solve_onto_a_file_or_a_device_changes_nothing() {
     );
     #[cfg(unix)]
     for force in [&[][..], &["--force"][..]] {
-        let o = quick_solve(Path::new("/dev/null"), force);
-        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-        assert!(stderr(&o).contains("special file"), "{}", stderr(&o));
+        let o = Solve::quick().out(Path::new("/dev/null")).with(force).run();
+        assert_exit(&o, 2, "special file");
     }
 }
 
@@ -87,7 +83,9 @@ fn solve_onto_a_file_or_a_device_changes_nothing() {
 fn the_main_job_twice_in_a_row_succeeds() {
     let tmp = tempfile::tempdir().unwrap();
     for _ in 0..2 {
-        let o = sim_in(Some(tmp.path()), &["solve", "--out", "out/paper"], LIMIT);
+        let o = Solve::paper()
+            .out(Path::new("out/paper"))
+            .run_in(tmp.path());
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         let costate = "out/paper/costate.json";
         let o = sim_in(Some(tmp.path()), &["replay", "--costate", costate], LIMIT);
@@ -104,26 +102,21 @@ fn the_main_job_twice_in_a_row_succeeds() {
 fn a_result_changed_by_its_user_is_not_replaced_without_force() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    assert_eq!(quick_solve(&out, &[]).status.code(), Some(0));
+    let solve = Solve::quick().out(&out);
+    assert_eq!(solve.run().status.code(), Some(0));
     let report = out.join("report.json");
     let mut text = std::fs::read_to_string(&report).unwrap();
     text.push_str("my note\n");
     std::fs::write(&report, &text).unwrap();
     let before = snapshot(tmp.path());
-    let o = quick_solve(&out, &[]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("report.json, changed since"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&solve.run(), 2, "report.json, changed since");
     assert_eq!(snapshot(tmp.path()), before);
     // With --force it is replaced, by exactly our files.
     std::fs::write(out.join("extra.txt"), "x").unwrap();
-    assert_eq!(quick_solve(&out, &["--force"]).status.code(), Some(0));
+    assert_eq!(solve.clone().force().run().status.code(), Some(0));
     assert!(!out.join("extra.txt").exists());
     assert_ne!(std::fs::read_to_string(&report).unwrap(), text);
-    assert_eq!(quick_solve(&out, &[]).status.code(), Some(0));
+    assert_eq!(solve.run().status.code(), Some(0));
 }
 
 /// Issue 9, defect 3: replacing was two renames, and between them the output path did not
@@ -132,7 +125,7 @@ fn a_result_changed_by_its_user_is_not_replaced_without_force() {
 fn replacing_a_result_never_leaves_the_path_missing() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    assert_eq!(quick_solve(&out, &[]).status.code(), Some(0));
+    assert_eq!(Solve::quick().out(&out).run().status.code(), Some(0));
     let (stop, missing) = (
         Arc::new(AtomicBool::new(false)),
         Arc::new(AtomicUsize::new(0)),
@@ -148,8 +141,7 @@ fn replacing_a_result_never_leaves_the_path_missing() {
         })
     };
     for _ in 0..10 {
-        let o = quick_solve(&out, &["--no-plots"]);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        solved(&out);
     }
     stop.store(true, Ordering::Relaxed);
     poller.join().unwrap();
@@ -175,7 +167,7 @@ fn a_bad_out_is_refused_before_the_solve() {
         &under_file,
     ] {
         let t0 = Instant::now();
-        let o = sim(&["solve", "--starts", "100", "--out", out.to_str().unwrap()]);
+        let o = Solve::paper().starts(100).out(out).run();
         assert_eq!(o.status.code(), Some(2), "{out:?}: {}", stderr(&o));
         assert!(
             t0.elapsed() < Duration::from_secs(10),
@@ -198,26 +190,23 @@ fn replay_out_never_overwrites_its_input_or_a_foreign_file() {
     let tmp = tempfile::tempdir().unwrap();
     let c = tmp.path().join("c.json");
     std::fs::write(&c, COSTATE).unwrap();
-    let cs = c.to_str().unwrap();
+    let cs = arg(&c);
     let alias = tmp.path().join("alias.json");
     #[cfg(unix)]
     std::os::unix::fs::symlink("c.json", &alias).unwrap();
     #[cfg(not(unix))]
     std::fs::hard_link(&c, &alias).unwrap();
-    for out in [cs, alias.to_str().unwrap()] {
+    for out in [cs, arg(&alias)] {
         for force in [&[][..], &["--force"][..]] {
-            let mut args = vec!["replay", "--costate", cs, "--out", out];
-            args.extend_from_slice(force);
-            let o = sim(&args);
-            assert_eq!(o.status.code(), Some(2), "{out} {force:?}: {}", stderr(&o));
-            assert!(stderr(&o).contains("input"), "{}", stderr(&o));
+            let args = [&["replay", "--costate", cs, "--out", out][..], force].concat();
+            assert_exit(&sim(&args), 2, "input");
         }
     }
     assert_eq!(std::fs::read_to_string(&c).unwrap(), COSTATE);
 
     // A report of ours is replaced; somebody else's file only with --force.
     let r = tmp.path().join("r.json");
-    let rs = r.to_str().unwrap();
+    let rs = arg(&r);
     for _ in 0..2 {
         let o = sim(&["replay", "--costate", cs, "--out", rs]);
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -240,9 +229,9 @@ fn replay_out_never_overwrites_its_input_or_a_foreign_file() {
     assert_eq!(names, ["alias.json", "c.json", "r.json"]);
 }
 
-/// `solve` of [`QUICK`] (no figures) into `out`, which must succeed.
+/// [`Solve::quick`] (no figures) into `out`, which must succeed.
 fn solved(out: &Path) {
-    let o = quick_solve(out, &["--no-plots"]);
+    let o = Solve::quick().no_plots().out(out).run();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
@@ -261,28 +250,23 @@ fn no_output_names_or_contains_an_input_even_with_force() {
     let alias = tmp.path().join("alias.json");
     std::os::unix::fs::symlink(&costate, &alias).unwrap();
     let before = snapshot(tmp.path());
-    let s = |p: &Path| p.to_str().unwrap().to_string();
     let cases = [
-        (&c, s(&c)),
-        (&costate, s(&res)),
-        (&alias, s(&res)),
-        (&c, s(tmp.path())),
-        (&costate, format!("{}/./res/", s(tmp.path()))),
+        (&c, c.clone()),
+        (&costate, res.clone()),
+        (&alias, res.clone()),
+        (&c, tmp.path().to_path_buf()),
+        (&costate, tmp.path().join("./res/")),
     ];
     for (input, out) in &cases {
         for force in [&[][..], &["--force"][..]] {
-            let mut solve = vec!["solve", "--from", input.to_str().unwrap(), "--out", out];
-            solve.extend_from_slice(QUICK);
-            let mut field = vec!["field", "--gait", input.to_str().unwrap(), "--out", out];
-            for args in [&mut solve, &mut field] {
-                args.extend_from_slice(force);
-                let o = sim(args);
-                assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-                assert!(
-                    stderr(&o).contains("is or holds an input of this command"),
-                    "{args:?}: {}",
-                    stderr(&o)
-                );
+            let solve = Solve::quick().from(input).out(out).with(force);
+            let field = [
+                &["field", "--gait", arg(input), "--out", arg(out)][..],
+                force,
+            ]
+            .concat();
+            for args in [solve.args(), field] {
+                assert_exit(&sim(&args), 2, "is or holds an input of this command");
             }
         }
     }
@@ -316,15 +300,12 @@ fn unusable_outs_are_refused_before_the_work() {
     use std::os::unix::fs::{MetadataExt, PermissionsExt};
     let tmp = tempfile::tempdir().unwrap();
     let refused = |out: &str, needle: &str, user: Option<u32>| {
-        let mut args = vec!["solve", "--out", out, "--force", "--no-plots"];
-        args.extend_from_slice(QUICK);
-        let mut c = command(&args);
+        let solve = Solve::quick().out(Path::new(out)).force().no_plots();
+        let mut c = command(&solve.args());
         if let Some(uid) = user {
             std::os::unix::process::CommandExt::uid(&mut c, uid);
         }
-        let o = wait(c.spawn().unwrap(), LIMIT, out);
-        assert_eq!(o.status.code(), Some(2), "{out}: {}", stderr(&o));
-        assert!(stderr(&o).contains(needle), "{out}: {}", stderr(&o));
+        assert_exit(&wait(c.spawn().unwrap(), LIMIT, out), 2, needle);
     };
 
     // A mount point (its device differs from its parent's).
@@ -338,23 +319,19 @@ fn unusable_outs_are_refused_before_the_work() {
     solved(&real);
     let link = tmp.path().join("link");
     std::os::unix::fs::symlink(&real, &link).unwrap();
-    refused(
-        &format!("{}/", link.to_str().unwrap()),
-        "is a symbolic link",
-        None,
-    );
+    refused(&format!("{}/", arg(&link)), "is a symbolic link", None);
 
     // An immutable result of ours (where chattr works: root on a filesystem with flags).
     let frozen = tmp.path().join("frozen");
     solved(&frozen);
     let chattr = |flag: &str| {
         std::process::Command::new("chattr")
-            .args([flag, frozen.to_str().unwrap()])
+            .args([flag, arg(&frozen)])
             .status()
             .is_ok_and(|s| s.success())
     };
     if chattr("+i") {
-        refused(frozen.to_str().unwrap(), "cannot be replaced", None);
+        refused(arg(&frozen), "cannot be replaced", None);
         assert!(chattr("-i"));
     }
 
@@ -367,7 +344,7 @@ fn unusable_outs_are_refused_before_the_work() {
         std::fs::set_permissions(&sticky, std::fs::Permissions::from_mode(0o1777)).unwrap();
         let theirs = sticky.join("theirs");
         solved(&theirs);
-        refused(theirs.to_str().unwrap(), "another user's", Some(nobody));
+        refused(arg(&theirs), "another user's", Some(nobody));
         // And a result of one's own that one cannot write into.
         let mine = sticky.join("mine");
         solved(&mine);
@@ -380,7 +357,7 @@ fn unusable_outs_are_refused_before_the_work() {
             std::os::unix::fs::lchown(f, Some(nobody), Some(nobody)).unwrap();
         }
         std::fs::set_permissions(&mine, std::fs::Permissions::from_mode(0o555)).unwrap();
-        refused(mine.to_str().unwrap(), "cannot be replaced", Some(nobody));
+        refused(arg(&mine), "cannot be replaced", Some(nobody));
         std::fs::set_permissions(&mine, std::fs::Permissions::from_mode(0o755)).unwrap();
         assert_eq!(
             std::fs::read_dir(&sticky).unwrap().count(),
@@ -428,14 +405,7 @@ fn an_output_name_of_255_bytes_is_written() {
     solved(&out);
     let report = tmp.path().join(format!("{}.json", "r".repeat(250)));
     let costate = out.join("costate.json");
-    let args = [
-        "replay",
-        "--costate",
-        costate.to_str().unwrap(),
-        "--out",
-        report.to_str().unwrap(),
-    ];
-    let o = sim(&args);
+    let o = sim(&["replay", "--costate", arg(&costate), "--out", arg(&report)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
@@ -453,13 +423,7 @@ fn a_replaced_output_keeps_its_permissions() {
     assert_eq!(mode(&out), 0o700);
     let report = tmp.path().join("r.json");
     let costate = out.join("costate.json");
-    let replay = [
-        "replay",
-        "--costate",
-        costate.to_str().unwrap(),
-        "--out",
-        report.to_str().unwrap(),
-    ];
+    let replay = ["replay", "--costate", arg(&costate), "--out", arg(&report)];
     assert_eq!(sim(&replay).status.code(), Some(0));
     std::fs::set_permissions(&report, std::fs::Permissions::from_mode(0o600)).unwrap();
     assert_eq!(sim(&replay).status.code(), Some(0));
@@ -472,17 +436,11 @@ fn a_replaced_output_keeps_its_permissions() {
 fn a_result_of_another_subcommand_is_replaced_only_with_force() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    let o = sim(&["field", "--out", out.to_str().unwrap()]);
+    let o = sim(&["field", "--out", arg(&out)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let before = snapshot(&out);
-    let o = quick_solve(&out, &["--no-plots"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("is a result of `purcell-sim field`"),
-        "{}",
-        stderr(&o)
-    );
+    let solve = Solve::quick().no_plots().out(&out);
+    assert_exit(&solve.run(), 2, "is a result of `purcell-sim field`");
     assert_eq!(snapshot(&out), before);
-    let o = quick_solve(&out, &["--no-plots", "--force"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_exit(&solve.force().run(), 0, "");
 }

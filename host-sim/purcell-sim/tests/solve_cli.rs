@@ -3,38 +3,16 @@
 
 mod common;
 
-use std::path::Path;
-use std::process::Output;
+use common::{Solve, arg, sim_in};
 use std::time::Duration;
-
-/// Runs the binary; fails the test if it is still running after `limit`.
-fn sim(args: &[&str], limit: Duration) -> Output {
-    common::sim_in(None, args, limit)
-}
-
-fn report(dir: &Path) -> serde_json::Value {
-    serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap()
-}
 
 const MINUTE: Duration = Duration::from_secs(60);
 
 #[test]
 fn the_zero_target_returns_cost_zero() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("stay");
-    let o = sim(
-        &[
-            "solve",
-            "--target",
-            "0,0,0",
-            "--no-plots",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        MINUTE,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r = report(&out);
+    let zero = Solve::paper().target("0,0,0").no_plots();
+    let (r, _) = zero.out(&dir.path().join("stay")).solved(MINUTE);
     assert_eq!(r["cost"].as_f64(), Some(0.0));
     assert_eq!(r["local_min"].as_bool(), Some(true));
 }
@@ -53,9 +31,11 @@ fn starts_near_the_limit_do_not_hang() {
     .enumerate()
     {
         let out = dir.path().join(format!("o{i}"));
-        let mut args = vec!["solve", "--no-plots", "--out", out.to_str().unwrap()];
-        args.extend_from_slice(extra);
-        let o = sim(&args, 2 * MINUTE);
+        let o = Solve::paper()
+            .no_plots()
+            .out(&out)
+            .with(extra)
+            .run_within(2 * MINUTE);
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(*code), "{extra:?}: {e}");
         if *code == 3 {
@@ -75,7 +55,6 @@ fn starts_near_the_limit_do_not_hang() {
 fn bad_or_hopeless_joint_limits_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o");
-    let out_s = out.to_str().unwrap();
     for (extra, code, says) in [
         (
             &["--alpha-max", "3.2"][..],
@@ -104,9 +83,11 @@ fn bad_or_hopeless_joint_limits_are_refused() {
         ),
         (&["--alpha-max", "0.05"][..], 3, "best residual"),
     ] {
-        let mut args = vec!["solve", "--no-plots", "--out", out_s];
-        args.extend_from_slice(extra);
-        let o = sim(&args, MINUTE);
+        let o = Solve::paper()
+            .no_plots()
+            .out(&out)
+            .with(extra)
+            .run_within(MINUTE);
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(code), "{extra:?}: {stderr}");
         assert!(stderr.contains(says), "{extra:?}: {stderr}");
@@ -121,19 +102,11 @@ fn bad_or_hopeless_joint_limits_are_refused() {
 fn a_joint_limit_gives_a_gait_within_it_with_its_arcs() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("limited");
-    let o = sim(
-        &[
-            "solve",
-            "--alpha-max",
-            "1.5",
-            "--no-plots",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        2 * MINUTE,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r = report(&out);
+    let (r, _) = Solve::paper()
+        .alpha_max("1.5")
+        .no_plots()
+        .out(&out)
+        .solved(2 * MINUTE);
     assert!(r["max_abs_alpha"].as_f64().unwrap() <= 1.5 * (1.0 + 1e-13));
     assert_eq!(r["problem"]["alpha_max"].as_f64(), Some(1.5));
     let arcs = r["arcs"].as_array().unwrap();
@@ -147,25 +120,13 @@ fn a_joint_limit_gives_a_gait_within_it_with_its_arcs() {
     assert!(r["min_eta"].as_f64().unwrap() >= 0.0);
     assert!(r["kkt_residual"].as_f64().unwrap() <= 1e-8);
     assert_eq!(r["local_min"].as_bool(), Some(true));
-    let near = dir.path().join("near");
-    let costate = out.join("costate.json");
-    let o = sim(
-        &[
-            "solve",
-            "--from",
-            costate.to_str().unwrap(),
-            "--target",
-            "0.1,0.12,0.05",
-            "--alpha-max",
-            "1.5",
-            "--no-plots",
-            "--out",
-            near.to_str().unwrap(),
-        ],
-        MINUTE,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r = report(&near);
+    let (r, _) = Solve::paper()
+        .from(&out.join("costate.json"))
+        .target("0.1,0.12,0.05")
+        .alpha_max("1.5")
+        .no_plots()
+        .out(&dir.path().join("near"))
+        .solved(MINUTE);
     assert!(r["max_abs_alpha"].as_f64().unwrap() <= 1.5 * (1.0 + 1e-13));
     assert!(!r["arcs"].as_array().unwrap().is_empty());
     assert!(r["min_eta"].as_f64().unwrap() >= 0.0);
@@ -177,39 +138,20 @@ fn a_joint_limit_gives_a_gait_within_it_with_its_arcs() {
 fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
     let dir = tempfile::tempdir().unwrap();
     let first = dir.path().join("first");
-    let o = sim(
-        &[
-            "solve",
-            "--target",
-            "0.1,0,0",
-            "--no-plots",
-            "--out",
-            first.to_str().unwrap(),
-        ],
-        MINUTE,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    Solve::paper()
+        .target("0.1,0,0")
+        .no_plots()
+        .out(&first)
+        .solved(MINUTE);
     let costate = first.join("costate.json");
-    let near = dir.path().join("near");
-    let o = sim(
-        &[
-            "solve",
-            "--from",
-            costate.to_str().unwrap(),
-            "--target",
-            "0.13,0.02,0.1",
-            "--alpha0",
-            "0.1,-0.1",
-            "--horizon",
-            "80",
-            "--no-plots",
-            "--out",
-            near.to_str().unwrap(),
-        ],
-        MINUTE,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r = report(&near);
+    let (r, _) = Solve::paper()
+        .from(&costate)
+        .target("0.13,0.02,0.1")
+        .alpha0("0.1,-0.1")
+        .horizon("80")
+        .no_plots()
+        .out(&dir.path().join("near"))
+        .solved(MINUTE);
     assert!(r["residual"].as_f64().unwrap() <= 1e-10);
     assert!(r["kkt_residual"].as_f64().unwrap() <= 1e-8);
     assert_eq!(r["problem"]["target"][0].as_f64(), Some(0.13));
@@ -217,18 +159,11 @@ fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
     // Reached by continuation, not by the fall-back search.
     assert!(r["search"].is_null(), "{}", r["search"]);
     // Another swimmer: refused before any work.
-    let o = sim(
-        &[
-            "solve",
-            "--from",
-            costate.to_str().unwrap(),
-            "--ratio",
-            "3",
-            "--out",
-            dir.path().join("x").to_str().unwrap(),
-        ],
-        MINUTE,
-    );
+    let o = Solve::paper()
+        .from(&costate)
+        .flag("ratio", "3")
+        .out(&dir.path().join("x"))
+        .run_within(MINUTE);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("another swimmer"));
 }
@@ -239,16 +174,12 @@ fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
 fn the_search_reports_its_evidence_and_a_spent_budget() {
     let dir = tempfile::tempdir().unwrap();
     let run = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(name);
-        let mut args = vec!["solve", "--target", "0.1,0,0", "--no-plots", "--out"];
-        args.push(out.to_str().unwrap());
-        args.extend_from_slice(extra);
-        let o = sim(&args, MINUTE);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        (
-            report(&out),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-        )
+        Solve::paper()
+            .target("0.1,0,0")
+            .no_plots()
+            .out(&dir.path().join(name))
+            .with(extra)
+            .solved(MINUTE)
     };
     let (r, stderr) = run("default", &[]);
     let e = &r["search"];
@@ -291,25 +222,18 @@ fn the_search_reports_its_evidence_and_a_spent_budget() {
 fn solve_from_falls_back_to_the_search_off_the_admissible_shapes() {
     let dir = tempfile::tempdir().unwrap();
     let paper = dir.path().join("paper");
-    let o = sim(
-        &["solve", "--no-plots", "--out", paper.to_str().unwrap()],
-        MINUTE,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    Solve::paper().no_plots().out(&paper).solved(MINUTE);
     let solve = |name: &str, from: bool| {
-        let out = dir.path().join(name);
-        let costate = paper.join("costate.json");
-        let mut args = vec!["solve", "--target", "0.35,0,0", "--no-plots", "--out"];
-        args.push(out.to_str().unwrap());
-        if from {
-            args.extend_from_slice(&["--from", costate.to_str().unwrap()]);
-        }
-        let o = sim(&args, MINUTE);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        (
-            report(&out),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-        )
+        let far = Solve::paper()
+            .target("0.35,0,0")
+            .no_plots()
+            .out(&dir.path().join(name));
+        let far = if from {
+            far.from(&paper.join("costate.json"))
+        } else {
+            far
+        };
+        far.solved(MINUTE)
     };
     let (warm, stderr) = solve("warm", true);
     assert!(
@@ -333,18 +257,18 @@ fn solve_from_falls_back_to_the_search_off_the_admissible_shapes() {
 fn a_sweep_writes_its_table_and_map() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("atlas");
-    let o = sim(
-        &[
-            "sweep",
-            "--x",
-            "0.05:0.15:3",
-            "--y",
-            "-0.1:0.1:3",
-            "--theta",
-            "0",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+    let sweep = [
+        "sweep",
+        "--x",
+        "0.05:0.15:3",
+        "--y",
+        "-0.1:0.1:3",
+        "--theta",
+        "0",
+    ];
+    let o = sim_in(
+        None,
+        &[&sweep[..], &["--out", arg(&out)]].concat(),
         3 * MINUTE,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

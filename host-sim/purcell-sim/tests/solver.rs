@@ -2,7 +2,7 @@
 //! suite) and on the paper's problem: cost at or below the reference, residuals, the
 //! certificates, and the costate file landing on the target.
 
-use purcell_core::OnArcs;
+use purcell_core::{OnArcs, Real};
 use purcell_sim::output;
 use purcell_sim::replay;
 use purcell_sim::suite::{SuiteProblem, read_suite};
@@ -43,12 +43,12 @@ fn check_solution(name: &str, p: &Problem, s: &Solution, reference: Option<f64>)
 }
 
 /// The core's law on every step of a constrained extremal, from the trajectory's own state
-/// and costate `ξ̃^{k−1}` (MODEL.md §9): on the arcs' steps [`Kinematics::law_step_on_arcs`]
+/// and costate `ξ̃^{k−1}` (MODEL.md §9): on the arcs' steps [`Kinematics::law_step`]
 /// rests the joint (`u_i = 0` exactly) and gives the other control and the next state; off
 /// them the free law. Returns the largest deviation from the controls, relative to the
 /// largest control.
 ///
-/// [`Kinematics::law_step_on_arcs`]: purcell_core::Kinematics::law_step_on_arcs
+/// [`Kinematics::law_step`]: purcell_core::Kinematics::law_step
 fn arc_steps_reproduce_the_controls(name: &str, p: &Problem, x: &Extremal) -> f64 {
     let kin = p.kinematics::<f64>().unwrap();
     let t = &x.trajectory;
@@ -64,7 +64,7 @@ fn arc_steps_reproduce_the_controls(name: &str, p: &Problem, x: &Extremal) -> f6
             on[a.index()] = true;
         }
         let step = kin
-            .law_step_on_arcs(&t.states[k], &t.xis[k], &x.mu, OnArcs(on))
+            .law_step(&t.states[k], &t.xis[k], &x.mu, OnArcs(on), f64::PASSES)
             .unwrap();
         for (i, &rests) in on.iter().enumerate() {
             if rests {

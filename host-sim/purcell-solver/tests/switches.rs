@@ -1,19 +1,19 @@
-//! The core's small-angle switch suite (`core/tests/common/switch_suite.rs`) over host-sim's
-//! dual numbers, with the core's exported strategies: the values as in f64, and the
+//! The core's small-angle switch suite (`purcell_core::testkit::switch_suite`) over the
+//! solver's dual numbers, with the core's test kit's strategies: the values as in f64, and the
 //! derivatives the duals carry through either branch of each switch against the series'
 //! derivatives, so that they are continuous across it (the KKT certificate differentiates
 //! the core's kinematics on duals, `purcell_solver::solver::certificate`).
 
-#[path = "../../../core/tests/common/switch_suite.rs"]
-mod switch_suite;
-
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use purcell_core::se2::{C3_SERIES_LIMIT, ExpCoefficients, SMALL_ANGLE};
-use purcell_core::strategies::angle_across_switches;
+use purcell_core::testkit::se2_parts;
+use purcell_core::testkit::strategies::{angle_across_switches, proptest_config};
+use purcell_core::testkit::switch_suite::{
+    coefficients, dexp_transpose, exp, momentum, series, twist_across_switches, within,
+};
 use purcell_core::{Kinematics, State, Swimmer, Tangent};
 use purcell_solver::dual::Dual;
-use switch_suite::{coefficients, dexp_transpose, exp, series};
 
 type D = Dual<1>;
 
@@ -30,14 +30,6 @@ fn derivatives(w: f64) -> [f64; 6] {
         (k.cos, -w * s.a),
     ]
     .map(|(got, want)| (got.d[0] - want).abs() / want.abs() / f64::EPSILON)
-}
-
-fn twist() -> impl Strategy<Value = [f64; 3]> {
-    (-5.0..5.0f64, -5.0..5.0f64, angle_across_switches()).prop_map(|(x, y, w)| [x, y, w])
-}
-
-fn costate() -> impl Strategy<Value = [f64; 3]> {
-    (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64).prop_map(|(a, b, c)| [a, b, c])
 }
 
 /// `∂(dexp_Xᵀm)/∂ω` by duals against the hand-written Jacobian in f64, relative to its size.
@@ -72,18 +64,11 @@ const DERIVATIVES: [f64; 6] = [
     65.0,
 ];
 
-fn within(errors: [f64; 6], bounds: [f64; 6]) -> Result<(), TestCaseError> {
-    for (i, (e, bound)) in errors.iter().zip(bounds).enumerate() {
-        prop_assert!(*e <= bound, "coefficient {i}: {e} eps");
-    }
-    Ok(())
-}
-
 proptest! {
-    #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_config())]
 
     #[test]
-    fn dual_values_match_the_series_as_f64_does(x in twist(), m in costate()) {
+    fn dual_values_match_the_series_as_f64_does(x in twist_across_switches(), m in momentum()) {
         within(coefficients::<D>(x[2]), [20.0, 20.0, 20.0, 270.0, 20.0, 20.0])?;
         prop_assert!(exp::<D>(x) <= 25.0);
         prop_assert!(dexp_transpose::<D>(x, m) <= 60.0);
@@ -111,7 +96,7 @@ proptest! {
     }
 
     #[test]
-    fn dual_derivatives_of_dexp_transpose_are_the_jacobian(x in twist(), m in costate()) {
+    fn dual_derivatives_of_dexp_transpose_are_the_jacobian(x in twist_across_switches(), m in momentum()) {
         let e = dual_jacobian(x, m);
         prop_assert!(e <= 4e-12, "{e:e}");
     }
@@ -160,7 +145,7 @@ fn step_for(alpha: [f64; 2], phi: f64, w: f64) -> Option<(f64, [f64; 2])> {
 fn step_derivatives(alpha: [f64; 2], h: f64, u: [f64; 2]) -> Option<f64> {
     let kin = |h: f64| Kinematics::new(Swimmer::<f64>::purcell(), h).unwrap();
     let s64 = State::at_origin(Vector2::new(alpha[0], alpha[1]));
-    let next = |u: Vector2<f64>| kin(h).step(&s64, &u).ok().map(|s| parts(&s.g));
+    let next = |u: Vector2<f64>| kin(h).step(&s64, &u).ok().map(|s| se2_parts(&s.g));
     let two = Swimmer::<Dual<2>>::purcell();
     let kd = Kinematics::new(two, Dual::constant(h)).unwrap();
     let sd = State::at_origin(Vector2::new(
@@ -183,8 +168,4 @@ fn step_derivatives(alpha: [f64; 2], h: f64, u: [f64; 2]) -> Option<f64> {
         }
     }
     Some(worst)
-}
-
-fn parts<T: purcell_core::Real>(g: &purcell_core::Se2<T>) -> [f64; 4] {
-    [g.x(), g.y(), g.cos(), g.sin()].map(|v| v.to_f64())
 }

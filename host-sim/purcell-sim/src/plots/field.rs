@@ -2,6 +2,7 @@
 //! field per chosen body direction, with a colour bar, and a gait drawn on top.
 
 use super::Units;
+use super::axes::{Axes, colour_bar_tick, minus, tick_formatter};
 use super::plane::Overlay;
 use super::render::{DrawResult, Figure};
 use super::style::*;
@@ -139,31 +140,22 @@ impl FieldFigure<'_> {
         diverging(((b as f64 + 0.5) / BANDS as f64) * 2.0 - 1.0)
     }
 
+    /// Panel `c` with its top left at `(left, top)`: caption, the field (with the gait on top),
+    /// axes and colour bar.
     fn draw_panel<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
         k: Scale,
         c: Component,
-        left: f64,
-        top: f64,
+        (left, top): (f64, f64),
     ) -> DrawResult
     where
         DB::ErrorType: 'static,
     {
-        let lim = self.limit(c);
-        let mut lines = vec![format!("F, {}", c.caption())];
-        if let Some(m) = self.motion {
-            let (estimate, actual) = m[c.index()];
-            lines.push(format!(
-                "over the gait: {}; it moves {}",
-                c.motion(estimate, self.units),
-                c.motion(actual, self.units)
-            ));
-        }
-        for (i, line) in lines.iter().enumerate() {
+        for (i, line) in self.caption(c).into_iter().enumerate() {
             let size = if i == 0 { LABEL_FONT } else { TICK_FONT };
             root.draw(&Text::new(
-                line.clone(),
+                line,
                 (
                     k.px(left + Y_LABELS),
                     k.px(top + (i as f64 + 0.5) * CAPTION_LINE),
@@ -185,9 +177,47 @@ impl FieldFigure<'_> {
         axes.top = 0.0;
         axes.grid = false;
         let mut chart = axes.build(&area, k)?;
-        // Cells of one band merged into rectangles (a run along α1, grown along α2 while
-        // the rows above match), drawn in pixels one pixel wider than their share so that
-        // neighbours meet without seams.
+        let lim = self.limit(c);
+        self.draw_cells(root, &chart, k, c, lim)?;
+        axes.decorate(&area, &mut chart, k)?;
+        self.overlay.draw(root, &chart, k, true)?;
+        self.overlay.draw_marks(root, &chart, k)?;
+        let (right, top) = chart.backend_coord(&(half, half));
+        let bottom = chart.backend_coord(&(half, -half)).1;
+        Self::draw_colour_bar(root, k, right, (top, bottom), lim)
+    }
+
+    /// The caption of panel `c` above its plot, a line each: the row of `F`, and with a gait
+    /// the integral of `F` over the area it encloses beside the motion it makes.
+    fn caption(&self, c: Component) -> Vec<String> {
+        let mut lines = vec![format!("F, {}", c.caption())];
+        if let Some(m) = self.motion {
+            let (estimate, actual) = m[c.index()];
+            lines.push(format!(
+                "over the gait: {}; it moves {}",
+                c.motion(estimate, self.units),
+                c.motion(actual, self.units)
+            ));
+        }
+        lines
+    }
+
+    /// Component `c` of the field on `chart`, in [`BANDS`] colour bands of `±lim`: cells of
+    /// one band merged into rectangles (a run along α1, grown along α2 while the rows above
+    /// match), drawn in pixels one pixel wider than their share so that neighbours meet
+    /// without seams.
+    fn draw_cells<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        chart: &Chart<'_, DB>,
+        k: Scale,
+        c: Component,
+        lim: f64,
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let half = self.units.angle(std::f64::consts::PI);
         let n = self.field.centres.len();
         let w = self.units.angle(self.field.cell());
         let edge = |i: usize| -half + i as f64 * w;
@@ -221,13 +251,22 @@ impl FieldFigure<'_> {
                 ))?;
             }
         }
-        axes.decorate(&area, &mut chart, k)?;
-        self.overlay.draw(root, &chart, k, true)?;
-        self.overlay.draw_marks(root, &chart, k)?;
-        // Colour bar.
-        let (x0, y0) = chart.backend_coord(&(half, half));
-        let (_, y1) = chart.backend_coord(&(half, -half));
-        let bx = x0 + k.px(BAR_GAP);
+        Ok(())
+    }
+
+    /// The colour bar right of pixel column `right` from pixel rows `y0` to `y1`: the bands
+    /// from `lim` down to `−lim`, with their ticks.
+    fn draw_colour_bar<DB: DrawingBackend>(
+        root: &DrawingArea<DB, Shift>,
+        k: Scale,
+        right: i32,
+        (y0, y1): (i32, i32),
+        lim: f64,
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let bx = right + k.px(BAR_GAP);
         let bw = k.px(BAR_WIDTH);
         let height = (y1 - y0) as f64;
         for b in 0..BANDS {
@@ -278,7 +317,7 @@ impl Figure for FieldFigure<'_> {
         let legend = self.overlay.legend();
         let top = draw_heading(root, k, &self.title, &legend, self.legend_width())?;
         for (i, c) in self.components.iter().enumerate() {
-            self.draw_panel(root, k, *c, i as f64 * self.panel_width(), top)?;
+            self.draw_panel(root, k, *c, (i as f64 * self.panel_width(), top))?;
         }
         Ok(())
     }

@@ -75,6 +75,33 @@ impl Gait<'_> {
         }
     }
 
+    /// A panel described `y_desc` of two curves over `k ≤ last` labelled `labels`, in
+    /// [`BLUE`] and [`VERMILLION`] (the first and second joint, or `x` and `y`); `f(k)` gives
+    /// both values.
+    fn pair(
+        &self,
+        y_desc: impl Into<String>,
+        labels: [&str; 2],
+        last: usize,
+        f: impl Fn(usize) -> [f64; 2],
+    ) -> Panel {
+        Panel::new(
+            y_desc,
+            vec![
+                self.series(labels[0], BLUE, last, |k| f(k)[0]),
+                self.series(labels[1], VERMILLION, last, |k| f(k)[1]),
+            ],
+        )
+    }
+
+    /// [`Self::pair`] of `values[k]` (angles or their rates) in display units.
+    fn angle_pair(&self, y_desc: String, labels: [&str; 2], values: &[Vector2<f64>]) -> Panel {
+        let u = self.units;
+        self.pair(y_desc, labels, values.len() - 1, |k| {
+            values[k].map(|a| u.angle(a)).into()
+        })
+    }
+
     /// `(α1, α2)`, equal axes.
     pub fn shape_loop(&self) -> PlaneFigure {
         let u = self.units;
@@ -178,14 +205,8 @@ impl Gait<'_> {
     /// when the gait comes near it) and the arcs shaded.
     pub fn alpha(&self) -> TimeFigure {
         let (s, u) = (&self.trajectory.states, self.units);
-        let last = s.len() - 1;
-        let mut panel = Panel::new(
-            format!("joint angle ({})", u.angle_unit),
-            vec![
-                self.series("α₁", BLUE, last, |k| u.angle(s[k].alpha.x)),
-                self.series("α₂", VERMILLION, last, |k| u.angle(s[k].alpha.y)),
-            ],
-        );
+        let desc = format!("joint angle ({})", u.angle_unit);
+        let mut panel = self.angle_pair(desc, ["α₁", "α₂"], &self.alphas());
         let peak = s.iter().fold(0.0f64, |m, x| m.max(x.alpha.amax()));
         let square = bound(self.problem, u);
         if square.whole || u.angle(peak) > 0.75 * square.value {
@@ -209,15 +230,8 @@ impl Gait<'_> {
     /// `u1(t)`, `u2(t)` for `k < N` (the last CSV row's zero is padding, not a control),
     /// with the arcs shaded (`u_i = 0` there).
     pub fn controls(&self) -> TimeFigure {
-        let (c, u) = (&self.trajectory.controls, self.units);
-        let last = c.len() - 1;
-        let mut panel = Panel::new(
-            format!("u ({})", u.rate_unit),
-            vec![
-                self.series("u₁", BLUE, last, |k| u.angle(c[k].x)),
-                self.series("u₂", VERMILLION, last, |k| u.angle(c[k].y)),
-            ],
-        );
+        let desc = format!("u ({})", self.units.rate_unit);
+        let mut panel = self.angle_pair(desc, ["u₁", "u₂"], &self.trajectory.controls);
         panel.spans = arc_spans(self.arcs, self.problem.h);
         self.figure("Controls (joint rates)", vec![panel])
     }
@@ -227,13 +241,9 @@ impl Gait<'_> {
         let s = &self.trajectory.states;
         let last = s.len() - 1;
         let t_end = self.time(last);
-        let mut panel = Panel::new(
-            "position (m)",
-            vec![
-                self.series("x", BLUE, last, |k| s[k].g.x()),
-                self.series("y", VERMILLION, last, |k| s[k].g.y()),
-            ],
-        );
+        let mut panel = self.pair("position (m)", ["x", "y"], last, |k| {
+            [s[k].g.x(), s[k].g.y()]
+        });
         let target = self.problem.target;
         panel.marks = vec![
             Mark {
@@ -287,25 +297,17 @@ impl Gait<'_> {
         let last = n - 1;
         // `xis[k]` is ξ^{k−1}: ξ^k is `xis[k + 1]`.
         let xi = |k: usize, i: usize| t.xis[k + 1][i];
-        let mut xi_panel = Panel::new(
-            "ξᵏ (rad/s)",
-            vec![
-                self.series("ξ₁", BLUE, last, |k| xi(k, 0)),
-                self.series("ξ₂", VERMILLION, last, |k| xi(k, 1)),
-            ],
-        );
+        let mut xi_panel = self.pair("ξᵏ (rad/s)", ["ξ₁", "ξ₂"], last, |k| {
+            [xi(k, 0), xi(k, 1)]
+        });
         xi_panel.spans = arc_spans(self.arcs, self.problem.h);
         Ok(self.figure(
             "Costates of the control law u = ξ − Aᵀζ",
             vec![
                 xi_panel,
-                Panel::new(
-                    "ζᵏ (rad²/(m·s))",
-                    vec![
-                        self.series("ζ (x)", BLUE, last, |k| zeta[k].x),
-                        self.series("ζ (y)", VERMILLION, last, |k| zeta[k].y),
-                    ],
-                ),
+                self.pair("ζᵏ (rad²/(m·s))", ["ζ (x)", "ζ (y)"], last, |k| {
+                    [zeta[k].x, zeta[k].y]
+                }),
                 Panel::new(
                     "ζᵏ (rad/s)",
                     vec![self.series("ζ (θ)", GREEN, last, |k| zeta[k].z)],

@@ -1,4 +1,5 @@
-//! Figures, each written as SVG and PNG ([`mod@render`]), in one style ([`style`]).
+//! Figures, each written as SVG and PNG ([`mod@render`]), in one style ([`style`]; axes and
+//! their ticks in [`axes`]).
 //!
 //! [`figures`] makes every figure of a solved gait (what `solve` writes); [`field_files`]
 //! the curvature field alone (what `field` writes). Figure kinds: panels over time
@@ -15,6 +16,7 @@
 //! [`style::ON_LIMIT`] sets, built in [`gait`] with the bound ([`gait::bound`]: a joint
 //! limit, dashed dark, always shown; else where the links overlap, dashed grey).
 
+pub mod axes;
 pub mod field;
 pub mod gait;
 pub mod plane;

@@ -2,6 +2,7 @@
 //! `(α1, α2)` and the swimmer in `(x, y)`. [`Overlay`] (paths with arrows, a square bound,
 //! highlighted stretches, marks) is also what the field figure draws over its colours.
 
+use super::axes::{Axes, bounds, equal_aspect};
 use super::render::{DrawResult, Figure};
 use super::style::*;
 use super::time::Mark;
@@ -288,7 +289,8 @@ impl Figure for PlaneFigure {
         let area = root
             .clone()
             .shrink((0, 0), (k.u(w as f64), k.u(h as f64 - MARGIN)));
-        let chart = axes.draw(&area, k)?;
+        let mut chart = axes.build(&area, k)?;
+        axes.decorate(&area, &mut chart, k)?;
         self.overlay.draw(root, &chart, k, false)?;
         self.overlay.draw_marks(root, &chart, k)?;
         for (points, color) in &self.drawing.lines {

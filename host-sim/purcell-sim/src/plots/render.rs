@@ -226,22 +226,8 @@ impl DrawingBackend for Raster<'_> {
     ) -> Result<(), RasterError> {
         self.inner.draw_rect(upper_left, bottom_right, style, fill)
     }
-    fn draw_circle<S: BackendStyle>(
-        &mut self,
-        center: BackendCoord,
-        radius: u32,
-        style: &S,
-        fill: bool,
-    ) -> Result<(), RasterError> {
-        self.inner.draw_circle(center, radius, style, fill)
-    }
-    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
-        &mut self,
-        vert: I,
-        style: &S,
-    ) -> Result<(), RasterError> {
-        self.inner.fill_polygon(vert, style)
-    }
+    // `draw_circle` and `fill_polygon`: the trait's own, which rasterise through `draw_line`
+    // and `draw_pixel` above, as they do for the bitmap backend (which has no others).
 
     /// Thick polylines as segments with round joins (plotters' outline polygon leaves holes
     /// where a path crosses itself).

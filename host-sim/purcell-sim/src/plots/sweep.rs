@@ -1,6 +1,7 @@
 //! The gait atlas of a sweep: the cost of the cheapest admissible gait over the plane of two
 //! axes of the target lattice (`sweep`), one cell per target, grey where none was found.
 
+use super::axes::{Axes, colour_bar_tick, tick_formatter};
 use super::render::{DrawResult, Figure};
 use super::style::*;
 use plotters::coord::Shift;
@@ -158,22 +159,4 @@ impl Figure for SweepFigure<'_> {
         ))?;
         Ok(())
     }
-}
-
-/// The viridis colour map at `f ∈ [0, 1]` (piecewise linear through five of its colours):
-/// sequential and readable by colour-blind viewers.
-fn viridis(f: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
-    ];
-    let x = f.clamp(0.0, 1.0) * 4.0;
-    let i = (x.floor() as usize).min(3);
-    let t = x - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    let mix = |p: f64, q: f64| (p + (q - p) * t).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }

@@ -2,6 +2,7 @@
 //! legend above it, reference levels (joint limits, targets), shaded time spans (steps on the
 //! joint limit) and marks.
 
+use super::axes::{Axes, bounds, power_of_ten};
 use super::render::{DrawResult, Figure};
 use super::style::*;
 use plotters::coord::Shift;
@@ -41,12 +42,12 @@ pub struct Mark {
 
 /// Time spans shaded behind the curves, with one legend entry.
 pub struct Spans {
-    /// Legend label.
-    pub label: String,
-    /// Fill colour.
-    pub color: RGBColor,
     /// `(t0, t1)` of each span, seconds; each drawn at least [`ON_LIMIT_MIN_SPAN`] wide.
     pub spans: Vec<(f64, f64)>,
+    /// Fill colour.
+    pub color: RGBColor,
+    /// Legend label.
+    pub label: String,
 }
 
 /// One panel.

@@ -1,7 +1,15 @@
-//! Running the `purcell-sim` binary from tests, each run under a time limit so that no input
-//! can hang the suite.
-#![allow(dead_code)]
+//! The kit of the `purcell-sim` command-line tests: running the binary, each run under a
+//! time limit so that no input can hang the suite, and checking what it did; `solve`'s
+//! argument lists ([`Solve`]); the costate files the tests start from ([`fixtures`]).
+//! (Each test crate uses a part of it.)
+#![allow(dead_code, unused_imports)]
 
+pub mod fixtures;
+mod solve;
+
+pub use solve::Solve;
+
+use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Output, Stdio};
@@ -77,28 +85,71 @@ pub fn sim(args: &[&str]) -> Output {
     sim_in(None, args, LIMIT)
 }
 
+/// What the run wrote on stderr.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// A problem that `solve` answers in about 0.1 s (100 steps, one start).
-pub const QUICK: &[&str] = &[
-    "--horizon",
-    "10",
-    "--step",
-    "0.1",
-    "--target",
-    "0.01,0.01,0",
-    "--starts",
-    "1",
-];
+/// What the run wrote on stdout.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
 
-/// `solve` of [`QUICK`] into `out`, with `extra` flags.
-pub fn quick_solve(out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec!["solve", "--out", out.to_str().unwrap()];
-    args.extend_from_slice(QUICK);
-    args.extend_from_slice(extra);
-    sim(&args)
+/// Asserts that the run exited with `code` and said `needle` on stderr (`""`: anything).
+#[track_caller]
+pub fn assert_exit(o: &Output, code: i32, needle: &str) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "{e}");
+    assert!(e.contains(needle), "{needle:?} not in: {e}");
+}
+
+/// `path` as a command-line argument (the tests' paths are UTF-8).
+pub fn arg(path: &Path) -> &str {
+    path.to_str().expect("a UTF-8 path")
+}
+
+/// The `report.json` in `dir`.
+pub fn report(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap()
+}
+
+/// Writes `text` to `dir/name`; its path as an argument.
+pub fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    arg(&p).to_string()
+}
+
+/// The `digest: 0x…` lines of a replay's output (each `0x` and 16 hex digits).
+pub fn digests(o: &Output) -> Vec<String> {
+    let text = stdout(o);
+    let lines: Vec<String> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("digest: "))
+        .map(str::to_string)
+        .collect();
+    for d in &lines {
+        let hex = d.strip_prefix("0x").unwrap_or_else(|| panic!("{d}"));
+        assert!(
+            hex.len() == 16 && hex.chars().all(|c| c.is_ascii_hexdigit()),
+            "{d}"
+        );
+    }
+    lines
+}
+
+/// The files directly in `dir` by name, with their contents.
+pub fn read_dir(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                std::fs::read(e.path()).unwrap(),
+            )
+        })
+        .collect()
 }
 
 /// Every file under `dir` with its contents, sorted (symbolic links by their target).

@@ -22,7 +22,7 @@ use super::solution::Trajectory;
 use crate::dual::Dual;
 use crate::problem::Problem;
 use nalgebra::{SVector, Vector2, Vector3};
-use purcell_core::{Real, Se2, State};
+use purcell_core::{OnArcs, Real, Se2, State};
 
 /// `max_k |u_law(α_k, g_k, ξ^{k−1}, μ) − u_k|_∞`, relative to `max_k |u_k|_∞` (absolute when
 /// the controls are zero). Errors if the law refuses a state (e.g. past the overlap limit).
@@ -35,7 +35,7 @@ pub fn law_residual(
     let mut worst = 0.0f64;
     let mut scale = 0.0f64;
     for ((s, u), xi) in t.states.iter().zip(&t.controls).zip(&t.xis) {
-        let step = kin.law_step(s, xi, mu)?;
+        let step = kin.law_step(s, xi, mu, OnArcs::NONE, f64::PASSES)?;
         worst = worst.max((step.u - u).amax());
         scale = scale.max(u.amax());
     }

@@ -1,23 +1,32 @@
-//! The host build of `purcell-mcu`: the host's reference flight, the check of a firmware log
-//! (QEMU's or a board's) against it, and the disassembly scan.
+//! `purcell-mcu-check`, the firmware's checker on the host, by job:
+//! [`reference`](mod@reference) flies a gait on the host through the same core code as the
+//! firmware, [`log`] reads a firmware log (QEMU's or a board's) and checks it against that
+//! flight, [`disasm`] scans the firmware's disassembly for what the step reaches. See
+//! `firmware/README.md`.
 
+mod disasm;
+mod error;
+mod log;
+mod reference;
+
+use disasm::{CallGraph, CodeReport};
+use log::{Budget, FirmwareLog, Unit, check};
 use purcell_core::Gait;
-use purcell_mcu::check::disasm::{CallGraph, CodeReport};
-use purcell_mcu::check::log::{Budget, FirmwareLog, Unit, check, line};
-use purcell_mcu::check::reference::Reference;
+use purcell_fly::line;
+use reference::Reference;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = "\
-purcell-mcu (host build): the firmware itself only builds for thumbv7em-none-eabihf (M4F,
-M7) and thumbv7m-none-eabi (M3); run it with
-`cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release` (or `cargo mcu-m7`,
-`cargo mcu-m3`).
+purcell-mcu-check: checks on the host what the firmware printed and compiled to. The firmware
+(purcell-mcu) builds for thumbv7em-none-eabihf (M4F, M7) and thumbv7m-none-eabi (M3): run it
+with `cargo run -p purcell-mcu --target thumbv7em-none-eabihf --release`, `cargo mcu-m7` or
+`cargo mcu-m3`.
 
 usage:
-  purcell-mcu reference [--gait FILE] [f32|f64]
+  purcell-mcu-check reference [--gait FILE] [f32|f64]
       fly the gait on the host; print digest, final state and terminal error
-  purcell-mcu check LOG [--gait FILE] [--max-insn M] [--max-step-insn S] [--max-cycles C]
+  purcell-mcu-check check LOG [--gait FILE] [--max-insn M] [--max-step-insn S] [--max-cycles C]
                       [--max-stack B]
       compare a decoded firmware log (QEMU's, or a board's with cycles_per_step) with the
       host's flight of the same gait in the same precision; fail on another gait, a digest
@@ -25,7 +34,7 @@ usage:
       above S (default M), a mean or a largest step above C cycles (default: no limit), the
       steps on a joint-limit arc dearer than the free ones (mean or largest), or a step
       stack above B bytes (default 2048)
-  purcell-mcu disasm LISTING [--root SYMBOL] [--soft-float]
+  purcell-mcu-check disasm LISTING [--root SYMBOL] [--soft-float]
       from `arm-none-eabi-objdump -d` output: code reachable from SYMBOL (default
       purcell_mcu_step), its size; fail if a soft-float helper or an indirect branch is
       reachable (with --soft-float, for a core without FPU: list the helpers, do not fail)
@@ -35,15 +44,15 @@ gait core/examples/paper.gait).";
 
 fn print_reference(r: &Reference) {
     println!(
-        "{} board=host scalar={} steps={} gait={:#010x}",
+        "{}: board=host scalar={} steps={} gait={:#010x}",
         line::HEADER,
         r.scalar,
         r.steps,
         r.gait_crc
     );
-    println!("{} {:#018x}", line::DIGEST, r.digest);
+    println!("{}: {:#018x}", line::DIGEST, r.digest);
     let bits: Vec<String> = r.final_bits.iter().map(|b| format!("{b:#x}")).collect();
-    println!("{} {}", line::FINAL, bits.join(" "));
+    println!("{}: {}", line::FINAL, bits.join(" "));
     let [a1, a2, x, y, theta] = r.end;
     println!("final_state: alpha=[{a1}, {a2}] g=[{x}, {y}, {theta}]");
     let e = &r.error;
@@ -91,7 +100,7 @@ fn positionals(args: &[String]) -> Vec<&str> {
 /// The gait file's bytes: `--gait`, else `$PURCELL_GAIT`, else the paper's.
 fn gait_bytes(args: &[String]) -> Result<(PathBuf, Vec<u8>), String> {
     let default = std::env::var_os("PURCELL_GAIT").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../core/examples/paper.gait"),
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../core/examples/paper.gait"),
         PathBuf::from,
     );
     let path = flag(args, "--gait", default)?;
@@ -130,11 +139,11 @@ fn run(args: &[String]) -> Result<(), String> {
             check(&log, &r, &budget).map_err(|e| e.to_string())?;
             let (unit, limit) = match log.unit {
                 Unit::Instructions => (
-                    "insn_per_step",
+                    line::INSN,
                     format!("{} mean, {} a step", budget.insn, budget.insn_step),
                 ),
                 Unit::Cycles => (
-                    "cycles_per_step",
+                    line::CYCLES,
                     budget.cycles.map_or("none".to_string(), |l| l.to_string()),
                 ),
             };
@@ -189,8 +198,7 @@ fn run(args: &[String]) -> Result<(), String> {
     }
 }
 
-/// Entry point of the host build.
-pub fn main() -> ExitCode {
+fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,11 +1,8 @@
 //! The disassembly scan: the code reachable from the step function in an `objdump -d`
 //! listing, its size, and whether a soft-float helper or an indirect branch is among it.
 
-use super::HostError;
+use crate::error::HostError;
 use std::collections::{BTreeMap, BTreeSet};
-use std::string::{String, ToString};
-use std::vec::Vec;
-use std::{format, vec};
 
 /// One function of a disassembly.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]

@@ -21,7 +21,6 @@ use cortex_m_rt::{ExceptionFrame, entry, exception};
 use defmt_semihosting as _;
 use purcell_core::{Error, Gait, Replay, Sample};
 use purcell_fly::Counter;
-use purcell_mcu::icount;
 
 /// The gait flown: `$PURCELL_GAIT`, or the committed paper's gait (see `build.rs`).
 static GAIT: &[u8] = include_bytes!(env!("PURCELL_GAIT_FILE"));
@@ -83,9 +82,12 @@ impl From<Error> for Failure {
 struct Systick;
 
 impl Counter for Systick {
-    const LINE: &'static str = "insn_per_step";
+    const LINE: &'static str = purcell_fly::line::INSN;
     /// Instructions per tick: 5/8.
-    const SCALE: (u64, u64) = (icount::TICKS_PER_INSN_DEN, icount::TICKS_PER_INSN_NUM);
+    const SCALE: (u64, u64) = (
+        purcell_mcu::TICKS_PER_INSN_DEN,
+        purcell_mcu::TICKS_PER_INSN_NUM,
+    );
 
     #[inline(always)]
     fn now() -> u32 {
@@ -97,7 +99,7 @@ impl Counter for Systick {
 
     #[inline(always)]
     fn elapsed(start: u32, end: u32) -> u32 {
-        icount::systick_elapsed(start, end)
+        purcell_mcu::systick_elapsed(start, end)
     }
 }
 
@@ -122,7 +124,7 @@ fn measure<I, R>(base: u32, input: I, f: impl FnOnce(I) -> R) -> (u32, R) {
 }
 
 /// One control step: the function whose instructions are counted and whose disassembly is
-/// checked for soft-float helpers (`purcell-mcu disasm`).
+/// checked for soft-float helpers (`purcell-mcu-check disasm`).
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn purcell_mcu_step<'r>(replay: &'r mut Replay<'_, S>) -> Result<Option<&'r Sample<S>>, Error> {
@@ -192,24 +194,17 @@ fn run() -> Result<(), Failure> {
     let gait = purcell_fly::load(GAIT)?;
     let flight = purcell_fly::fly::<S, Systick, _>(BOARD, &gait, base, purcell_mcu_step)?;
     let stack = step_stack_bytes(&gait)?;
-    defmt::println!("stack_step: bytes={=u32}", stack);
+    defmt::println!("{=str}: bytes={=u32}", purcell_fly::line::STACK, stack);
     // The measured flight must be the plain one: fly again untimed.
     if gait.replay::<S>()?.fly(Replay::step)? != flight {
         return Err(Failure::NotDeterministic);
     }
-    defmt::println!("result: ok");
     Ok(())
 }
 
 #[entry]
 fn main() -> ! {
-    match run() {
-        Ok(()) => semihosting::process::exit(0),
-        Err(f) => {
-            defmt::error!("failed: {}", f);
-            semihosting::process::exit(1)
-        }
-    }
+    semihosting::process::exit(purcell_fly::finish(run()))
 }
 
 /// Set by the first fault or panic: a second one exits at once without logging (the logger

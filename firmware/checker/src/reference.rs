@@ -1,10 +1,9 @@
 //! The host's replay of a gait: the same `Gait::replay` and `Replay::fly` the firmware runs
 //! (through `purcell_fly`), so equal digests prove that what flew is what was simulated.
 
-use super::HostError;
+use crate::error::HostError;
 use purcell_core::gait::Stored;
 use purcell_core::{Error, Gait, Replay, TerminalError};
-use std::format;
 
 /// The host's flight of a gait in one precision.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,6 +1,5 @@
 //! [`proptest`](https://docs.rs/proptest) strategies for the core's types, for property tests
-//! here and downstream (as nalgebra exports its own behind a feature). With the
-//! `proptest-strategies` feature.
+//! here and downstream (as nalgebra exports its own behind a feature).
 //!
 //! In the manif discipline: the identity and tiny perturbations of it as often as random
 //! elements, angles near `±π`, and angles on both sides of every small-angle switch of
@@ -77,4 +76,14 @@ pub fn angle_across_switches() -> impl Strategy<Value = f64> {
         1 => Just(-C3_SERIES_LIMIT),
         3 => anywhere,
     ]
+}
+
+/// proptest's default 256 cases (`PROPTEST_CASES` overrides), and no regression files written
+/// into the source tree (a failure prints its minimal input; add it as an explicit test case
+/// instead).
+pub fn proptest_config() -> ProptestConfig {
+    ProptestConfig {
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
 }

@@ -1,26 +1,55 @@
-//! One property suite over a scalar type (`f32`, `f64` here; host-sim runs it over its dual
-//! numbers too, `host-sim/purcell-solver/tests/switches.rs`): the SE(2) coefficients the law and the KKT
-//! certificate evaluate, on both sides of every small-angle switch
-//! ([`purcell_core::se2::SMALL_ANGLE`], [`purcell_core::se2::C3_SERIES_LIMIT`]), against
-//! their Taylor series summed in f64 (independent of the switches). Each check returns its
-//! error in units of the type's [`Real::EPSILON`], for bounds per precision.
-#![allow(dead_code)]
+//! One property suite over a scalar type (`f32`, `f64` in `core/tests/switches.rs`; the
+//! solver's dual numbers in `host-sim/purcell-solver/tests/switches.rs`): the SE(2)
+//! coefficients the law and the KKT certificate evaluate, on both sides of every small-angle
+//! switch ([`crate::se2::SMALL_ANGLE`], [`crate::se2::C3_SERIES_LIMIT`]), against their Taylor
+//! series summed in f64 (independent of the switches). Each check returns its error in units
+//! of the type's [`Real::EPSILON`], for bounds per precision.
 
+use crate::se2::{self, ExpCoefficients};
+use crate::testkit::strategies::angle_across_switches;
+use crate::{Real, Tangent};
 use nalgebra::Vector3;
-use purcell_core::se2::{self, ExpCoefficients};
-use purcell_core::{Real, Tangent};
+use proptest::prelude::*;
+
+/// A twist `[vx, vy, ω]` with `|v_i| < 5` and `ω` on either side of a switch
+/// ([`angle_across_switches`]).
+pub fn twist_across_switches() -> impl Strategy<Value = [f64; 3]> {
+    (-5.0..5.0f64, -5.0..5.0f64, angle_across_switches()).prop_map(|(x, y, w)| [x, y, w])
+}
+
+/// A momentum `m` with components in `]−10, 10[`, for `dexp_Xᵀ m`.
+pub fn momentum() -> impl Strategy<Value = [f64; 3]> {
+    (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64).prop_map(|(a, b, c)| [a, b, c])
+}
+
+/// `Ok` if each of the six errors ([`coefficients`]' order) is within its bound, else the
+/// failing case with the coefficient's index and error.
+pub fn within(errors: [f64; 6], bounds: [f64; 6]) -> Result<(), TestCaseError> {
+    for (i, (e, bound)) in errors.iter().zip(bounds).enumerate() {
+        prop_assert!(*e <= bound, "coefficient {i}: {e} eps");
+    }
+    Ok(())
+}
 
 /// The coefficients of `exp`/`dexp` at `ω` and their derivatives in `ω`, by their Taylor
 /// series (30 terms: to rounding for `|ω| ≤ 1`).
 #[derive(Clone, Copy, Debug)]
 pub struct Series {
+    /// `a = sin ω / ω`.
     pub a: f64,
+    /// `b = (1 − cos ω) / ω`.
     pub b: f64,
+    /// `c₂ = (1 − cos ω) / ω²`.
     pub c2: f64,
+    /// `c₃ = (ω − sin ω) / ω³`.
     pub c3: f64,
+    /// `da/dω`.
     pub da: f64,
+    /// `db/dω`.
     pub db: f64,
+    /// `dc₂/dω`.
     pub dc2: f64,
+    /// `dc₃/dω`.
     pub dc3: f64,
 }
 
@@ -39,6 +68,7 @@ fn sum(w: f64, shift: i32, odd: i32) -> (f64, f64) {
     (f, df)
 }
 
+/// The coefficients at `ω` and their derivatives, by their series.
 pub fn series(w: f64) -> Series {
     let (a, da) = sum(w, 1, 0);
     let (b, db) = sum(w, 2, 1);

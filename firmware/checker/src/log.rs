@@ -1,36 +1,13 @@
 //! A firmware log (decoded by `defmt-print --log-format '{s}'`: one result per line,
-//! `name: key=value …`, as `purcell_fly` prints them) and its check against the host's flight.
+//! `name: key=value …`, as `purcell_fly` prints them, named in [`line`](mod@line)) and its
+//! check against the host's flight.
 //!
-//! The QEMU harness reports `insn_per_step` (instructions, exact under `-icount`) and the
+//! The QEMU firmware reports `insn_per_step` (instructions, exact under `-icount`) and the
 //! step's stack; a board reports `cycles_per_step` (its cycle counter) and no stack.
 
-use super::HostError;
-use super::reference::Reference;
-use std::format;
-use std::string::{String, ToString};
-use std::vec::Vec;
-
-/// The lines the firmware prints.
-pub mod line {
-    /// `purcell-mcu: board=<name> scalar=<f32|f64> steps=<N> passes=<P> checkpoints=<C>
-    /// arcs=<A> gait=<crc32>`.
-    pub const HEADER: &str = "purcell-mcu:";
-    /// `insn_per_step: mean=<M> max=<X>` (instructions per control step, QEMU).
-    pub const INSN: &str = "insn_per_step:";
-    /// `cycles_per_step: mean=<M> max=<X>` (cycles per control step, a board's counter).
-    pub const CYCLES: &str = "cycles_per_step:";
-    /// `arc_steps: steps=<n> mean=<M> max=<X> free_mean=<F> free_max=<Y>` (the per-step
-    /// figures of the steps with a joint at rest on a joint-limit arc, and of the others).
-    pub const ARCS: &str = "arc_steps:";
-    /// `stack_step: bytes=<B>` (deepest stack use below the caller of one step, QEMU).
-    pub const STACK: &str = "stack_step:";
-    /// `digest: <0x…>` ([`purcell_core::TrajectoryDigest`] of the whole flight).
-    pub const DIGEST: &str = "digest:";
-    /// `final_state_bits: <0x…> ×6` (`α1 α2 x y cos θ sin θ` as raw bits).
-    pub const FINAL: &str = "final_state_bits:";
-    /// `result: ok` (the last line of a successful run).
-    pub const RESULT: &str = "result: ok";
-}
+use crate::error::HostError;
+use crate::reference::Reference;
+use purcell_fly::line;
 
 /// What the per-step figures count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,16 +60,21 @@ pub struct FirmwareLog {
     pub final_bits: [u64; 6],
 }
 
-fn find_line<'a>(text: &'a str, prefix: &str) -> Option<&'a str> {
-    text.lines()
-        .map(str::trim)
-        .find_map(|l| l.strip_prefix(prefix))
+/// What follows `<name>:` on line `l`, if `l` is that line.
+fn value<'a>(l: &'a str, name: &str) -> Option<&'a str> {
+    l.trim()
+        .strip_prefix(name)
+        .and_then(|rest| rest.strip_prefix(':'))
         .map(str::trim)
 }
 
-fn need_line<'a>(text: &'a str, prefix: &str) -> Result<&'a str, HostError> {
-    find_line(text, prefix)
-        .ok_or_else(|| HostError::Log(format!("no line starting with `{prefix}`")))
+/// What follows `<name>:` on the first line of that name.
+fn find_line<'a>(text: &'a str, name: &str) -> Option<&'a str> {
+    text.lines().find_map(|l| value(l, name))
+}
+
+fn need_line<'a>(text: &'a str, name: &str) -> Result<&'a str, HostError> {
+    find_line(text, name).ok_or_else(|| HostError::Log(format!("no line starting with `{name}:`")))
 }
 
 fn key<'a>(rest: &'a str, name: &str) -> Result<&'a str, HostError> {
@@ -124,7 +106,7 @@ impl FirmwareLog {
             (None, Some(c)) => (Unit::Cycles, c),
             _ => {
                 return Err(HostError::Log(format!(
-                    "need exactly one of `{}` and `{}`",
+                    "need exactly one of `{}:` and `{}:`",
                     line::INSN,
                     line::CYCLES
                 )));
@@ -134,7 +116,7 @@ impl FirmwareLog {
             Some(s) => Some(parse_num(key(s, "bytes")?, "bytes")?),
             None if unit == Unit::Instructions => {
                 return Err(HostError::Log(format!(
-                    "no line starting with `{}`",
+                    "no line starting with `{}:`",
                     line::STACK
                 )));
             }
@@ -147,8 +129,15 @@ impl FirmwareLog {
         let final_bits: [u64; 6] = bits
             .try_into()
             .map_err(|_| HostError::Log("final_state_bits needs 6 values".into()))?;
-        if !text.lines().any(|l| l.trim() == line::RESULT) {
-            return Err(HostError::Log(format!("no `{}` line", line::RESULT)));
+        if !text
+            .lines()
+            .any(|l| value(l, line::RESULT) == Some(line::OK))
+        {
+            return Err(HostError::Log(format!(
+                "no `{}: {}` line",
+                line::RESULT,
+                line::OK
+            )));
         }
         let crc = parse_hex(key(header, "gait")?)?;
         let arcs = need_line(text, line::ARCS)?;
@@ -193,38 +182,48 @@ pub struct Budget {
 /// joint-limit arc no dearer than the free ones (mean and largest). Errors:
 /// [`HostError::Mismatch`] naming the first failure.
 pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Result<(), HostError> {
+    same_flight(log, reference)?;
+    within_budget(log, budget)
+}
+
+/// `Ok` if the firmware and the host say the same, else the mismatch `say(firmware, host)`.
+fn same<T: PartialEq>(
+    firmware: T,
+    host: T,
+    say: impl FnOnce(T, T) -> String,
+) -> Result<(), HostError> {
+    if firmware == host {
+        Ok(())
+    } else {
+        Err(HostError::Mismatch(say(firmware, host)))
+    }
+}
+
+/// The firmware flew what the host flew: the same gait, precision and step count, bit for bit.
+fn same_flight(log: &FirmwareLog, reference: &Reference) -> Result<(), HostError> {
+    same(log.gait_crc, reference.gait_crc, |f, h| {
+        format!(
+            "the firmware flew gait {f:#010x}, the host replayed gait {h:#010x} (pass the \
+             firmware's gait with --gait)"
+        )
+    })?;
+    same(log.scalar.as_str(), reference.scalar, |f, h| {
+        format!("firmware ran {f}, reference is {h}")
+    })?;
+    same(log.steps, reference.steps, |f, h| {
+        format!("firmware ran {f} steps, host {h}")
+    })?;
+    same(log.digest, reference.digest, |f, h| {
+        format!("digest: firmware {f:#018x}, host {h:#018x}")
+    })?;
+    same(log.final_bits, reference.final_bits, |f, h| {
+        format!("final state bits: firmware {f:x?}, host {h:x?}")
+    })
+}
+
+/// The per-step figures, the arc steps and the stack within `budget`.
+fn within_budget(log: &FirmwareLog, budget: &Budget) -> Result<(), HostError> {
     let mismatch = |m: String| Err(HostError::Mismatch(m));
-    if log.gait_crc != reference.gait_crc {
-        return mismatch(format!(
-            "the firmware flew gait {:#010x}, the host replayed gait {:#010x} (pass the \
-             firmware's gait with --gait)",
-            log.gait_crc, reference.gait_crc
-        ));
-    }
-    if log.scalar != reference.scalar {
-        return mismatch(format!(
-            "firmware ran {}, reference is {}",
-            log.scalar, reference.scalar
-        ));
-    }
-    if log.steps != reference.steps {
-        return mismatch(format!(
-            "firmware ran {} steps, host {}",
-            log.steps, reference.steps
-        ));
-    }
-    if log.digest != reference.digest {
-        return mismatch(format!(
-            "digest: firmware {:#018x}, host {:#018x}",
-            log.digest, reference.digest
-        ));
-    }
-    if log.final_bits != reference.final_bits {
-        return mismatch(format!(
-            "final state bits: firmware {:x?}, host {:x?}",
-            log.final_bits, reference.final_bits
-        ));
-    }
     let (limits, what) = match log.unit {
         Unit::Instructions => (Some((budget.insn, budget.insn_step)), "instructions"),
         Unit::Cycles => (budget.cycles.map(|c| (c, c)), "cycles"),
@@ -268,7 +267,6 @@ pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Resul
 mod tests {
     use super::*;
     use purcell_core::Gait;
-    use std::vec;
 
     const QEMU_LOG: &str = "\
 insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004
@@ -334,16 +332,19 @@ result: ok
         );
     }
 
-    #[test]
-    fn check_accepts_the_reference_and_refuses_any_difference() {
+    /// Within budget on every figure.
+    const BUDGET: Budget = Budget {
+        insn: 1000.0,
+        insn_step: 1100.0,
+        cycles: Some(2000.0),
+        stack_bytes: 2048,
+    };
+
+    /// The host's flight of the paper's gait in f32, and the log of a firmware that flew it
+    /// within [`BUDGET`].
+    fn paper_flight() -> (Reference, FirmwareLog) {
         let gait = Gait::from_bytes(include_bytes!("../../../core/examples/paper.gait")).unwrap();
         let reference = Reference::for_scalar(&gait, "f32").unwrap();
-        let budget = Budget {
-            insn: 1000.0,
-            insn_step: 1100.0,
-            cycles: Some(2000.0),
-            stack_bytes: 2048,
-        };
         let log = FirmwareLog {
             board: "mps2-an386".into(),
             scalar: "f32".into(),
@@ -363,8 +364,12 @@ result: ok
             digest: reference.digest,
             final_bits: reference.final_bits,
         };
-        check(&log, &reference, &budget).unwrap();
-        let arcs = |mean: f64, max: u32| FirmwareLog {
+        (reference, log)
+    }
+
+    /// `log` with 500 steps on joint-limit arcs, of the given mean and largest.
+    fn on_arcs(log: &FirmwareLog, mean: f64, max: u32) -> FirmwareLog {
+        FirmwareLog {
             arcs: Split {
                 steps: 500,
                 mean,
@@ -372,41 +377,53 @@ result: ok
                 ..log.arcs
             },
             ..log.clone()
-        };
-        check(&arcs(880.0, 950), &reference, &budget).unwrap();
-        check(
-            &FirmwareLog {
-                max: 1100,
-                ..log.clone()
-            },
-            &reference,
-            &budget,
-        )
-        .unwrap();
-        let cycles = FirmwareLog {
+        }
+    }
+
+    /// `log` as a board's: cycles within [`BUDGET`], no stack line.
+    fn in_cycles(log: &FirmwareLog) -> FirmwareLog {
+        FirmwareLog {
             unit: Unit::Cycles,
             mean: 1500.0,
             max: 1999,
             stack_bytes: None,
             ..log.clone()
-        };
-        check(&cycles, &reference, &budget).unwrap();
+        }
+    }
+
+    #[test]
+    fn the_host_flight_within_budget_passes() {
+        let (reference, log) = paper_flight();
+        let cycles = in_cycles(&log);
         let unbudgeted = Budget {
             cycles: None,
-            ..budget
+            ..BUDGET
         };
-        check(
-            &FirmwareLog {
-                max: 99_999,
-                ..cycles.clone()
-            },
-            &reference,
-            &unbudgeted,
-        )
-        .unwrap();
+        let passing = [
+            (log.clone(), BUDGET),
+            (on_arcs(&log, 880.0, 950), BUDGET),
+            // The largest step on the per-step budget.
+            (FirmwareLog { max: 1100, ..log }, BUDGET),
+            (cycles.clone(), BUDGET),
+            (
+                FirmwareLog {
+                    max: 99_999,
+                    ..cycles
+                },
+                unbudgeted,
+            ),
+        ];
+        for (log, budget) in passing {
+            check(&log, &reference, &budget).unwrap();
+        }
+    }
+
+    #[test]
+    fn another_flight_is_refused() {
+        let (reference, log) = paper_flight();
         let mut bits = log.final_bits;
         bits[5] ^= 1;
-        let bad = vec![
+        let others = [
             FirmwareLog {
                 digest: log.digest ^ 1,
                 ..log.clone()
@@ -419,6 +436,30 @@ result: ok
                 gait_crc: log.gait_crc ^ 1,
                 ..log.clone()
             },
+            FirmwareLog {
+                scalar: "f64".into(),
+                ..log.clone()
+            },
+            FirmwareLog {
+                steps: 9999,
+                ..log.clone()
+            },
+        ];
+        for other in others {
+            assert!(
+                matches!(
+                    check(&other, &reference, &BUDGET),
+                    Err(HostError::Mismatch(_))
+                ),
+                "{other:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_figure_above_its_budget_is_refused() {
+        let (reference, log) = paper_flight();
+        let over = [
             FirmwareLog {
                 mean: 1000.1,
                 ..log.clone()
@@ -436,23 +477,16 @@ result: ok
                 ..log.clone()
             },
             FirmwareLog {
-                scalar: "f64".into(),
-                ..log.clone()
-            },
-            FirmwareLog {
-                steps: 9999,
-                ..log.clone()
-            },
-            FirmwareLog {
                 max: 2001,
-                ..cycles.clone()
+                ..in_cycles(&log)
             },
-            arcs(900.1, 900),
+            // Arc steps dearer than the free ones on average.
+            on_arcs(&log, 900.1, 900),
         ];
-        for b in bad {
+        for o in over {
             assert!(
-                matches!(check(&b, &reference, &budget), Err(HostError::Mismatch(_))),
-                "{b:?}"
+                matches!(check(&o, &reference, &BUDGET), Err(HostError::Mismatch(_))),
+                "{o:?}"
             );
         }
     }

@@ -1,4 +1,5 @@
-//! Build script of the QEMU harness (for the MCU, `target_os = "none"`, only):
+//! Build script of the QEMU firmware (for the MCU, `target_os = "none"`, only; nothing on the
+//! host, where the binary is a stub):
 //!
 //! 1. names the gait the firmware embeds: `$PURCELL_GAIT` (absolute, or relative to the
 //!    workspace root), or the committed paper's gait `core/examples/paper.gait`, as
@@ -24,7 +25,7 @@ fn main() -> Result<(), String> {
         return Ok(());
     }
     let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").map_err(|e| e.to_string())?);
-    let root = manifest.join("..");
+    let root = manifest.join("../..");
     let gait = match env::var_os("PURCELL_GAIT") {
         Some(p) => root.join(p),
         None => root.join("core/examples/paper.gait"),

@@ -1,0 +1,26 @@
+//! The byte layout of a gait file (the repository's `docs/GAIT.md`): a header, a directory of
+//! sections, the sections, a CRC-32. The checkpoint records' layout is [`crate::table`]'s, the
+//! arc records' [`crate::arc`]'s.
+
+/// The first 8 bytes of every gait file.
+pub const MAGIC: [u8; 8] = *b"PURCGAIT";
+/// The version this build writes; it reads this one and version 1 (no joint limit, no arcs).
+pub const VERSION: u16 = 2;
+
+/// Header: magic (8), version (u16), section count (u16), file length (u32).
+pub(super) const HEADER_LEN: usize = 16;
+/// Directory entry: tag (4 ASCII bytes), offset, record count, record size (u32 each).
+pub(super) const ENTRY_LEN: usize = 16;
+/// The CRC-32 at the end.
+pub(super) const CRC_LEN: usize = 4;
+pub(super) const PARAMS_TAG: [u8; 4] = *b"PARM";
+pub(super) const ARCS_TAG: [u8; 4] = *b"ARCS";
+pub(super) const CK64_TAG: [u8; 4] = *b"CK64";
+pub(super) const CK32_TAG: [u8; 4] = *b"CK32";
+/// Sections of a version-2 file, in the order `encode` writes them.
+pub(super) const SECTIONS: usize = 4;
+/// The `PARM` record: `steps`, `checkpoint_every` (u32), then 16 `f64` (`L0 L1 L2 k r h`, `ᾱ`,
+/// `ḡ`, `μ`, `ξ^{−1}`), then in version 2 `α_max` (`f64`, 0 for none).
+pub(super) const fn params_len(version: u16) -> usize {
+    8 + 16 * 8 + if version == 1 { 0 } else { 8 }
+}

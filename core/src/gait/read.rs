@@ -1,0 +1,278 @@
+//! Reading a gait file in place ([`Gait::from_bytes`]) and replaying it ([`Gait::replay`]).
+
+use crate::arc::{self, Arc, ArcTable};
+use crate::gait::crc::crc32;
+use crate::gait::layout::{
+    ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, VERSION,
+    params_len,
+};
+use crate::gait::records::Records;
+use crate::gait::schema::{GaitParams, Model};
+use crate::gait::validate::check;
+use crate::replay::{CheckpointTable, Replay};
+use crate::table::{Table, record_len};
+use crate::{Error, Real};
+use core::mem::size_of;
+
+/// The scalars a gait stores a checkpoint table in: `f32` (section `CK32`) and `f64`
+/// (`CK64`). Sealed.
+pub trait Stored: Real + sealed::Sealed {}
+impl Stored for f32 {}
+impl Stored for f64 {}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
+}
+
+/// A gait file, validated, read in place.
+#[derive(Clone, Copy, Debug)]
+pub struct Gait<'a> {
+    params: GaitParams,
+    count: usize,
+    table64: Table<'a>,
+    table32: Table<'a>,
+    /// The `ARCS` records (empty in version 1).
+    arcs: &'a [u8],
+    crc: u32,
+}
+
+/// Reads the little-endian fields of a byte slice front to back; running out is
+/// [`Error::GaitLayout`].
+struct Cursor<'a>(&'a [u8]);
+
+impl<'a> Cursor<'a> {
+    fn take<const N: usize>(&mut self) -> Result<[u8; N], Error> {
+        let (head, rest) = self.0.split_first_chunk().ok_or(Error::GaitLayout)?;
+        self.0 = rest;
+        Ok(*head)
+    }
+    fn u16(&mut self) -> Result<u16, Error> {
+        self.take().map(u16::from_le_bytes)
+    }
+    fn u32(&mut self) -> Result<u32, Error> {
+        self.take().map(u32::from_le_bytes)
+    }
+    fn usize(&mut self) -> Result<usize, Error> {
+        usize::try_from(self.u32()?).map_err(|_| Error::GaitLayout)
+    }
+    fn f64s<const N: usize>(&mut self) -> Result<[f64; N], Error> {
+        let mut out = [0.0; N];
+        for x in &mut out {
+            *x = f64::from_le_bytes(self.take()?);
+        }
+        Ok(out)
+    }
+
+    /// The `PARM` record of a file of `version` ([`params_len`]).
+    fn params(&mut self, version: u16) -> Result<GaitParams, Error> {
+        let (steps, checkpoint_every) = (self.u32()?, self.u32()?);
+        let links = self.f64s()?;
+        let [drag, ratio, h] = self.f64s()?;
+        let (alpha0, target, mu, xi0) = (self.f64s()?, self.f64s()?, self.f64s()?, self.f64s()?);
+        let alpha_max = match version {
+            1 => None,
+            _ => Some(f64::from_le_bytes(self.take()?)).filter(|&a| a != 0.0),
+        };
+        Ok(GaitParams {
+            model: Model { links, drag, ratio },
+            h,
+            steps,
+            alpha0,
+            target,
+            mu,
+            xi0,
+            checkpoint_every,
+            alpha_max,
+        })
+    }
+}
+
+impl<'a> Gait<'a> {
+    /// Reads and validates a gait file in place (the checkpoint tables stay in `bytes`).
+    ///
+    /// ```
+    /// use purcell_core::{Gait, Replay};
+    ///
+    /// // In firmware: `static GAIT: &[u8] = include_bytes!("gait.bin");`
+    /// static GAIT: &[u8] = include_bytes!("../../examples/paper.gait");
+    /// let gait = Gait::from_bytes(GAIT)?;
+    /// assert_eq!((gait.params().steps, gait.checkpoint_count()), (10_000, 99));
+    /// let flight = gait.replay::<f32>()?.fly(Replay::step)?;
+    /// let error = gait.params().terminal_error(&flight.end);
+    /// assert!(error.alpha < 1e-6 && error.g < 1e-6);
+    /// # Ok::<(), purcell_core::Error>(())
+    /// ```
+    ///
+    /// Reads version [`VERSION`] and version 1 (no `α_max`, no arcs).
+    ///
+    /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
+    /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
+    /// [`Error::GaitLayout`] (sections, or an arc record's padding), then the values as
+    /// [`check`] does ([`Error::NonFinite`], [`Error::InvalidParameters`],
+    /// [`Error::InvalidStep`], [`Error::ShapeLimit`], [`Error::JointLimit`],
+    /// [`Error::ArcInvalid`], [`Error::ArcOrder`], [`Error::NotRotation`],
+    /// [`Error::CheckpointSpacing`], [`Error::ArcCheckpoint`], [`Error::ArcOffLimit`]), and
+    /// [`Error::GaitLayout`] if the `f32` table is not the `f64` one rounded to nearest.
+    pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, Error> {
+        if bytes.first_chunk() != Some(&MAGIC) {
+            return Err(Error::GaitMagic);
+        }
+        let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
+        let version = header.u16().map_err(|_| Error::GaitLength)?;
+        if !matches!(version, 1 | VERSION) {
+            return Err(Error::GaitVersion(version));
+        }
+        let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
+        let len = header.usize().map_err(|_| Error::GaitLength)?;
+        if len != bytes.len() || len < HEADER_LEN + CRC_LEN {
+            return Err(Error::GaitLength);
+        }
+        let (body, crc) = bytes
+            .split_last_chunk::<CRC_LEN>()
+            .ok_or(Error::GaitLength)?;
+        let crc = u32::from_le_bytes(*crc);
+        if crc32(body) != crc {
+            return Err(Error::GaitChecksum);
+        }
+
+        // The directory: each section after the previous one, inside the body.
+        let mut directory = Cursor(body.get(HEADER_LEN..).ok_or(Error::GaitLayout)?);
+        let mut end = HEADER_LEN + sections * ENTRY_LEN;
+        let (mut params, mut table64, mut table32) = (None, None, None);
+        // Version 1 has no arc table: read as an empty one.
+        let mut arcs = (version == 1).then_some((&[][..], 0));
+        for _ in 0..sections {
+            let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
+            let (count, size) = (directory.usize()?, directory.usize()?);
+            let stop = count
+                .checked_mul(size)
+                .and_then(|n| n.checked_add(offset))
+                .ok_or(Error::GaitLayout)?;
+            let data = body.get(offset..stop).ok_or(Error::GaitLayout)?;
+            if offset < end {
+                return Err(Error::GaitLayout);
+            }
+            end = stop;
+            let slot = match (tag, size) {
+                (PARAMS_TAG, s) if s == params_len(version) && count == 1 => &mut params,
+                (ARCS_TAG, arc::RECORD_LEN) if version != 1 => &mut arcs,
+                (CK64_TAG, s) if s == record_len(8) => &mut table64,
+                (CK32_TAG, s) if s == record_len(4) => &mut table32,
+                _ => return Err(Error::GaitLayout),
+            };
+            if slot.replace((data, count)).is_some() {
+                return Err(Error::GaitLayout);
+            }
+        }
+        let (Some((params, _)), Some((arcs, _)), Some((t64, count)), Some((t32, count32))) =
+            (params, arcs, table64, table32)
+        else {
+            return Err(Error::GaitLayout);
+        };
+        if count != count32 {
+            return Err(Error::GaitLayout);
+        }
+        // The arc records' padding is zero.
+        let padded = arcs
+            .chunks_exact(arc::RECORD_LEN)
+            .all(|r| r.first_chunk().is_some_and(|r| Arc::from_bytes(r).1));
+        if !padded {
+            return Err(Error::GaitLayout);
+        }
+        let params = Cursor(params).params(version)?;
+        let gait = Gait {
+            params,
+            count,
+            table64: Table::new(t64),
+            table32: Table::new(t32),
+            arcs,
+            crc,
+        };
+        check(&params, gait.checkpoints(), gait.arcs())?;
+
+        // The f64 records' padding is zero, and the f32 table is the f64 one rounded.
+        let (mut wide, mut narrow) = (gait.table64, gait.table32);
+        for _ in 0..count {
+            let pad = wide.next_padding();
+            let (k, v64) = wide.pop_values::<f64>().ok_or(Error::GaitLayout)?;
+            let (k32, v32) = narrow.pop_values::<f32>().ok_or(Error::GaitLayout)?;
+            let rounded = v64
+                .iter()
+                .zip(&v32)
+                .all(|(&a, &b)| (a as f32).to_bits() == b.to_bits());
+            if pad != Some(&[0; 4]) || k32 != k || !rounded {
+                return Err(Error::GaitLayout);
+            }
+        }
+        Ok(gait)
+    }
+
+    /// The gait's parameters.
+    pub fn params(&self) -> &GaitParams {
+        &self.params
+    }
+
+    /// Number of checkpoints.
+    pub fn checkpoint_count(&self) -> usize {
+        self.count
+    }
+
+    /// The checkpoints, in `f64` as stored.
+    pub fn checkpoints(&self) -> Records<'a> {
+        Records::new(self.table64, self.count)
+    }
+
+    /// The joint-limit arcs, in order (none for a gait that never rests on its limit).
+    pub fn arcs(&self) -> impl Iterator<Item = Arc> + Clone + 'a {
+        ArcTable::Stored(self.arcs)
+    }
+
+    /// Number of arcs.
+    pub fn arc_count(&self) -> usize {
+        self.arcs.len() / arc::RECORD_LEN
+    }
+
+    /// The file's CRC-32 (its last four bytes): a name for this gait in logs.
+    pub fn crc(&self) -> u32 {
+        self.crc
+    }
+
+    /// A replay of the whole gait in `T` that restores the checkpoints from the table stored
+    /// in `T`, read in place as the replay reaches them, and runs the law on the arcs
+    /// ([`Replay::with_arcs`]).
+    ///
+    /// Errors: as [`Replay::new`] (the parameters and checkpoints rounded to `T` are checked
+    /// again, e.g. an angle that rounds up to `π` in `f32`).
+    pub fn replay<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
+        self.replay_with(true)
+    }
+
+    /// A replay of the whole gait in `T` from `(μ, ξ^{−1})` and the arc table alone: the
+    /// only checkpoints it restores are those at the arcs' exits, which the law needs (MODEL.md
+    /// §9); none for a gait without arcs.
+    ///
+    /// Errors: as [`Replay::new`] (only the checkpoints it restores are checked in `T`).
+    pub fn replay_without_checkpoints<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
+        self.replay_with(false)
+    }
+
+    fn replay_with<T: Stored>(&self, periodic: bool) -> Result<Replay<'a, T>, Error> {
+        let p = &self.params;
+        let table = if size_of::<T>() == 4 {
+            self.table32
+        } else {
+            self.table64
+        };
+        Replay::with_tables(
+            p.kinematics()?,
+            p.start(),
+            p.costate(),
+            p.steps,
+            CheckpointTable::Stored(table),
+            ArcTable::Stored(self.arcs),
+            periodic,
+        )
+    }
+}

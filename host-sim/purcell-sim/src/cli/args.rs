@@ -1,0 +1,221 @@
+//! What the subcommands share: the swimmer's and the problem's flags, the limits of a
+//! search, reading input files, the progress bar, and the failure with its exit code.
+
+use crate::costate_file::CostateFile;
+use crate::{input, output};
+use clap::{ArgAction, Args};
+use purcell_solver::problem::{Problem, Spec};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
+pub const MAX_STARTS: usize = 4096;
+/// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
+/// start); `replay` accepts up to [`purcell_solver::problem::MAX_STEPS`].
+pub const MAX_SOLVE_STEPS: u32 = 1_000_000;
+
+// Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), and list
+// their defaults as they can be typed back (`0.1,0.1,0`). A flag given twice is refused
+// (clap's usage error), lists included: `--target 1,2 --target 3` is not `1,2,3`.
+
+/// Swimmer parameters shared by the subcommands.
+#[derive(Debug, Args)]
+pub struct ModelArgs {
+    /// Link lengths L0 (middle), L1 (front), L2 (rear), in metres.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        action = ArgAction::Set,
+        default_value = "1,1,1",
+        allow_hyphen_values = true
+    )]
+    pub links: Vec<f64>,
+    /// Drag coefficient k (force per unit length per unit speed; scales forces only).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub drag: f64,
+    /// Drag ratio r: normal over tangential drag (2 for slender bodies).
+    #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
+    pub ratio: f64,
+}
+
+/// The problem's flags of a search (`solve`, `sweep`; the target is each one's own), with
+/// the search's own flags `S` between the swimmer and the joint limit. `solve --help` shows
+/// these help texts; `sweep` replaces those of `--horizon` and `--alpha-max` with shorter ones.
+#[derive(Debug, Args)]
+pub struct ProblemArgs<S: Args> {
+    /// Horizon T in seconds; must be a whole number of steps (at most 1000000).
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
+    pub horizon: f64,
+    /// Time step h in seconds.
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
+    pub step: f64,
+    /// Start and end shape alpha_bar = A1,A2 in radians (each |A_i| < pi).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        action = ArgAction::Set,
+        default_value = "0,0",
+        allow_hyphen_values = true
+    )]
+    pub alpha0: Vec<f64>,
+    /// Swimmer parameters.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// The search's flags.
+    #[command(flatten)]
+    pub search: S,
+    /// Joint limit |alpha_i| <= alpha-max along the path, radians, below pi (default: only
+    /// the links' overlap at pi). The solver returns the cheapest gait within it, with the
+    /// limit active on arcs where that is cheaper.
+    #[arg(long, allow_hyphen_values = true)]
+    pub alpha_max: Option<f64>,
+}
+
+impl<S: Args> ProblemArgs<S> {
+    /// The problem's [`Spec`] for `target` (exit 2 for a list of the wrong length).
+    pub(super) fn spec(&self, target: [f64; 3]) -> Result<Spec, Failure> {
+        Ok(Spec {
+            target,
+            horizon: self.horizon,
+            step: self.step,
+            alpha0: arr("alpha0", &self.alpha0)?,
+            links: arr("links", &self.model.links)?,
+            drag: self.model.drag,
+            ratio: self.model.ratio,
+            alpha_max: self.alpha_max,
+        })
+    }
+}
+
+/// The output directory of `solve`, `sweep` and `field` ([`output::OutputDir`]).
+#[derive(Debug, Args)]
+pub struct OutDirArgs {
+    /// Output directory: created, or replaced in one step if it is empty or a previous
+    /// result of purcell-sim (anything else is refused before any work).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out even if it holds files purcell-sim did not write.
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl OutDirArgs {
+    /// The directory, checked and its staging created for `command`'s result before any
+    /// work; `inputs` are the command's input files, which it must not hold (exit 2).
+    pub(super) fn prepare(
+        &self,
+        command: &'static str,
+        inputs: &[&Path],
+    ) -> Result<output::OutputDir, Failure> {
+        output::OutputDir::prepare(&self.out, command, self.force, inputs)
+            .map_err(output_failure(true))
+    }
+}
+
+/// A failure of the command, with its exit code (the README's "Exit codes").
+#[derive(Debug)]
+pub struct Failure {
+    /// Message for stderr.
+    pub message: String,
+    /// Exit code: 2 bad input (nothing done), 3 no solution (`solve`: no extremal;
+    /// `replay`: a replay failed), 1 I/O.
+    pub code: u8,
+    /// What to print on stdout all the same (the `replay` report).
+    pub stdout: String,
+}
+
+/// A failure with exit code `code` and nothing on stdout.
+pub(super) fn fail(code: u8, message: impl ToString) -> Failure {
+    Failure {
+        message: message.to_string(),
+        code,
+        stdout: String::new(),
+    }
+}
+
+/// Exit code for an output refused or not creatable before the work (2), or failing after
+/// it (1).
+pub(super) fn output_failure(before_work: bool) -> impl FnOnce(output::OutputError) -> Failure {
+    move |e| fail(if before_work { 2 } else { 1 }, e)
+}
+
+/// `N` comma-separated numbers of flag `name`.
+pub(super) fn arr<const N: usize>(name: &str, v: &[f64]) -> Result<[f64; N], Failure> {
+    <[f64; N]>::try_from(v).map_err(|_| {
+        fail(
+            2,
+            format!(
+                "--{name} takes {N} comma-separated numbers (got {})",
+                v.len()
+            ),
+        )
+    })
+}
+
+/// The bounds of a search (`solve`, `sweep`): `1 ≤ starts ≤ MAX_STARTS`, at most
+/// `MAX_SOLVE_STEPS` steps (exit 2).
+pub(super) fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
+    if !(1..=MAX_STARTS).contains(&starts) {
+        return Err(fail(
+            2,
+            format!("--starts must be 1 to {MAX_STARTS} (got {starts})"),
+        ));
+    }
+    if problem.steps > MAX_SOLVE_STEPS {
+        return Err(fail(
+            2,
+            format!(
+                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
+                problem.steps
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The progress bar of a long run on stderr, when stderr is a terminal (none otherwise).
+pub(super) struct Progress(Option<indicatif::ProgressBar>);
+
+impl Progress {
+    /// A bar of `len` ticks drawn by `template` (indicatif's).
+    pub(super) fn new(len: u64, template: &str) -> Self {
+        Self(std::io::stderr().is_terminal().then(|| {
+            let b = indicatif::ProgressBar::new(len);
+            b.set_style(
+                indicatif::ProgressStyle::with_template(template)
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            b
+        }))
+    }
+
+    /// One step done.
+    pub(super) fn tick(&self) {
+        if let Some(b) = &self.0 {
+            b.inc(1);
+        }
+    }
+
+    /// Removes the bar.
+    pub(super) fn finish(&self) {
+        if let Some(b) = &self.0 {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// Reads an input file, at most [`input::MAX_INPUT_BYTES`] (exit 2 if unreadable).
+pub(super) fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
+    input::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))
+}
+
+/// Reads a costate file (exit 2 if unreadable or invalid).
+pub(super) fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
+    let text = String::from_utf8(read_input(path)?).map_err(|e| {
+        fail(
+            2,
+            format!("{}: malformed costate file: {e}", path.display()),
+        )
+    })?;
+    CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
+}

@@ -1,0 +1,137 @@
+//! `replay`: a stored gait (a costate file or a binary gait file) through the core, as
+//! firmware flies it; and the checks every route to a replay makes of a stored gait.
+
+use super::args::{Failure, fail, output_failure, read_costate, read_input};
+use crate::{input, output, replay};
+use clap::{Args, ValueEnum};
+use purcell_core::Gait;
+use purcell_solver::problem::{InputError, Problem, check_gait_precision};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// Replay precision selection.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Precision {
+    /// Single precision (the Cortex-M4F build).
+    F32,
+    /// Double precision.
+    F64,
+}
+
+/// `replay` flags.
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["costate", "gait"])))]
+pub struct ReplayArgs {
+    /// The costate file written by `solve` (DIR/costate.json).
+    #[arg(long)]
+    pub costate: Option<PathBuf>,
+    /// A binary gait file written by `export`.
+    #[arg(long)]
+    pub gait: Option<PathBuf>,
+    /// Replay only in this precision (default: the standard set f64, f32 with and without
+    /// checkpoints).
+    #[arg(long, value_enum)]
+    pub precision: Option<Precision>,
+    /// With --precision: ignore the file's costate checkpoints (except those at the
+    /// joint-limit arcs' exits, which the replay of a constrained gait needs).
+    #[arg(long)]
+    pub no_checkpoints: bool,
+    /// Also write the JSON report to this file (atomically; an existing file is replaced
+    /// only if it is a previous replay report, never the costate file).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Replace --out even if it holds something else (never the costate file).
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// What every route to a replay checks in a stored gait of `path` (`replay --costate`,
+/// `replay --gait`, `export`), besides the core's own validation: its problem as
+/// command-line input ([`Problem::of_gait`], the step limit included) and, where it is
+/// replayed in `f32`, every number there ([`purcell_solver::problem::check_gait_precision`]); exit 2.
+pub(super) fn check_stored(path: &Path, gait: &Gait<'_>, f32: bool) -> Result<(), Failure> {
+    let refused = |e: InputError| fail(2, format!("{}: {e}", path.display()));
+    Problem::of_gait(gait.params()).map_err(refused)?;
+    if f32 {
+        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32").map_err(refused)?;
+    }
+    Ok(())
+}
+
+/// The `format` tag of the `replay` report, by which `replay --out` recognises its own.
+const REPLAY_REPORT: &str = "purcell-replay";
+
+/// Whether `bytes` are a `replay` report.
+fn is_replay_report(bytes: &[u8]) -> bool {
+    input::json::<serde_json::Value>(bytes)
+        .is_ok_and(|v| v.get("format").and_then(|f| f.as_str()) == Some(REPLAY_REPORT))
+}
+
+/// `replay`: reads and checks the gait, prepares `--out`, flies it, writes the report; the
+/// text report as printed (exit 3 with it when a replay fails).
+pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
+    let (path, bytes) = match (&a.costate, &a.gait) {
+        (Some(path), _) => {
+            let file = read_costate(path)?;
+            let bytes = file
+                .to_gait()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            (path, bytes)
+        }
+        (None, Some(path)) => (path, read_input(path)?),
+        (None, None) => return Err(fail(2, "replay needs --costate or --gait")),
+    };
+    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    check_stored(path, &gait, !matches!(a.precision, Some(Precision::F64)))?;
+    let out = match &a.out {
+        Some(out) => Some(
+            output::OutputFile::prepare(out, is_replay_report, a.force, &[path.as_path()])
+                .map_err(output_failure(true))?,
+        ),
+        None => None,
+    };
+    let checkpoints = !a.no_checkpoints;
+    let results = match a.precision {
+        None => replay::standard_replays(&gait),
+        Some(Precision::F64) => vec![replay::replay_gait::<f64>(&gait, "f64", checkpoints)],
+        Some(Precision::F32) => vec![replay::replay_gait::<f32>(&gait, "f32", checkpoints)],
+    };
+    if let Some(out) = out {
+        let p = gait.params();
+        let report = json!({ "format": REPLAY_REPORT, "version": 1,
+                             "crc": format!("{:#010x}", gait.crc()), "target": p.target,
+                             "alpha0": p.alpha0, "replays": results });
+        let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
+        out.commit(json.as_bytes()).map_err(output_failure(false))?;
+    }
+    let text = replay::text(&gait, &results);
+    let p = gait.params();
+    let failed: Vec<String> = results
+        .iter()
+        .filter_map(|r| {
+            let why = r.failure.as_ref()?;
+            let which = format!(
+                "{} replay {} checkpoints",
+                r.precision,
+                if r.checkpoints { "with" } else { "without" }
+            );
+            Some(match r.failed_at_step {
+                Some(k) => format!(
+                    "{which} failed at step {k} of {} (t = {} s): {why}",
+                    p.steps,
+                    (f64::from(k) * p.h * 1e9).round() / 1e9
+                ),
+                None => format!("{which} failed before its first step: {why}"),
+            })
+        })
+        .collect();
+    if failed.is_empty() {
+        Ok(text)
+    } else {
+        Err(Failure {
+            message: failed.join("\nerror: "),
+            code: 3,
+            stdout: text,
+        })
+    }
+}

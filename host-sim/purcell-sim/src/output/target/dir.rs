@@ -1,0 +1,225 @@
+//! An output directory: checked and staged before the work, swapped in after it in one step
+//! (or file by file, under a manifest that accounts for every file, where the filesystem
+//! cannot exchange).
+
+use super::classify::{Existing, classify_dir};
+use super::disk::{
+    create_parents, create_staging, exchange, keep_permissions, remove_any, remove_empty_dirs,
+    split, sync_dir, walk, write_synced,
+};
+use super::error::{OutputError, io_error};
+use super::manifest::{Entry, MANIFEST, Manifest};
+use std::fs;
+use std::io;
+use std::path::{Component, Path, PathBuf};
+
+/// Files that can be named inside an output directory: relative, `/`-separated, no `..`.
+fn check_names(files: &[(String, Vec<u8>)]) -> io::Result<()> {
+    let mut seen = std::collections::HashSet::new();
+    for (name, _) in files {
+        let plain = !name.is_empty()
+            && name != MANIFEST
+            && Path::new(name)
+                .components()
+                .all(|c| matches!(c, Component::Normal(_)));
+        if !plain || !seen.insert(name.as_str()) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("bad or repeated output file name {name:?}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// An output directory, checked and staged by [`OutputDir::prepare`], written by
+/// [`OutputDir::commit`]; dropped uncommitted, it removes what it created.
+#[derive(Debug)]
+pub struct OutputDir {
+    /// The path as given, for messages.
+    shown: PathBuf,
+    /// The path resolved to `parent/name` (so `.` is replaced as its real name).
+    path: PathBuf,
+    command: &'static str,
+    force: bool,
+    inputs: Vec<PathBuf>,
+    pub(super) staging: Option<PathBuf>,
+    created_parents: Vec<PathBuf>,
+}
+
+impl OutputDir {
+    /// Checks that `path` may be written by subcommand `command` (missing, empty, a previous
+    /// result of `command`, or anything replaceable with `force`), and never holds one of
+    /// `inputs`; then creates the staging directory next to it, before any work.
+    pub fn prepare(
+        path: &Path,
+        command: &'static str,
+        force: bool,
+        inputs: &[&Path],
+    ) -> Result<Self, OutputError> {
+        let (parent, name) = split(path)?;
+        let inputs: Vec<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
+        // The path as `parent/name`: `LINK/` is the link, not the directory it points to.
+        if let Existing::Foreign {
+            reason,
+            force_overrides,
+        } = classify_dir(&parent.join(&name), command, &inputs)
+            .map_err(io_error(path, "cannot inspect"))?
+            && !(force && force_overrides)
+        {
+            return Err(OutputError::Refused {
+                path: path.to_path_buf(),
+                reason,
+                force_overrides,
+            });
+        }
+        let created_parents =
+            create_parents(&parent).map_err(io_error(path, "cannot create its directory"))?;
+        let mut out = OutputDir {
+            shown: path.to_path_buf(),
+            path: parent.join(&name),
+            command,
+            force,
+            inputs,
+            staging: None,
+            created_parents,
+        };
+        out.staging =
+            Some(create_staging(&parent, true).map_err(io_error(path, "cannot be created"))?);
+        Ok(out)
+    }
+
+    /// Writes `files` (name relative to the directory, contents) and the manifest, then
+    /// puts them in place of the path in one step.
+    pub fn commit(mut self, files: &[(String, Vec<u8>)]) -> Result<(), OutputError> {
+        let staging = self.staging.clone().unwrap_or_default();
+        let manifest = self.stage(&staging, files)?;
+        let shown = self.shown.clone();
+        let existing = classify_dir(&self.path, self.command, &self.inputs)
+            .map_err(io_error(&shown, "cannot inspect"))?;
+        match existing {
+            Existing::Missing => {
+                fs::rename(&staging, &self.path).map_err(io_error(&shown, "cannot create"))?
+            }
+            Existing::Foreign {
+                reason,
+                force_overrides,
+            } if !(self.force && force_overrides) => {
+                return Err(OutputError::Refused {
+                    path: shown,
+                    reason: format!("{reason} (it changed while the command ran)"),
+                    force_overrides,
+                });
+            }
+            existing => {
+                let old = match existing {
+                    Existing::Ours(m) => m,
+                    _ => None,
+                };
+                keep_permissions(&staging, &self.path);
+                match exchange(&staging, &self.path) {
+                    Ok(()) => remove_any(&staging)
+                        .map_err(io_error(&staging, "replaced; cannot remove the old copy"))?,
+                    Err(e) if e.kind() == io::ErrorKind::Unsupported => {
+                        replace_file_by_file(&staging, &self.path, &manifest, old)
+                            .map_err(io_error(&shown, "cannot replace"))?
+                    }
+                    Err(e) => return Err(io_error(&shown, "cannot replace")(e)),
+                }
+            }
+        }
+        self.staging = None;
+        self.created_parents.clear();
+        if let Some(parent) = self.path.parent() {
+            sync_dir(parent);
+        }
+        Ok(())
+    }
+
+    /// Writes the files and the manifest into the staging directory.
+    pub(super) fn stage(
+        &self,
+        staging: &Path,
+        files: &[(String, Vec<u8>)],
+    ) -> Result<Manifest, OutputError> {
+        check_names(files).map_err(io_error(&self.shown, "cannot write"))?;
+        let mut entries = Vec::with_capacity(files.len());
+        for (name, bytes) in files {
+            let p = staging.join(name);
+            if let Some(d) = p.parent() {
+                fs::create_dir_all(d).map_err(io_error(d, "cannot create"))?;
+            }
+            write_synced(&p, bytes).map_err(io_error(&p, "cannot write"))?;
+            entries.push(Entry::of(name, bytes));
+        }
+        let manifest = Manifest::new(self.command, entries);
+        let p = staging.join(MANIFEST);
+        write_synced(&p, &manifest.to_bytes()).map_err(io_error(&p, "cannot write"))?;
+        sync_dir(staging);
+        Ok(manifest)
+    }
+}
+
+impl Drop for OutputDir {
+    fn drop(&mut self) {
+        if let Some(s) = self.staging.take() {
+            let _ = fs::remove_dir_all(s);
+        }
+        remove_empty_dirs(&self.created_parents);
+    }
+}
+
+/// Replaces the contents of the existing directory `target` by those of `staging` without
+/// an exchange: first a manifest listing the old and the new files, then each new file
+/// renamed over its old copy, then the old files that are not new removed, then the new
+/// manifest. At every step the directory exists and its manifest accounts for every file.
+pub(super) fn replace_file_by_file(
+    staging: &Path,
+    target: &Path,
+    manifest: &Manifest,
+    old: Option<Manifest>,
+) -> io::Result<()> {
+    if !fs::symlink_metadata(target)?.is_dir() {
+        return Err(io::Error::new(
+            io::ErrorKind::Unsupported,
+            "the filesystem cannot exchange paths, and a non-directory cannot be replaced \
+             by a directory in one step: remove it first",
+        ));
+    }
+    let (mut old_files, mut old_dirs) = (Vec::new(), Vec::new());
+    walk(target, "", &mut old_files, &mut old_dirs)?;
+    old_files.retain(|n| n != MANIFEST);
+    // 1. A manifest that accepts the old contents (as listed, or as found if forced) and
+    //    the new ones.
+    let mut both = manifest.clone();
+    match old {
+        Some(m) => both.files.extend(m.files),
+        None => {
+            for name in &old_files {
+                if let Ok(bytes) = fs::read(target.join(name)) {
+                    both.files.push(Entry::of(name, &bytes));
+                }
+            }
+        }
+    }
+    let transition = staging.join(".transition");
+    write_synced(&transition, &both.to_bytes())?;
+    fs::rename(&transition, target.join(MANIFEST))?;
+    // 2. New files over old ones.
+    for e in &manifest.files {
+        let to = target.join(&e.name);
+        if let Some(d) = to.parent() {
+            fs::create_dir_all(d)?;
+        }
+        fs::rename(staging.join(&e.name), to)?;
+    }
+    // 3. Old files that are not new.
+    for name in old_files.iter().filter(|n| !manifest.lists(n)) {
+        fs::remove_file(target.join(name))?;
+    }
+    remove_empty_dirs(&old_dirs);
+    // 4. The final manifest; the staging directory is left with empty directories only.
+    fs::rename(staging.join(MANIFEST), target.join(MANIFEST))?;
+    sync_dir(target);
+    fs::remove_dir_all(staging)
+}

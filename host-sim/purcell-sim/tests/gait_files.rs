@@ -1,0 +1,205 @@
+//! Binary gait files: what `export` writes (the committed test gaits byte for byte), that
+//! they replay like their costate files, that the previous versions are still read, and
+//! that damaged ones, ones past the step limit and ones beyond `f32` are refused with the
+//! reason. (Costate files: `costate_files.rs`.)
+
+mod common;
+
+use common::fixtures::{COSTATE_V2, core_data, data};
+use common::*;
+use purcell_sim::costate_file::CostateFile;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// `replay` of `flag path` (`--costate` or `--gait`) with `extra` flags.
+fn replay(flag: &str, path: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["replay", flag, arg(path)];
+    args.extend_from_slice(extra);
+    sim(&args)
+}
+
+/// `export` writes the binary gait of a costate file; replaying it is replaying the costate
+/// file; the committed `tiny-limit` pair (a gait on its joint limit) is what `export` writes
+/// today, byte for byte.
+#[test]
+fn export_writes_the_gait_that_replays_like_its_costate_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = data("tiny-limit.costate.json");
+    let gait = dir.path().join("tiny-limit.gait");
+    let o = sim(&["export", "--costate", arg(&json), "--out", arg(&gait)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("684 bytes") && stdout(&o).contains("arcs=2"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(
+        std::fs::read(&gait).unwrap(),
+        std::fs::read(core_data("tiny-limit.gait")).unwrap()
+    );
+
+    for precision in ["f32", "f64"] {
+        let from_gait = replay("--gait", &gait, &["--precision", precision]);
+        let from_json = replay("--costate", &json, &["--precision", precision]);
+        assert_eq!(from_gait.status.code(), Some(0), "{}", stderr(&from_gait));
+        assert_eq!(digests(&from_gait).len(), 1);
+        assert_eq!(stdout(&from_gait), stdout(&from_json));
+    }
+    // The periodic checkpoints change the f32 flight (the arcs' exits are restored either way).
+    let f32_without = replay("--gait", &gait, &["--precision", "f32", "--no-checkpoints"]);
+    let f32_with = replay("--gait", &gait, &["--precision", "f32"]);
+    assert_ne!(digests(&f32_with), digests(&f32_without));
+    let all = digests(&replay("--gait", &gait, &[]));
+    assert_eq!(all.len(), 4);
+}
+
+/// The previous versions are still read: the version-2 costate file `tiny.costate.json` and
+/// the version-1 gait `tiny-v1.gait` exported from it fly the same; exported again, the gait
+/// is version 2 and flies the same too.
+#[test]
+fn previous_versions_are_still_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = data("tiny.costate.json");
+    let v1 = core_data("tiny-v1.gait");
+    let v2 = dir.path().join("tiny.gait");
+    let o = sim(&["export", "--costate", arg(&json), "--out", arg(&v2)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v2_bytes = std::fs::read(&v2).unwrap();
+    assert_eq!(u16::from_le_bytes([v2_bytes[8], v2_bytes[9]]), 2);
+    let flown = |flag: &str, path: &Path| {
+        let o = replay(flag, path, &[]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        digests(&o)
+    };
+    let from_json = flown("--costate", &json);
+    assert_eq!(from_json.len(), 4);
+    assert_eq!(flown("--gait", &v1), from_json);
+    assert_eq!(flown("--gait", &v2), from_json);
+}
+
+/// A damaged gait file is refused with exit 2 and the reason; `export` of a bad costate file
+/// writes nothing.
+#[test]
+fn corrupted_gaits_are_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = std::fs::read(core_data("tiny-limit.gait")).unwrap();
+    let mut flipped = good.clone();
+    flipped[250] ^= 4;
+    let mut version = good.clone();
+    version[8] = 9;
+    let cases: [(&str, Vec<u8>, &str); 5] = [
+        ("flipped.gait", flipped, "checksum"),
+        ("short.gait", good[..good.len() - 1].to_vec(), "length"),
+        ("version.gait", version, "version 9"),
+        (
+            "json.gait",
+            COSTATE_V2.as_bytes().to_vec(),
+            "not a gait file",
+        ),
+        ("empty.gait", Vec::new(), "not a gait file"),
+    ];
+    for (name, bytes, needle) in cases {
+        let p = dir.path().join(name);
+        std::fs::write(&p, bytes).unwrap();
+        let o = replay("--gait", &p, &[]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{name}: {}", stderr(&o));
+        assert!(o.stdout.is_empty());
+    }
+    let o = replay("--gait", &dir.path().join("missing.gait"), &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+
+    let bad = write(
+        dir.path(),
+        "bad.json",
+        &COSTATE_V2.replace("[0.001,0.0,1,0]", "[0.001,0.0,1,0.5]"),
+    );
+    let out = dir.path().join("bad.gait");
+    let o = sim(&["export", "--costate", &bad, "--out", arg(&out)]);
+    assert_exit(&o, 2, "unit length");
+    assert!(!out.exists());
+    let o = sim(&["replay"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+/// [`COSTATE_V2`] as a binary gait file, after `edit`.
+fn gait_of(edit: impl FnOnce(&mut CostateFile)) -> Vec<u8> {
+    let mut file = CostateFile::parse(COSTATE_V2).unwrap();
+    edit(&mut file);
+    file.to_gait().expect("the core's own check accepts it")
+}
+
+/// Issue 21, defect 2: `replay --gait` had no step limit (a gait patched to 2^32 − 1 steps
+/// ran for 90 minutes; 10 000 001 steps were accepted). Now the costate route's limit,
+/// refused at once with exit 2.
+#[test]
+fn gait_files_are_held_to_the_step_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    for steps in [10_000_001, u32::MAX] {
+        let p = dir.path().join(format!("{steps}.gait"));
+        std::fs::write(
+            &p,
+            gait_of(|f| {
+                f.gait.steps = steps;
+                f.gait.checkpoint_every = 0;
+                f.checkpoints.clear();
+            }),
+        )
+        .unwrap();
+        let t0 = Instant::now();
+        let o = replay("--gait", &p, &["--precision", "f64"]);
+        assert_eq!(o.status.code(), Some(2), "{steps}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("more than the limit 10000000"),
+            "{steps}: {}",
+            stderr(&o)
+        );
+        assert!(t0.elapsed() < Duration::from_secs(10), "{steps} steps ran");
+    }
+}
+
+/// Issue 21, defect 4: `export` wrote gait files the f32 firmware cannot fly (exit 0), and
+/// `replay --gait` of them exited 3 with wrong reasons. Both now refuse them with exit 2 and
+/// the costate route's reason; an f64-only replay of such a gait still runs.
+#[test]
+fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
+    type Edit = fn(&mut CostateFile);
+    // With the exit code of the f64-only replay: 0 where it lands, 3 where the law fails on
+    // the way (a μ or ξ of 1e39).
+    let cases: [(Edit, &str, i32); 6] = [
+        (|f| f.gait.model.links[0] = 1e39, "links = 1e39,1.0,1.0", 0),
+        (
+            |f| f.gait.model.links[1] = 1e-50,
+            "links = 1.0,1e-50,1.0",
+            0,
+        ),
+        (|f| f.gait.mu[1] = 1e39, "mu = 0.1,1e39,0.0", 3),
+        (|f| f.gait.h = 1e-50, "step h = 1e-50", 0),
+        (
+            |f| f.checkpoints[0].xi[0] = 1e39,
+            "xi of the checkpoint at k = 100",
+            3,
+        ),
+        (|f| f.gait.model.drag = 1e39, "drag k = 1e39", 0),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (i, (edit, needle, f64_code)) in cases.into_iter().enumerate() {
+        let mut file = CostateFile::parse(COSTATE_V2).unwrap();
+        edit(&mut file);
+        let json = write(dir.path(), &format!("{i}.json"), &file.to_json());
+        let out = dir.path().join(format!("{i}.gait"));
+        let o = sim(&["export", "--costate", &json, "--out", arg(&out)]);
+        assert_eq!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
+        assert!(!out.exists(), "{needle}");
+
+        std::fs::write(&out, file.to_gait().unwrap()).unwrap();
+        let o = replay("--gait", &out, &[]);
+        assert_eq!(o.status.code(), Some(2), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
+        assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
+        let o = replay("--gait", &out, &["--precision", "f64"]);
+        assert_eq!(o.status.code(), Some(f64_code), "{needle}: {}", stderr(&o));
+    }
+}
