@@ -33,7 +33,9 @@ struct Cancelled;
 /// tangential drag. alpha_max: joint limit |alpha_i| <= alpha_max, radians, below pi (None:
 /// only the links' overlap). starts: budget of start loops (1 to 4096). seed: orders the
 /// starts. checkpoint_every: costate checkpoint spacing in steps (None: 100; 0: none).
-/// progress: called as progress(starts_done, budget) every 0.1 s from the calling thread.
+/// progress: called as progress(done, total) every 0.1 s and at the end, from the calling
+/// thread: start loops finished of starts + 1 (the zero loop included), as the command line's
+/// progress bar counts them.
 ///
 /// The GIL is released while the solver runs (on all cores); Ctrl-C, or an exception raised
 /// by `progress`, cancels the search. Raises InputError (a ValueError, the command line's
@@ -174,7 +176,7 @@ fn run(
                 continue;
             }
             let checked = progress.map_or(Ok(()), |p| {
-                p.call1((done.load(Relaxed), options.starts)).map(drop)
+                p.call1((done.load(Relaxed), options.starts + 1)).map(drop)
             });
             if let Err(e) = checked.and_then(|()| py.check_signals()) {
                 cancel.store(true, Relaxed);
@@ -182,7 +184,7 @@ fn run(
             }
         };
         if let (None, Some(p)) = (&interrupted, progress) {
-            p.call1((done.load(Relaxed), options.starts))?;
+            p.call1((done.load(Relaxed), options.starts + 1))?;
         }
         match (interrupted, outcome) {
             (Some(e), _) => Err(e),
