@@ -12,14 +12,20 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture(scope="session")
 def cli():
-    """Runs `purcell-sim` with arguments; $PURCELL_SIM, else the workspace's release build."""
+    """Runs `purcell-sim` with arguments: $PURCELL_SIM, else the workspace's build."""
     exe = os.environ.get("PURCELL_SIM")
     if not exe:
-        subprocess.run(
-            ["cargo", "build", "--release", "-q", "-p", "purcell-sim"], cwd=ROOT, check=True
+        # The workspace's build in the test profile (optimised), as firmware/check.sh runs it.
+        cargo = ["cargo", "build", "-q", "--profile", "test", "-p", "purcell-sim"]
+        subprocess.run(cargo, cwd=ROOT, check=True)
+        meta = subprocess.run(
+            ["cargo", "metadata", "--format-version", "1", "--no-deps"],
+            cwd=ROOT,
+            check=True,
+            capture_output=True,
+            text=True,
         )
-        target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-        exe = str(target / "release" / "purcell-sim")
+        exe = str(Path(json.loads(meta.stdout)["target_directory"]) / "debug" / "purcell-sim")
 
     def run(*args, code=0):
         done = subprocess.run([exe, *map(str, args)], capture_output=True, text=True)
