@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The Python package's checks (run by tests/run.sh): format and lints of the crate (its own
 # workspace and lock file), the abi3 wheel built by maturin, installed in a fresh virtual
-# environment with numpy and pytest, pytest against the workspace's purcell-sim, ruff.
+# environment with numpy, pytest, pandas and Dask, pytest against the workspace's purcell-sim, ruff.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root/python"
@@ -18,7 +18,9 @@ cargo clippy -q --locked --all-targets -- -D warnings
 rm -rf "$wheels"
 "$tools/bin/maturin" build -q --release --locked -o "$wheels"
 python3 -m venv --clear "$venv"
-"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest
+# pandas (Sweep.to_pandas) and Dask distributed (purcell.distributed's test on a LocalCluster):
+# about 10 s more with pip's cache warm.
+"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest pandas 'dask[distributed]'
 
 # The command line the tests compare with: the workspace's, in the test profile.
 (cd "$root" && cargo build -q --profile test -p purcell-sim)

@@ -3,7 +3,8 @@
 `solve` finds the cheapest admissible shape loop that moves the swimmer from the origin to a
 target and returns its trajectory, costate and certificates as numpy arrays; `replay` flies a
 stored gait through the embedded core as firmware does; `connection` is the local connection
-A(alpha). Units: metres, radians, seconds. Defaults, checks and messages are those of the
+A(alpha); `sweep` solves a lattice of targets (`purcell.distributed.sweep` on a Dask
+cluster). Units: metres, radians, seconds. Defaults, checks and messages are those of the
 `purcell-sim` command line.
 """
 
@@ -19,8 +20,10 @@ from ._purcell import (
     replay,
     solve,
 )
+from ._sweep import COLUMNS, Sweep, sweep
 
 __all__ = [
+    "COLUMNS",
     "Connection",
     "Extremal",
     "InputError",
@@ -28,7 +31,9 @@ __all__ = [
     "Replay",
     "ReplayFailed",
     "Solution",
+    "Sweep",
     "connection",
     "replay",
     "solve",
+    "sweep",
 ]

@@ -165,3 +165,39 @@ def connection(
     ratio: float = 2.0,
 ) -> Connection:
     """A(alpha) and its derivatives at a shape (radians)."""
+
+# The sweep's native parts; `purcell.sweep` and `purcell.distributed.sweep` (Python) are the
+# documented calls. `problem` is a dict of horizon, step, alpha0, links, drag, ratio,
+# alpha_max and starts (all of them).
+
+_Axis: TypeAlias = float | str | Sequence[float]
+_Target: TypeAlias = tuple[float, float, float]
+
+def sweep(
+    xs: _Axis,
+    ys: _Axis,
+    thetas: _Axis,
+    problem: dict[str, Any],
+    progress: Callable[[int, int], object] | None = None,
+) -> list[dict[str, Any]]:
+    """The local sweep: one record per target (the columns of sweep.csv)."""
+
+class SweepPlan:
+    """A sweep's lattice and problem, its phases one by one (purcell.distributed)."""
+
+    def __init__(self, xs: _Axis, ys: _Axis, thetas: _Axis, problem: dict[str, Any]) -> None: ...
+    @property
+    def targets(self) -> list[_Target]:
+        """The targets (x m, y m, theta rad), x slowest, theta fastest."""
+    def searched(self) -> list[int]:
+        """Indices of the targets whose global search runs (one per symmetry orbit)."""
+    def passes(self, searched: list[tuple[int, bytes, float]]) -> list[tuple[bytes, bytes, float]]:
+        """Phase 2: each target's (own extremals, extremals brought, smallest defect)."""
+
+def sweep_search(targets: Sequence[_Target], problem: dict[str, Any]) -> list[tuple[bytes, float]]:
+    """Phase 1 for a batch: each target's coarse extremals (bytes) and smallest defect, m / rad."""
+
+def sweep_refine(
+    cells: Sequence[tuple[_Target, tuple[bytes, bytes, float]]], problem: dict[str, Any]
+) -> list[dict[str, Any]]:
+    """Phase 3 for a batch: each target's record."""

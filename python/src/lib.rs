@@ -10,9 +10,11 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+mod detach;
 mod replay;
 mod solution;
 mod solve;
+mod sweep;
 
 create_exception!(
     _purcell,
@@ -139,5 +141,9 @@ fn _purcell(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(connection, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(replay::replay, m)?)?;
+    m.add_class::<sweep::SweepPlan>()?;
+    m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_search, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_refine, m)?)?;
     Ok(())
 }

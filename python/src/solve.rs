@@ -2,27 +2,14 @@
 //! thread of its own while the caller's thread, the GIL released, waits, calls `progress` and
 //! checks for Ctrl-C.
 
-use crate::{InputError, NoSolution, input_error, solution};
+use crate::{InputError, NoSolution, detach, input_error, solution};
 use purcell_sim::cli::MAX_STARTS;
 use purcell_sim::cli::args::{ModelArgs, OutDirArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
-use purcell_solver::problem::Problem;
 use purcell_solver::solver::{self, SolveError, SolveOptions};
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
-use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering::Relaxed};
-use std::sync::{Condvar, Mutex};
-use std::time::{Duration, Instant};
-
-/// How often the waiting thread calls `progress` and checks for signals.
-const POLL: Duration = Duration::from_millis(100);
-
-/// The solver's outcome, or the panic that ended it (a cancel included).
-type Outcome = std::thread::Result<Result<solver::Solution, SolveError>>;
-
-/// The payload a cancelled solve unwinds with (from its progress tick).
-struct Cancelled;
+use std::time::Instant;
 
 /// The cheapest admissible gait that moves the swimmer from the origin to `target`
 /// (MODEL.md §4), as `purcell-sim solve` finds it, with the same defaults and checks.
@@ -94,7 +81,9 @@ pub fn solve(
         ..SolveOptions::default()
     };
     let t0 = Instant::now();
-    let found = run(py, &problem, &options, progress.as_ref())?;
+    let found = detach::run(py, options.starts + 1, progress.as_ref(), |tick| {
+        solver::solve(&problem, &options, tick)
+    })?;
     let seconds = t0.elapsed().as_secs_f64();
     let found = found.map_err(|e| no_solution(py, &e))?;
     if let Some(e) = found.search.as_ref().filter(|e| !e.satisfied) {
@@ -130,66 +119,4 @@ fn no_solution(py: Python<'_>, e: &SolveError) -> PyErr {
         Ok(()) => err,
         Err(e) => e,
     }
-}
-
-/// Runs the solver on a thread of its own; meanwhile, with the GIL released, waits, and every
-/// [`POLL`] calls `progress` and checks for signals. An error from either cancels the solve
-/// (at its next finished start) and is returned once the solver thread has stopped.
-fn run(
-    py: Python<'_>,
-    problem: &Problem,
-    options: &SolveOptions,
-    progress: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Result<solver::Solution, SolveError>> {
-    let done = AtomicUsize::new(0);
-    let cancel = AtomicBool::new(false);
-    let slot: (Mutex<Option<Outcome>>, Condvar) = (Mutex::new(None), Condvar::new());
-    let (done, cancel, slot) = (&done, &cancel, &slot);
-    let wait = |timeout: Duration| {
-        py.detach(|| {
-            let guard = slot.0.lock().unwrap_or_else(|p| p.into_inner());
-            let (mut guard, _) = slot
-                .1
-                .wait_timeout_while(guard, timeout, |o| o.is_none())
-                .unwrap_or_else(|p| p.into_inner());
-            guard.take()
-        })
-    };
-    std::thread::scope(|s| {
-        s.spawn(move || {
-            let tick = || {
-                if cancel.load(Relaxed) {
-                    resume_unwind(Box::new(Cancelled));
-                }
-                done.fetch_add(1, Relaxed);
-            };
-            let outcome = catch_unwind(AssertUnwindSafe(|| solver::solve(problem, options, &tick)));
-            *slot.0.lock().unwrap_or_else(|p| p.into_inner()) = Some(outcome);
-            slot.1.notify_all();
-        });
-        let mut interrupted: Option<PyErr> = None;
-        let outcome = loop {
-            if let Some(outcome) = wait(POLL) {
-                break outcome;
-            }
-            if interrupted.is_some() {
-                continue;
-            }
-            let checked = progress.map_or(Ok(()), |p| {
-                p.call1((done.load(Relaxed), options.starts + 1)).map(drop)
-            });
-            if let Err(e) = checked.and_then(|()| py.check_signals()) {
-                cancel.store(true, Relaxed);
-                interrupted = Some(e);
-            }
-        };
-        if let (None, Some(p)) = (&interrupted, progress) {
-            p.call1((done.load(Relaxed), options.starts + 1))?;
-        }
-        match (interrupted, outcome) {
-            (Some(e), _) => Err(e),
-            (None, Ok(found)) => Ok(found),
-            (None, Err(panic)) => resume_unwind(panic),
-        }
-    })
 }

@@ -73,7 +73,7 @@ pub struct ProblemArgs<S: Args> {
 
 impl<S: Args> ProblemArgs<S> {
     /// The problem's [`Spec`] for `target` (exit 2 for a list of the wrong length).
-    pub(super) fn spec(&self, target: [f64; 3]) -> Result<Spec, Failure> {
+    pub fn spec(&self, target: [f64; 3]) -> Result<Spec, Failure> {
         Ok(Spec {
             target,
             horizon: self.horizon,
@@ -154,7 +154,7 @@ pub(super) fn arr<const N: usize>(name: &str, v: &[f64]) -> Result<[f64; N], Fai
 
 /// The bounds of a search (`solve`, `sweep`): `1 ≤ starts ≤ MAX_STARTS`, at most
 /// `MAX_SOLVE_STEPS` steps (exit 2).
-pub(super) fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
+pub fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
     if !(1..=MAX_STARTS).contains(&starts) {
         return Err(fail(
             2,

@@ -53,7 +53,7 @@ pub struct SweepArgs {
 }
 
 /// `FROM:TO:COUNT` or a single value.
-fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
+pub fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
     let bad = || {
         fail(
             2,

@@ -316,59 +316,91 @@ pub const KEEP: usize = 3;
 
 /// Solves every target of `lattice` (the other inputs from `spec`), each at least as well as
 /// [`super::solve`] would:
-/// 1. every target's own global search ([`super::search_coarse`], with `options`), run once
-///    per orbit of the swimmer's symmetries ([`symmetry`]) and mapped onto the other targets
-///    of the orbit;
+/// 1. every target's own global search ([`search_target`], with `options`), run once per
+///    orbit of the swimmer's symmetries ([`symmetry`]) and mapped onto the other targets of
+///    the orbit;
 /// 2. passes in which every target runs Newton on the coarse grid from its neighbours'
 ///    [`KEEP`] cheapest admissible extremals (and takes over the images of those of the
 ///    targets a symmetry maps onto it), until no target's kept extremals change: a cheap
 ///    basin one target found reaches the whole region where it is a minimum;
 /// 3. each target's candidates (its search's and those the passes brought) carried to the
-///    fine grid as `solve` carries them ([`refine_candidates`]).
+///    fine grid as `solve` carries them ([`refine_target`]).
 ///
 /// Targets are solved in parallel within each phase. `progress` is called once per target
-/// searched and once per target refined.
+/// searched and once per target refined. [`Atlas`] runs the phases one by one (phases 1 and
+/// 3 elsewhere, e.g. on a cluster), with the same results.
 pub fn sweep(
     spec: &Spec,
     lattice: &Lattice,
     options: &SolveOptions,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<SweepPoint>, crate::problem::InputError> {
-    let atlas = Atlas::new(spec, lattice, options)?;
-    let (own, residual) = atlas.search(options, progress);
+    let atlas = Atlas::new(spec, lattice.clone(), options)?;
+    let searched = atlas
+        .searched()
+        .into_par_iter()
+        .map(|i| {
+            let (list, residual) = search_target(&atlas.problems[i], options);
+            progress();
+            (i, list, residual)
+        })
+        .collect();
+    let (own, residual) = atlas.spread(searched, progress);
     let brought = atlas.neighbour_passes(&own);
-    // 3. Each target's candidates to the fine grid, as `solve` carries them.
     Ok((0..atlas.targets.len())
         .into_par_iter()
         .map(|i| {
-            let mut candidates = own[i].clone();
-            candidates.append(&mut brought[i].clone());
-            candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-            let result = refine_candidates(&atlas.problems[i], &candidates, options, residual[i])
-                .map(|(best, mut extremals)| extremals.swap_remove(best));
+            let (p, target) = (&atlas.problems[i], atlas.targets[i]);
+            let result = refine_target(p, &own[i], &brought[i], residual[i], options);
             progress();
-            SweepPoint {
-                target: atlas.targets[i],
-                result,
-            }
+            SweepPoint { target, result }
         })
         .collect())
 }
 
-/// A sweep's targets with their problems, coarse grids and symmetric images.
-struct Atlas<'a> {
-    lattice: &'a Lattice,
-    targets: Vec<Vector3<f64>>,
-    problems: Vec<Problem>,
+/// 1. A target's candidates from its global search and the search's smallest defect (none
+///    and infinity if it failed).
+pub fn search_target(problem: &Problem, options: &SolveOptions) -> (Vec<Candidate>, f64) {
+    match super::search_coarse(problem, options, &|| {}) {
+        Ok(s) => (s.candidates, s.best_residual),
+        Err(_) => (Vec::new(), f64::INFINITY),
+    }
+}
+
+/// 3. A target's `own` candidates and those the passes `brought` carried to the fine grid as
+///    `solve` carries them (`residual`: its search's smallest defect); its cheapest
+///    admissible extremal, or why there is none.
+pub fn refine_target(
+    problem: &Problem,
+    own: &[Candidate],
+    brought: &[Candidate],
+    residual: f64,
+    options: &SolveOptions,
+) -> Result<Extremal, SolveError> {
+    let mut candidates = [own, brought].concat();
+    candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    refine_candidates(problem, &candidates, options, residual)
+        .map(|(best, mut extremals)| extremals.swap_remove(best))
+}
+
+/// A sweep's targets with their problems, coarse grids and symmetric images: [`sweep`]'s
+/// phases one by one.
+pub struct Atlas {
+    lattice: Lattice,
+    /// The targets, as [`Lattice::targets`].
+    pub targets: Vec<Vector3<f64>>,
+    /// Their problems.
+    pub problems: Vec<Problem>,
     grids: Vec<Option<Grid>>,
     /// For each target, the targets a symmetry maps onto it, with that symmetry.
     images: Vec<Vec<(usize, Symmetry)>>,
 }
 
-impl<'a> Atlas<'a> {
-    fn new(
+impl Atlas {
+    /// The targets of `lattice` with the other inputs from `spec`.
+    pub fn new(
         spec: &Spec,
-        lattice: &'a Lattice,
+        lattice: Lattice,
         options: &SolveOptions,
     ) -> Result<Self, crate::problem::InputError> {
         let targets = lattice.targets();
@@ -407,28 +439,22 @@ impl<'a> Atlas<'a> {
         })
     }
 
-    /// 1. Every target's candidates from its global search, with the search's smallest
-    ///    defect: one search per orbit, a target whose images include an earlier target
-    ///    taking that target's candidates, mapped.
-    fn search(
+    /// The targets whose global search phase 1 runs: one per orbit of the symmetries.
+    pub fn searched(&self) -> Vec<usize> {
+        (0..self.targets.len())
+            .filter(|&i| self.images[i].iter().all(|(j, _)| *j > i))
+            .collect()
+    }
+
+    /// 1. Every target's candidates and smallest defect from the `searched` ones' (target,
+    ///    [`search_target`]'s outcome): a target whose images include an earlier target takes
+    ///    that target's candidates, mapped (`progress` called for each).
+    pub fn spread(
         &self,
-        options: &SolveOptions,
+        searched: Vec<(usize, Vec<Candidate>, f64)>,
         progress: &(dyn Fn() + Sync),
     ) -> (Vec<Vec<Candidate>>, Vec<f64>) {
         let n = self.targets.len();
-        let searched: Vec<(usize, Vec<Candidate>, f64)> = (0..n)
-            .filter(|&i| self.images[i].iter().all(|(j, _)| *j > i))
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .map(|i| {
-                let found = super::search_coarse(&self.problems[i], options, &|| {});
-                progress();
-                match found {
-                    Ok(s) => (i, s.candidates, s.best_residual),
-                    Err(_) => (i, Vec::new(), f64::INFINITY),
-                }
-            })
-            .collect();
         let mut own: Vec<Vec<Candidate>> = vec![Vec::new(); n];
         let mut residual = vec![f64::INFINITY; n];
         for (i, list, r) in searched {
@@ -452,7 +478,7 @@ impl<'a> Atlas<'a> {
     /// 2. Neighbour passes on the coarse grid from each target's `own` candidates, until no
     ///    target's kept extremals change; the candidates they brought to each target (not
     ///    among its own).
-    fn neighbour_passes(&self, own: &[Vec<Candidate>]) -> Vec<Vec<Candidate>> {
+    pub fn neighbour_passes(&self, own: &[Vec<Candidate>]) -> Vec<Vec<Candidate>> {
         let n = self.targets.len();
         let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); n];
         let mut changed = vec![false; n];
