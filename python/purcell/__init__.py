@@ -3,20 +3,23 @@
 `solve` finds the cheapest admissible shape loop that moves the swimmer from the origin to a
 target and returns its trajectory, costate and certificates as numpy arrays; `replay` flies a
 stored gait through the embedded core as firmware does; `connection` is the local connection
-A(alpha); `sweep` solves a lattice of targets (`purcell.distributed.sweep` on a Dask
-cluster). Units: metres, radians, seconds. Defaults, checks and messages are those of the
+A(alpha) and `field` its curvature over the shape plane; `sweep` solves a lattice of targets
+(`purcell.distributed.sweep` on a Dask cluster). `Solution.save` writes the command line's
+files. Units: metres, radians, seconds. Defaults, checks and messages are those of the
 `purcell-sim` command line.
 """
 
 from ._purcell import (
     Connection,
     Extremal,
+    Field,
     InputError,
     NoSolution,
     Replay,
     ReplayFailed,
     Solution,
     connection,
+    field,
     replay,
     solve,
 )
@@ -26,6 +29,7 @@ __all__ = [
     "COLUMNS",
     "Connection",
     "Extremal",
+    "Field",
     "InputError",
     "NoSolution",
     "Replay",
@@ -33,6 +37,7 @@ __all__ = [
     "Solution",
     "Sweep",
     "connection",
+    "field",
     "replay",
     "solve",
     "sweep",

@@ -115,6 +115,15 @@ class Solution(Extremal):
         """The binary gait file (`purcell-sim export`'s bytes)."""
     def costate(self) -> str:
         """The costate file (costate.json), JSON text."""
+    def save(
+        self,
+        out: str | os.PathLike[str],
+        *,
+        force: bool = False,
+        plots: bool = True,
+        degrees: bool = False,
+    ) -> None:
+        """Writes `purcell-sim solve --out`'s files to `out`, with its safety rules."""
 
 class Replay:
     """One replay of a gait through the core, as firmware flies it."""
@@ -146,6 +155,7 @@ def solve(
     starts: int = 512,
     seed: int = 0,
     checkpoint_every: int | None = None,
+    warm: Solution | str | os.PathLike[str] | None = None,
     progress: Callable[[int, int], object] | None = None,
 ) -> Solution:
     """The cheapest admissible gait to target (x m, y m, theta rad) in horizon seconds."""
@@ -156,6 +166,32 @@ def replay(
     checkpoints: bool = True,
 ) -> Replay:
     """Replays a gait through the core in f32 or f64; digest and terminal error."""
+
+class Field:
+    """The curvature F of the connection on cells covering ]-pi, pi[^2 (MODEL.md §8)."""
+
+    @property
+    def centres(self) -> F64:
+        """Cell centres along each axis (alpha1 and alpha2), radians, shape (n,)."""
+    @property
+    def cell(self) -> float:
+        """Width of one cell, radians."""
+    @property
+    def F(self) -> F64:
+        """F, shape (3, n, n): rows x, y (m/rad^2), theta (1/rad); [row, j, i] at
+        (alpha1, alpha2) = (centres[i], centres[j])."""
+    def integral_over(self, path: npt.ArrayLike) -> F64:
+        """Integral of F over the area the closed shape path (M, 2), radians, encloses:
+        the leading-order net motion (x m, y m, theta rad)."""
+
+def field(
+    *,
+    links: Sequence[float] = (1.0, 1.0, 1.0),
+    drag: float = 1.0,
+    ratio: float = 2.0,
+    cells: int = 180,
+) -> Field:
+    """The curvature of the connection on cells x cells cells (`purcell-sim field`'s field.csv)."""
 
 def connection(
     alpha: Sequence[float],

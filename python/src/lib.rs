@@ -11,6 +11,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 mod detach;
+mod field;
 mod replay;
 mod solution;
 mod solve;
@@ -142,6 +143,8 @@ fn _purcell(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(replay::replay, m)?)?;
     m.add_class::<sweep::SweepPlan>()?;
+    m.add_class::<field::Field>()?;
+    m.add_function(wrap_pyfunction!(field::field, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_search, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_refine, m)?)?;

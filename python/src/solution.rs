@@ -1,13 +1,15 @@
 //! `Extremal` and `Solution`: what `purcell.solve` returns, the arrays built from the
 //! solver's trajectory on each access.
 
-use crate::{array1, array2};
+use crate::{array1, array2, input_error};
 use numpy::{PyArray1, PyArray2};
 use purcell_core::Gait;
 use purcell_sim::cli::solve::report_json;
+use purcell_sim::costate_file::CostateFile;
 use purcell_sim::output;
 use purcell_solver::problem::Problem;
 use purcell_solver::solver;
+use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
@@ -188,14 +190,22 @@ pub struct Solution {
     report: Py<PyAny>,
     /// The binary gait file.
     gait: Vec<u8>,
-    /// The costate file (`costate.json`).
-    costate: String,
+    /// The costate file.
+    file: CostateFile,
+    /// `report.json` as the command line writes it.
+    report_text: String,
+    /// The problem it solves.
+    problem: Problem,
 }
 
 impl Solution {
     /// The binary gait file.
     pub(crate) fn gait_bytes(&self) -> &[u8] {
         &self.gait
+    }
+    /// The costate file.
+    pub(crate) fn file(&self) -> &CostateFile {
+        &self.file
     }
 }
 
@@ -206,8 +216,56 @@ impl Solution {
         PyBytes::new(py, &self.gait)
     }
     /// The costate file, JSON text (`costate.json`), for `purcell-sim replay --costate`.
-    fn costate(&self) -> &str {
-        &self.costate
+    fn costate(&self) -> String {
+        self.file.to_json()
+    }
+    /// Writes the command line's files to the directory `out` as `purcell-sim solve --out`
+    /// does: trajectory.csv, costate.json, report.json and (plots=True) the figures, SVG and
+    /// PNG (shape axes in degrees with degrees=True). The same safety rules: `out` must be
+    /// missing, empty or a previous result of `solve` (anything with force=True), the files
+    /// are written next to it and put in its place in one step. Raises InputError (the
+    /// command line's message) for a refused `out`, OSError if writing fails.
+    #[pyo3(signature = (out, *, force = false, plots = true, degrees = false))]
+    fn save(
+        slf: PyRef<'_, Self>,
+        py: Python<'_>,
+        out: std::path::PathBuf,
+        force: bool,
+        plots: bool,
+        degrees: bool,
+    ) -> PyResult<()> {
+        let x = &slf.as_super().x;
+        let dir = output::OutputDir::prepare(&out, "solve", force, &[]).map_err(input_error)?;
+        let mut files = vec![
+            (
+                "trajectory.csv".to_string(),
+                output::trajectory_csv(&slf.problem, &x.trajectory).into_bytes(),
+            ),
+            ("costate.json".to_string(), slf.file.to_json().into_bytes()),
+            (
+                "report.json".to_string(),
+                slf.report_text.clone().into_bytes(),
+            ),
+        ];
+        let problem = &slf.problem;
+        let file = &slf.file;
+        py.detach(|| {
+            if plots {
+                let options = purcell_sim::plots::Options { degrees };
+                let figures = purcell_sim::plots::figures(
+                    problem,
+                    &x.trajectory,
+                    &x.arcs,
+                    &x.mu,
+                    file,
+                    &options,
+                )
+                .map_err(|e| format!("plotting: {e}"))?;
+                files.extend(figures);
+            }
+            dir.commit(&files).map_err(|e| e.to_string())
+        })
+        .map_err(PyOSError::new_err)
     }
     fn __repr__(slf: PyRef<'_, Self>) -> String {
         let x = &slf.as_super().x;
@@ -243,6 +301,9 @@ pub(crate) fn build(
         &Gait::from_bytes(&gait).map_err(failed)?,
         seconds,
     );
+    let report_text = serde_json::to_string_pretty(&report)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
+        + "\n";
     let report = py
         .import("json")?
         .call_method1("loads", (report.to_string(),))?;
@@ -257,7 +318,9 @@ pub(crate) fn build(
             extremals,
             report: report.unbind(),
             gait,
-            costate: file.to_json(),
+            file,
+            report_text,
+            problem: *problem,
         });
     Py::new(py, init)
 }

@@ -6,9 +6,12 @@ use crate::{InputError, NoSolution, detach, input_error, solution};
 use purcell_sim::cli::MAX_STARTS;
 use purcell_sim::cli::args::{ModelArgs, OutDirArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
+use purcell_solver::problem::Problem;
+use purcell_solver::solver::continuation::{self, Warm};
 use purcell_solver::solver::{self, SolveError, SolveOptions};
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// The cheapest admissible gait that moves the swimmer from the origin to `target`
@@ -20,7 +23,10 @@ use std::time::Instant;
 /// tangential drag. alpha_max: joint limit |alpha_i| <= alpha_max, radians, below pi (None:
 /// only the links' overlap). starts: budget of start loops (1 to 4096). seed: orders the
 /// starts. checkpoint_every: costate checkpoint spacing in steps (None: 100; 0: none).
-/// progress: called as progress(done, total) every 0.1 s and at the end, from the calling
+/// warm: a Solution, or the path of a costate file (costate.json), whose extremal (replayed)
+/// starts the solve (the command line's `--from`): continuation from its target to this one,
+/// or the global search with a UserWarning if that reaches no admissible extremal; the same
+/// swimmer required. progress: called as progress(done, total) every 0.1 s and at the end, from the calling
 /// thread: start loops finished of starts + 1 (the zero loop included), as the command line's
 /// progress bar counts them.
 ///
@@ -32,7 +38,7 @@ use std::time::Instant;
     target, *, horizon = 100.0, step = 0.01, alpha0 = vec![0.0, 0.0],
     links = vec![1.0, 1.0, 1.0], drag = 1.0, ratio = 2.0, alpha_max = None,
     starts = SolveOptions::default().starts as i64, seed = 0, checkpoint_every = None,
-    progress = None
+    warm = None, progress = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn solve(
@@ -48,6 +54,7 @@ pub fn solve(
     starts: i64,
     seed: u64,
     checkpoint_every: Option<u32>,
+    warm: Option<Bound<'_, PyAny>>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<solution::Solution>> {
     let Ok(starts) = usize::try_from(starts) else {
@@ -80,11 +87,27 @@ pub fn solve(
         seed,
         ..SolveOptions::default()
     };
+    let warm = warm.map(|w| warm_start(&w, &problem)).transpose()?;
     let t0 = Instant::now();
-    let found = detach::run(py, options.starts + 1, progress.as_ref(), |tick| {
-        solver::solve(&problem, &options, tick)
-    })?;
+    let (found, failed) = detach::run(
+        py,
+        options.starts + 1,
+        progress.as_ref(),
+        |tick| match &warm {
+            None => (solver::solve(&problem, &options, tick), None),
+            Some(w) => continuation::solve_from(&problem, w, &options, tick),
+        },
+    )?;
     let seconds = t0.elapsed().as_secs_f64();
+    if let Some(e) = failed {
+        warn(
+            py,
+            format!(
+                "warm reached no admissible extremal of this problem ({e}); solved by the \
+                 global search instead"
+            ),
+        )?;
+    }
     let found = found.map_err(|e| no_solution(py, &e))?;
     if let Some(e) = found.search.as_ref().filter(|e| !e.satisfied) {
         let message = format!(
@@ -93,14 +116,41 @@ pub fn solve(
              gait returned: {:.3}); this is the cheapest gait found: raise starts to search on",
             e.budget, e.unseen
         );
-        PyErr::warn(
-            py,
-            &py.get_type::<PyUserWarning>(),
-            &std::ffi::CString::new(message)?,
-            1,
-        )?;
+        warn(py, message)?;
     }
     solution::build(py, &problem, &found, every, seconds)
+}
+
+/// A `UserWarning` with `message`.
+fn warn(py: Python<'_>, message: String) -> PyResult<()> {
+    let message = std::ffi::CString::new(message)?;
+    PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)
+}
+
+/// The start `warm` names for `problem` (`solve --from`): a `Solution`'s extremal (its
+/// costate file, replayed) or a costate file's path; the same swimmer required.
+fn warm_start(warm: &Bound<'_, PyAny>, problem: &Problem) -> PyResult<Warm> {
+    let Ok(s) = warm.cast::<solution::Solution>() else {
+        let path: PathBuf = warm.extract().map_err(|_| {
+            input_error("warm takes a Solution or the path of a costate file (costate.json)")
+        })?;
+        return purcell_sim::cli::solve::warm_start(&path, problem)
+            .map_err(|f| InputError::new_err(f.message));
+    };
+    let file = s.get().file();
+    let stored = file
+        .problem()
+        .map_err(|e| input_error(format!("warm: {e}")))?;
+    if stored.swimmer != problem.swimmer {
+        return Err(input_error(
+            "warm: stored for another swimmer (links, drag or ratio differ); warm needs the \
+             same model",
+        ));
+    }
+    let t = purcell_sim::replay::trajectory(file)
+        .map_err(|e| input_error(format!("warm: its replay fails ({e})")))?;
+    Warm::from_trajectory(&t, &nalgebra::Vector3::from(file.mu), stored.horizon())
+        .ok_or_else(|| input_error("warm: empty trajectory"))
 }
 
 /// [`NoSolution`] for `e`, with `best_residual` and `best_alpha`.

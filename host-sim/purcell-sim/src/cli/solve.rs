@@ -216,7 +216,7 @@ fn find(a: &SolveArgs, problem: &Problem) -> Result<(Solution, f64), Failure> {
 }
 
 /// The stored extremal of `path` as a start for `problem`: same swimmer required.
-fn warm_start(path: &Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
+pub fn warm_start(path: &Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
     let file = read_costate(path)?;
     let stored = file
         .problem()
