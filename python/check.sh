@@ -18,9 +18,9 @@ cargo clippy -q --locked --all-targets -- -D warnings
 rm -rf "$wheels"
 "$tools/bin/maturin" build -q --release --locked -o "$wheels"
 python3 -m venv --clear "$venv"
-# pandas (Sweep.to_pandas) and Dask distributed (purcell.distributed's test on a LocalCluster):
-# about 10 s more with pip's cache warm.
-"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest pandas 'dask[distributed]'
+# pandas (Sweep.to_pandas), Dask distributed (purcell.distributed's test on a LocalCluster)
+# and matplotlib (the examples): about 15 s more with pip's cache warm.
+"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest pandas 'dask[distributed]' matplotlib
 
 # The command line the tests compare with: the workspace's, in the test profile.
 (cd "$root" && cargo build -q --profile test -p purcell-sim)
@@ -29,3 +29,10 @@ target=$(cd "$root" && cargo metadata --format-version 1 --no-deps |
 # Run from tests/ so that the source tree's purcell/ (no native module) is not imported.
 cd tests
 PURCELL_SIM=$target/debug/purcell-sim "$venv/bin/python" -m pytest -q -p no:cacheprovider
+
+# The examples, from the package alone (the atlas on a small lattice, short horizon, on a
+# local Dask cluster of two workers): the paper's figures and the cost map.
+examples=$root/target/python-examples
+"$venv/bin/python" "$root/python/examples/paper_figures.py" --out "$examples/paper"
+"$venv/bin/python" "$root/python/examples/atlas.py" --x=-0.1:0.1:3 --y=0:0.2:3 \
+  --horizon 10 --step 0.05 --dask 2 --out "$examples/atlas"
