@@ -8,6 +8,15 @@ use purcell_solver::problem::{Problem, Spec};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
+/// The exit codes, as `--help` lists them after every command's flags (the one list; the
+/// README's table says more on each).
+pub const EXIT_CODES: &str = "\
+Exit codes:
+  0  success
+  1  I/O error after the work (writing the results or stdout), or no worker threads
+  2  bad input or usage, refused before any work
+  3  no solution: solve found no admissible extremal; replay: a replay failed";
+
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
 pub const MAX_STARTS: usize = 4096;
 /// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
@@ -92,7 +101,7 @@ impl<S: Args> ProblemArgs<S> {
 pub struct OutDirArgs {
     /// Output directory: created, or replaced in one step if it is empty or a previous
     /// result of purcell-sim (anything else is refused before any work).
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: PathBuf,
     /// Replace --out even if it holds files purcell-sim did not write.
     #[arg(long)]
@@ -109,6 +118,22 @@ impl OutDirArgs {
     ) -> Result<output::OutputDir, Failure> {
         output::OutputDir::prepare(&self.out, command, self.force, inputs)
             .map_err(output_failure(true))
+    }
+}
+
+/// What `solve` and `sweep` print on stdout: a short summary, or with `--json` their
+/// `report.json` (`-q` prints neither).
+#[derive(Debug, Args)]
+pub struct PrintArgs {
+    /// Print report.json on stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// A warning on stderr, unless `quiet` (`-q`).
+pub(super) fn warn(quiet: bool, message: std::fmt::Arguments<'_>) {
+    if !quiet {
+        eprintln!("warning: {message}");
     }
 }
 
@@ -177,9 +202,9 @@ pub(super) fn search_limits(problem: &Problem, starts: usize) -> Result<(), Fail
 pub(super) struct Progress(Option<indicatif::ProgressBar>);
 
 impl Progress {
-    /// A bar of `len` ticks drawn by `template` (indicatif's).
-    pub(super) fn new(len: u64, template: &str) -> Self {
-        Self(std::io::stderr().is_terminal().then(|| {
+    /// A bar of `len` ticks drawn by `template` (indicatif's); none if `quiet`.
+    pub(super) fn new(len: u64, template: &str, quiet: bool) -> Self {
+        Self((!quiet && std::io::stderr().is_terminal()).then(|| {
             let b = indicatif::ProgressBar::new(len);
             b.set_style(
                 indicatif::ProgressStyle::with_template(template)

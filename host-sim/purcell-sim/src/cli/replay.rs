@@ -38,7 +38,7 @@ pub struct ReplayArgs {
     pub no_checkpoints: bool,
     /// Also write the JSON report to this file (atomically; an existing file is replaced
     /// only if it is a previous replay report, never the costate file).
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: Option<PathBuf>,
     /// Replace --out even if it holds something else (never the costate file).
     #[arg(long)]
