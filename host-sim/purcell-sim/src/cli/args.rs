@@ -234,13 +234,42 @@ pub(super) fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
     input::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))
 }
 
-/// Reads a costate file (exit 2 if unreadable or invalid).
+/// Reads a costate file (exit 2 if unreadable or invalid, or a binary gait file: the
+/// message says so).
 pub(super) fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
-    let text = String::from_utf8(read_input(path)?).map_err(|e| {
+    let bytes = read_input(path)?;
+    if bytes.starts_with(&purcell_core::gait::MAGIC) {
+        return Err(fail(
+            2,
+            format!(
+                "{}: a binary gait file (export's output), not a costate file \
+                 (DIR/costate.json); replay and field take it as --gait",
+                path.display()
+            ),
+        ));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
         fail(
             2,
             format!("{}: malformed costate file: {e}", path.display()),
         )
     })?;
     CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
+}
+
+/// Reads a binary gait file (exit 2 if unreadable, or a costate file: the message says so;
+/// the core checks the rest).
+pub(super) fn read_gait(path: &Path) -> Result<Vec<u8>, Failure> {
+    let bytes = read_input(path)?;
+    if bytes.trim_ascii_start().starts_with(b"{") {
+        return Err(fail(
+            2,
+            format!(
+                "{}: a costate file (JSON), not a binary gait file (export's output); pass it \
+                 as --costate",
+                path.display()
+            ),
+        ));
+    }
+    Ok(bytes)
 }
