@@ -2,8 +2,8 @@
 //! (`--from`), written with its costate file, report and figures.
 
 use super::args::{
-    Failure, OutDirArgs, PrintArgs, ProblemArgs, Progress, arr, fail, output_failure, read_costate,
-    search_limits, warn,
+    Failure, MAX_STARTS, OutDirArgs, PrintArgs, ProblemArgs, Progress, arr, fail, output_failure,
+    read_costate, search_limits, warn,
 };
 use super::summary;
 use crate::costate_file::CostateFile;
@@ -12,7 +12,7 @@ use clap::{ArgAction, Args};
 use purcell_core::{Arc, Gait};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation;
-use purcell_solver::solver::{Evidence, Extremal, Solution, SolveOptions, solve};
+use purcell_solver::solver::{Evidence, Extremal, Solution, SolveError, SolveOptions, solve};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -227,8 +227,37 @@ fn find(a: &SolveArgs, problem: &Problem, quiet: bool) -> Result<(Solution, f64)
         }
     };
     progress.finish();
-    let solution = result.map_err(|e| fail(3, e))?;
+    let solution = result.map_err(|e| fail(3, format!("{e}\n{}", what_to_try(&e, a, problem))))?;
     Ok((solution, t0.elapsed().as_secs_f64()))
+}
+
+/// What exit 3's message suggests after `e`, by its cause.
+fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
+    let starts = a.problem.search.starts;
+    let mut tries = Vec::new();
+    if starts < MAX_STARTS {
+        tries.push(format!(
+            "more starts (--starts {}; {starts} now)",
+            (4 * starts).min(MAX_STARTS)
+        ));
+    }
+    tries.push(format!("another --seed ({} now)", a.problem.search.seed));
+    tries.push(
+        "a warm start from the gait of a nearer target, solved first (--from DIR/costate.json)"
+            .into(),
+    );
+    match (e, problem.alpha_max) {
+        (SolveError::Unreachable { .. }, _) => {}
+        (_, Some(limit)) => tries.push(format!("a looser joint limit (--alpha-max; {limit} now)")),
+        (SolveError::NoneAdmissible { .. }, None) => tries.push(
+            "another start shape if it is yours to choose (--alpha0): every extremal found \
+             crosses the links' overlap"
+                .into(),
+        ),
+        (_, None) => {}
+    }
+    let last = tries.pop().unwrap_or_default();
+    format!("try {}, or {last}", tries.join(", "))
 }
 
 /// The stored extremal of `path` as a start for `problem`: same swimmer required.
