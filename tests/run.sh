@@ -23,6 +23,8 @@ if "$python" -c 'import casadi' 2>/dev/null; then
 else
   echo "skipped: $python cannot import casadi (.ci/run installs it in target/casadi-venv)"
 fi
+step "Python package (python/): fmt, clippy, ruff, the abi3 wheel by maturin in a fresh venv, pytest against purcell-sim"
+bash python/check.sh
 step "example: the committed paper's gait replayed on the host"
 cargo run -q -p purcell-core --example replay_gait
 step "core for the MCU (thumbv7em-none-eabihf)"

@@ -177,7 +177,7 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
 /// The problem of `a` and its checkpoint spacing, checked as `solve` input (exit 2): the
 /// model ([`Problem::new`]), every number within `f32` (the costate file is for the `f32`
 /// firmware, and the report replays it in `f32`), the search's limits.
-fn checked_problem(a: &SolveArgs) -> Result<(Problem, u32), Failure> {
+pub fn checked_problem(a: &SolveArgs) -> Result<(Problem, u32), Failure> {
     let [x, y, theta] = arr("target", &a.target)?;
     let spec = a.problem.spec([x, y, wrap_angle(theta)])?;
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
@@ -285,7 +285,7 @@ fn warm_start(path: &Path, problem: &Problem) -> Result<continuation::Warm, Fail
 /// `report.json`: the returned extremal of `solution` (whose costate `file` and `gait` are
 /// written), found in `seconds`, then every extremal, the search's evidence and the
 /// standard replays of the gait.
-fn report_json(
+pub fn report_json(
     problem: &Problem,
     solution: &Solution,
     file: &CostateFile,

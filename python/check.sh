@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The Python package's checks (run by tests/run.sh): format and lints of the crate (its own
+# workspace and lock file), the abi3 wheel built by maturin, installed in a fresh virtual
+# environment with numpy and pytest, pytest against the workspace's purcell-sim, ruff.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root/python"
+bash tools.sh
+tools=${PURCELL_PY_TOOLS:-$root/target/python-tools}
+venv=$root/target/python-venv
+wheels=$root/target/python-wheels
+
+cargo fmt --check
+cargo clippy -q --locked --all-targets -- -D warnings
+"$tools/bin/ruff" check .
+"$tools/bin/ruff" format --check .
+
+rm -rf "$wheels"
+"$tools/bin/maturin" build -q --release --locked -o "$wheels"
+python3 -m venv --clear "$venv"
+"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest
+
+# The command line the tests compare with: the workspace's, in the test profile.
+(cd "$root" && cargo build -q --profile test -p purcell-sim)
+target=$(cd "$root" && cargo metadata --format-version 1 --no-deps |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+# Run from tests/ so that the source tree's purcell/ (no native module) is not imported.
+cd tests
+PURCELL_SIM=$target/debug/purcell-sim "$venv/bin/python" -m pytest -q -p no:cacheprovider

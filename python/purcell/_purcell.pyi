@@ -1,0 +1,167 @@
+"""Type stubs of the native module (src/*.rs). Units: metres, radians, seconds."""
+
+import os
+from collections.abc import Callable, Sequence
+from typing import Any, Literal, TypeAlias
+
+import numpy as np
+import numpy.typing as npt
+
+F64: TypeAlias = npt.NDArray[np.float64]
+
+class InputError(ValueError):
+    """Bad input, refused before any work, with the command line's message (exit code 2)."""
+
+class NoSolution(RuntimeError):
+    """No admissible extremal (the command line's exit code 3)."""
+
+    best_residual: float | None
+    """Smallest terminal defect any start reached, m / rad (None: extremals, none admissible)."""
+    best_alpha: float | None
+    """Smallest largest |alpha_i| of the inadmissible extremals found, rad."""
+
+class ReplayFailed(RuntimeError):
+    """A replay stopped early (the command line's exit code 3)."""
+
+    step: int | None
+    """The step it failed at (None: before its first step)."""
+
+class Connection:
+    """The local connection at a shape: body velocity xi = -A(alpha) @ alpha_dot."""
+
+    A: F64
+    """A(alpha), shape (3, 2): rows x, y, theta; columns alpha1, alpha2."""
+    dA: F64
+    """[dA/dalpha1, dA/dalpha2], shape (2, 3, 2), per radian."""
+
+class Extremal:
+    """One extremal on the problem's grid with its certificates (arrays built per access)."""
+
+    @property
+    def cost(self) -> float:
+        """J = sum_k h/2 |u_k|^2, rad^2/s."""
+    @property
+    def mu(self) -> F64:
+        """Spatial momentum mu, shape (3,)."""
+    @property
+    def xi0(self) -> F64:
+        """Initial shape costate xi^{-1}, shape (2,)."""
+    @property
+    def t(self) -> F64:
+        """Times k h, seconds, shape (N+1,)."""
+    @property
+    def alpha(self) -> F64:
+        """Shapes (alpha1, alpha2), radians, shape (N+1, 2)."""
+    @property
+    def u(self) -> F64:
+        """Controls (shape velocities), rad/s, shape (N, 2)."""
+    @property
+    def g(self) -> F64:
+        """Positions (x, y, theta), metres and radians, shape (N+1, 3)."""
+    @property
+    def xi(self) -> F64:
+        """Costate path xi^{k-1}, k = 0..N, shape (N+1, 2)."""
+    @property
+    def arcs(self) -> list[dict[str, int]]:
+        """Joint-limit arcs: {joint, sign, first, last}."""
+    @property
+    def max_abs_alpha(self) -> float:
+        """Largest |alpha_i| along the path, radians."""
+    @property
+    def admissible(self) -> bool: ...
+    @property
+    def local_min(self) -> bool:
+        """Second-order check: a strict local minimum."""
+    @property
+    def residual(self) -> float:
+        """Terminal defect of the solver's trajectory, m / rad."""
+    @property
+    def terminal_residual(self) -> float | None:
+        """Terminal defect of the controls re-integrated through the core, m / rad."""
+    @property
+    def kkt_residual(self) -> float | None:
+        """KKT residual by reverse mode through the core, rad/s."""
+    @property
+    def law_residual(self) -> float | None:
+        """Relative deviation of the core's law from the controls."""
+    @property
+    def min_eta(self) -> float | None:
+        """Smallest joint-limit multiplier over the arcs."""
+    @property
+    def stationarity(self) -> float:
+        """The solver's own stationarity residual, rad/s."""
+    @property
+    def uncertified(self) -> str | None:
+        """Why the certificates do not vouch for it (None if they do)."""
+    @property
+    def newton_iterations(self) -> int: ...
+    @property
+    def start(self) -> int: ...
+    @property
+    def hits(self) -> int: ...
+    @property
+    def twin_of(self) -> int | None: ...
+
+class Solution(Extremal):
+    """The returned extremal (its attributes), every extremal found, the report, the gait."""
+
+    best: int
+    """Index of the returned extremal in `extremals`."""
+    extremals: list[Extremal]
+    """Every extremal carried to the problem's grid, cheapest first."""
+    report: dict[str, Any]
+    """report.json of `purcell-sim solve` as a dict."""
+    def gait(self) -> bytes:
+        """The binary gait file (`purcell-sim export`'s bytes)."""
+    def costate(self) -> str:
+        """The costate file (costate.json), JSON text."""
+
+class Replay:
+    """One replay of a gait through the core, as firmware flies it."""
+
+    precision: Literal["f32", "f64"]
+    checkpoints: bool
+    digest: str
+    """Trajectory digest, 0x and 16 hex digits (as `purcell-sim replay` prints)."""
+    final_state_bits: list[str]
+    alpha_error: float
+    """max |alpha_N - alpha0|, radians."""
+    g_error: float
+    """max |log(g_bar^-1 g_N)|, metres / radians."""
+    t: F64
+    alpha: F64
+    u: F64
+    g: F64
+
+def solve(
+    target: Sequence[float],
+    *,
+    horizon: float = 100.0,
+    step: float = 0.01,
+    alpha0: Sequence[float] = (0.0, 0.0),
+    links: Sequence[float] = (1.0, 1.0, 1.0),
+    drag: float = 1.0,
+    ratio: float = 2.0,
+    alpha_max: float | None = None,
+    starts: int = 512,
+    seed: int = 0,
+    checkpoint_every: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> Solution:
+    """The cheapest admissible gait to target (x m, y m, theta rad) in horizon seconds."""
+
+def replay(
+    costate_or_gait: Solution | bytes | bytearray | str | os.PathLike[str],
+    precision: Literal["f32", "f64"] = "f32",
+    checkpoints: bool = True,
+) -> Replay:
+    """Replays a gait through the core in f32 or f64; digest and terminal error."""
+
+def connection(
+    alpha: Sequence[float],
+    *,
+    links: Sequence[float] = (1.0, 1.0, 1.0),
+    drag: float = 1.0,
+    ratio: float = 2.0,
+) -> Connection:
+    """A(alpha) and its derivatives at a shape (radians)."""

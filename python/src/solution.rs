@@ -1,0 +1,263 @@
+//! `Extremal` and `Solution`: what `purcell.solve` returns, the arrays built from the
+//! solver's trajectory on each access.
+
+use crate::{array1, array2};
+use numpy::{PyArray1, PyArray2};
+use purcell_core::Gait;
+use purcell_sim::cli::solve::report_json;
+use purcell_sim::output;
+use purcell_solver::problem::Problem;
+use purcell_solver::solver;
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+/// One extremal of the problem on its own grid, with its certificates (MODEL.md §4–§5).
+///
+/// Arrays are numpy float64, built anew at each access. Units: seconds, radians, metres;
+/// controls in rad/s; costates as MODEL.md §5.
+#[pyclass(frozen, subclass, module = "purcell")]
+pub struct Extremal {
+    /// The solver's extremal.
+    x: solver::Extremal,
+    /// Time step `h`, seconds.
+    h: f64,
+}
+
+impl Extremal {
+    /// The extremal `x` of a problem with step `h`.
+    pub(crate) fn new(x: solver::Extremal, h: f64) -> Self {
+        Extremal { x, h }
+    }
+}
+
+#[pymethods]
+impl Extremal {
+    /// J = sum_k h/2 |u_k|^2, rad^2/s.
+    #[getter]
+    fn cost(&self) -> f64 {
+        self.x.cost
+    }
+    /// The spatial momentum mu, shape (3,).
+    #[getter]
+    fn mu<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.x.mu.as_slice())
+    }
+    /// The initial shape costate xi^{-1}, shape (2,).
+    #[getter]
+    fn xi0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array1(py, self.x.xi0.as_slice())
+    }
+    /// Times t_k = k h, k = 0..N, seconds, shape (N+1,).
+    #[getter]
+    fn t<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let n = self.x.trajectory.states.len();
+        let t: Vec<f64> = (0..n).map(|k| self.h * k as f64).collect();
+        array1(py, &t)
+    }
+    /// Shapes alpha_k = (alpha1, alpha2), radians, shape (N+1, 2).
+    #[getter]
+    fn alpha<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let s = &self.x.trajectory.states;
+        array2(py, s.iter().map(|s| [s.alpha.x, s.alpha.y]))
+    }
+    /// Controls u_k = shape velocities, rad/s, shape (N, 2).
+    #[getter]
+    fn u<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let c = &self.x.trajectory.controls;
+        array2(py, c.iter().map(|u| [u.x, u.y]))
+    }
+    /// Positions g_k = (x, y, theta), metres and radians, shape (N+1, 3).
+    #[getter]
+    fn g<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let s = &self.x.trajectory.states;
+        array2(py, s.iter().map(|s| s.g.to_xytheta().into()))
+    }
+    /// The costate path xi^{k-1}, k = 0..N (the first is xi0), shape (N+1, 2).
+    #[getter]
+    fn xi<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let s = &self.x.trajectory.xis;
+        array2(py, s.iter().map(|x| [x.x, x.y]))
+    }
+    /// Joint-limit arcs: dicts {joint (1 or 2), sign (+1/-1), first, last} (states on the limit).
+    #[getter]
+    fn arcs<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.x
+            .arcs
+            .iter()
+            .map(|a| {
+                let d = PyDict::new(py);
+                d.set_item("joint", a.joint)?;
+                d.set_item("sign", a.sign)?;
+                d.set_item("first", a.first)?;
+                d.set_item("last", a.last)?;
+                Ok(d)
+            })
+            .collect()
+    }
+    /// Largest |alpha_i| along the path, radians.
+    #[getter]
+    fn max_abs_alpha(&self) -> f64 {
+        self.x.max_abs_alpha
+    }
+    /// Whether the path is admissible (within the joint limit, or short of the overlap at pi).
+    #[getter]
+    fn admissible(&self) -> bool {
+        self.x.admissible
+    }
+    /// Second-order check: a strict local minimum.
+    #[getter]
+    fn local_min(&self) -> bool {
+        self.x.local_min
+    }
+    /// Terminal defect of the solver's trajectory, m / rad.
+    #[getter]
+    fn residual(&self) -> f64 {
+        self.x.residual
+    }
+    /// Terminal defect after re-integrating the controls through the core, m / rad (None if
+    /// not admissible).
+    #[getter]
+    fn terminal_residual(&self) -> Option<f64> {
+        self.x.terminal_residual
+    }
+    /// Independent KKT residual by reverse mode through the core, rad/s (None if not admissible).
+    #[getter]
+    fn kkt_residual(&self) -> Option<f64> {
+        self.x.kkt_residual
+    }
+    /// Relative deviation of the core's law from the controls (None if not admissible).
+    #[getter]
+    fn law_residual(&self) -> Option<f64> {
+        self.x.law_residual
+    }
+    /// Smallest joint-limit multiplier over the arcs (None without arcs).
+    #[getter]
+    fn min_eta(&self) -> Option<f64> {
+        self.x.min_eta
+    }
+    /// The solver's own stationarity residual, rad/s.
+    #[getter]
+    fn stationarity(&self) -> f64 {
+        self.x.stationarity
+    }
+    /// Why the certificates do not vouch for it (None if they do).
+    #[getter]
+    fn uncertified(&self) -> Option<&'static str> {
+        self.x.uncertified()
+    }
+    /// Newton iterations on the fine grid.
+    #[getter]
+    fn newton_iterations(&self) -> usize {
+        self.x.iterations
+    }
+    /// Index of the start loop that first reached it.
+    #[getter]
+    fn start(&self) -> usize {
+        self.x.start
+    }
+    /// How many starts reached it.
+    #[getter]
+    fn hits(&self) -> usize {
+        self.x.hits
+    }
+    /// Index in `Solution.extremals` of its mirror-image twin, if found.
+    #[getter]
+    fn twin_of(&self) -> Option<usize> {
+        self.x.twin_of
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Extremal(cost={:.7}, max_abs_alpha={:.4}, admissible={}, local_min={})",
+            self.x.cost, self.x.max_abs_alpha, self.x.admissible, self.x.local_min
+        )
+    }
+}
+
+/// The solution of `purcell.solve`: the returned extremal (its attributes are this object's),
+/// every extremal found, the report and the gait file.
+#[pyclass(frozen, extends = Extremal, module = "purcell")]
+pub struct Solution {
+    /// Index of the returned extremal in `extremals`.
+    #[pyo3(get)]
+    best: usize,
+    /// Every extremal carried to the problem's grid, cheapest first.
+    #[pyo3(get)]
+    extremals: Vec<Py<Extremal>>,
+    /// `report.json` as a dict.
+    #[pyo3(get)]
+    report: Py<PyAny>,
+    /// The binary gait file.
+    gait: Vec<u8>,
+    /// The costate file (`costate.json`).
+    costate: String,
+}
+
+impl Solution {
+    /// The binary gait file.
+    pub(crate) fn gait_bytes(&self) -> &[u8] {
+        &self.gait
+    }
+}
+
+#[pymethods]
+impl Solution {
+    /// The binary gait file (`purcell-sim export`'s bytes), for firmware or `purcell.replay`.
+    fn gait<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.gait)
+    }
+    /// The costate file, JSON text (`costate.json`), for `purcell-sim replay --costate`.
+    fn costate(&self) -> &str {
+        &self.costate
+    }
+    fn __repr__(slf: PyRef<'_, Self>) -> String {
+        let x = &slf.as_super().x;
+        format!(
+            "Solution(cost={:.7}, mu={:?}, xi0={:?}, extremals={})",
+            x.cost,
+            x.mu.as_slice(),
+            x.xi0.as_slice(),
+            slf.extremals.len()
+        )
+    }
+}
+
+/// The Python `Solution` of `solution` to `problem`, with costate checkpoints every `every`
+/// steps, found in `seconds`: the same costate file, gait and report as `purcell-sim solve`.
+pub(crate) fn build(
+    py: Python<'_>,
+    problem: &Problem,
+    solution: &solver::Solution,
+    every: u32,
+    seconds: f64,
+) -> PyResult<Py<Solution>> {
+    let best = &solution.extremals[solution.best];
+    let file = output::costate_file(problem, best, every);
+    let failed = |e: purcell_core::Error| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("the solution's gait: {e}"))
+    };
+    let gait = file.to_gait().map_err(failed)?;
+    let report = report_json(
+        problem,
+        solution,
+        &file,
+        &Gait::from_bytes(&gait).map_err(failed)?,
+        seconds,
+    );
+    let report = py
+        .import("json")?
+        .call_method1("loads", (report.to_string(),))?;
+    let extremals = solution
+        .extremals
+        .iter()
+        .map(|x| Py::new(py, Extremal::new(x.clone(), problem.h)))
+        .collect::<PyResult<_>>()?;
+    let init =
+        PyClassInitializer::from(Extremal::new(best.clone(), problem.h)).add_subclass(Solution {
+            best: solution.best,
+            extremals,
+            report: report.unbind(),
+            gait,
+            costate: file.to_json(),
+        });
+    Py::new(py, init)
+}

@@ -1,0 +1,101 @@
+"""`purcell.solve` against `purcell-sim solve` on the paper's problem and two public ones."""
+
+import json
+import threading
+import time
+
+import numpy as np
+import pytest
+from conftest import cli_flags, kwargs
+
+import purcell
+
+TOL = 1e-12
+
+
+def close(a, b, path="report"):
+    """Asserts that two JSON values are equal, numbers to TOL relative (absolute below 1)."""
+    if isinstance(a, dict):
+        assert a.keys() == b.keys(), path
+        for k in a:
+            close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and not isinstance(b, bool):
+        assert abs(a - b) <= TOL * max(1.0, abs(a)), (path, a, b)
+    else:
+        assert a == b, (path, a, b)
+
+
+@pytest.mark.parametrize("name", ["paper", "bent-start", "joint-limit-1.5"])
+def test_solve_equals_the_command_line(name, cli, public, tmp_path):
+    problem = public[name]
+    out = tmp_path / "out"
+    cli("solve", *cli_flags(problem), "--no-plots", "--out", out)
+    report = json.loads((out / "report.json").read_text())
+    s = purcell.solve(problem["target"], **kwargs(problem))
+    assert abs(s.cost - report["cost"]) <= TOL
+    np.testing.assert_allclose(s.mu, report["mu"], rtol=0, atol=TOL)
+    np.testing.assert_allclose(s.xi0, report["xi0"], rtol=0, atol=TOL)
+    mine = dict(s.report, solve_seconds=None)
+    close(mine, dict(report, solve_seconds=None))
+    assert s.arcs == report["arcs"]
+    assert [x.cost for x in s.extremals] == [x["cost"] for x in report["extremals"]]
+    assert s.uncertified is None
+    assert s.costate() == (out / "costate.json").read_text()
+    # The trajectory as trajectory.csv has it (t, alpha, u with a last row of 0, g).
+    csv = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    u = np.vstack([s.u, np.zeros(2)])
+    np.testing.assert_array_equal(np.column_stack([s.t, s.alpha, u, s.g]), csv)
+    n = round(report["problem"]["steps"])
+    assert s.alpha.shape == (n + 1, 2) and s.u.shape == (n, 2) and s.g.shape == (n + 1, 3)
+    assert s.xi.shape == (n + 1, 2)
+    np.testing.assert_array_equal(s.xi[0], s.xi0)
+
+
+def test_gait_is_the_exported_file(cli, tmp_path):
+    s = purcell.solve((0.05, 0.05, 0.1), alpha0=(0.3, 0.3))
+    (tmp_path / "costate.json").write_text(s.costate())
+    cli("export", "--costate", tmp_path / "costate.json", "--out", tmp_path / "gait.bin")
+    assert s.gait() == (tmp_path / "gait.bin").read_bytes()
+
+
+def test_progress_counts_the_starts():
+    calls = []
+    s = purcell.solve((0.05, 0.05, 0.1), alpha0=(0.3, 0.3), progress=lambda *a: calls.append(a))
+    assert calls, "progress is called at least at the end"
+    assert calls[-1] == (s.report["search"]["starts"] + 1, 513)
+    assert [c[0] for c in calls] == sorted(c[0] for c in calls)
+
+
+def test_an_exception_in_progress_cancels_the_solve():
+    def stop(done, budget):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        purcell.solve((0.1, 0.1, 0.0), progress=stop)
+
+
+def test_another_thread_runs_during_a_solve():
+    ticks = []
+    running = threading.Event()
+    running.set()
+
+    def count():
+        while running.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.002)
+
+    worker = threading.Thread(target=count)
+    worker.start()
+    time.sleep(0.02)
+    t0 = time.perf_counter()
+    purcell.solve((0.1, 0.1, 0.0))
+    t1 = time.perf_counter()
+    running.clear()
+    worker.join()
+    during = [t for t in ticks if t0 <= t <= t1]
+    # At most a few ms between ticks: the GIL is released while the solver runs.
+    assert len(during) >= 0.25 * (t1 - t0) / 0.002, (len(during), t1 - t0)
