@@ -4,7 +4,7 @@
 
 use crate::{InputError, NoSolution, input_error, solution};
 use purcell_sim::cli::MAX_STARTS;
-use purcell_sim::cli::args::{ModelArgs, OutDirArgs, ProblemArgs};
+use purcell_sim::cli::args::{ModelArgs, OutDirArgs, PrintArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::{self, SolveError, SolveOptions};
@@ -86,6 +86,7 @@ pub fn solve(
             out: Default::default(),
             force: false,
         },
+        print: PrintArgs { json: false },
     };
     let (problem, every) = checked_problem(&args).map_err(|f| InputError::new_err(f.message))?;
     let options = SolveOptions {
