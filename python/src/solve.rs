@@ -4,7 +4,7 @@
 
 use crate::{InputError, NoSolution, detach, input_error, solution};
 use purcell_sim::cli::MAX_STARTS;
-use purcell_sim::cli::args::{ModelArgs, OutDirArgs, ProblemArgs};
+use purcell_sim::cli::args::{ModelArgs, OutDirArgs, PrintArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation::{self, Warm};
@@ -80,6 +80,7 @@ pub fn solve(
             out: Default::default(),
             force: false,
         },
+        print: PrintArgs { json: false },
     };
     let (problem, every) = checked_problem(&args).map_err(|f| InputError::new_err(f.message))?;
     let options = SolveOptions {

@@ -26,6 +26,15 @@ fn no_solution(solve: Solve) -> String {
 fn unreachable_target_exits_3_with_best_residual_and_no_output() {
     let e = no_solution(Solve::paper().target("40,0,0").horizon("10").starts(2));
     assert!(e.contains("best residual"), "{e}");
+    // Issue 24: and what to try.
+    assert!(
+        e.contains("\ntry more starts (--starts 8; 2 now), another --seed (0 now)"),
+        "{e}"
+    );
+    assert!(
+        e.contains("or a warm start") && e.contains("(--from DIR/costate.json)"),
+        "{e}"
+    );
 }
 
 /// `ḡ = (0.15, 0.25, −0.6)` on the paper's grid: every extremal the search finds swings a
@@ -35,6 +44,10 @@ fn solve_exits_3_when_no_extremal_is_admissible() {
     let e = no_solution(Solve::paper().target("0.15,0.25,-0.6").no_plots());
     assert!(e.contains("none admissible"), "{e}");
     assert!(e.contains("at or past the joint limit"), "{e}");
+    assert!(
+        e.contains("another start shape if it is yours to choose (--alpha0)"),
+        "{e}"
+    );
 }
 
 /// `ḡ = (0.02, 0.02, 0)` within `|α_i| ≤ 0.62` in 20 s: at the edge of what the limit can
@@ -58,6 +71,10 @@ fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
         "{e}"
     );
     assert!(e.contains("smallest terminal defect"), "{e}");
+    assert!(
+        e.contains("or a looser joint limit (--alpha-max; 0.62 now)"),
+        "{e}"
+    );
 }
 
 /// Isotropic drag (`--ratio 1`): the swimmer cannot move, so no target of the lattice is

@@ -374,7 +374,7 @@ fn field(args: &[&str]) {
 }
 
 /// `solve` draws every figure; under a joint limit it reaches, the gait slides along it on
-/// arcs, which the figures mark, and `field --gait` of its costate file draws them too.
+/// arcs, which the figures mark, and `field --costate` of its costate file draws them too.
 #[test]
 fn solve_writes_every_figure_and_marks_the_arcs_on_a_joint_limit() {
     let dir = tempfile::tempdir().unwrap();
@@ -410,16 +410,16 @@ fn solve_writes_every_figure_and_marks_the_arcs_on_a_joint_limit() {
         );
     }
 
-    // `field --gait` of the constrained gait's costate file: its limit and arcs come with it.
+    // `field --costate` of the constrained gait's costate file: its limit and arcs come with it.
     let limited_field = dir.path().join("limited-field");
     let costate = limited.join("costate.json");
-    field(&["--gait", arg(&costate), "--out", arg(&limited_field)]);
+    field(&["--costate", arg(&costate), "--out", arg(&limited_field)]);
     let m = limit_marks(&read_dir(&limited_field)["field.svg"]);
     assert!(m.limit_label && m.arc_label && m.stretches >= 2, "{m:?}");
 }
 
-/// `field` of a gait (the small problem's, one row) and of a swimmer given by its
-/// parameters; a gait's file brings its own swimmer, and a missing file writes nothing.
+/// `field` of a gait (the small problem's costate file, one row) and of a swimmer given by
+/// its parameters; a gait's file brings its own swimmer, and a missing file writes nothing.
 #[test]
 fn field_draws_a_gait_or_a_swimmer() {
     let dir = tempfile::tempdir().unwrap();
@@ -428,7 +428,7 @@ fn field_draws_a_gait_or_a_swimmer() {
     let costate = small.join("costate.json");
     let out = dir.path().join("field");
     field(&[
-        "--gait",
+        "--costate",
         arg(&costate),
         "--component",
         "theta",
@@ -446,7 +446,7 @@ fn field_draws_a_gait_or_a_swimmer() {
     // A gait's file brings its own swimmer; a missing file writes nothing.
     let o = sim(&[
         "field",
-        "--gait",
+        "--costate",
         arg(&costate),
         "--links",
         "1,2,1",
@@ -457,7 +457,7 @@ fn field_draws_a_gait_or_a_swimmer() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--links"));
     let nowhere = dir.path().join("nowhere");
     let missing = dir.path().join("missing.json");
-    let o = sim(&["field", "--gait", arg(&missing), "--out", arg(&nowhere)]);
+    let o = sim(&["field", "--costate", arg(&missing), "--out", arg(&nowhere)]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!nowhere.exists());
 }

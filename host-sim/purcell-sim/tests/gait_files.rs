@@ -94,7 +94,7 @@ fn corrupted_gaits_are_refused_with_the_reason() {
         (
             "json.gait",
             COSTATE_V2.as_bytes().to_vec(),
-            "not a gait file",
+            "not a binary gait file",
         ),
         ("empty.gait", Vec::new(), "not a gait file"),
     ];
@@ -201,5 +201,60 @@ fn export_and_replay_hold_gait_files_to_f32_like_costate_files() {
         assert!(stderr(&o).contains("in f32"), "{needle}: {}", stderr(&o));
         let o = replay("--gait", &out, &["--precision", "f64"]);
         assert_eq!(o.status.code(), Some(f64_code), "{needle}: {}", stderr(&o));
+    }
+}
+
+/// Issue 24: one meaning per flag name, `--costate` a costate file and `--gait` a binary
+/// gait file in `replay` and `field` alike (`field --gait` took a costate file, and a gait
+/// file there failed on "stream did not contain valid UTF-8"). Each file handed to the
+/// other flag is refused naming the right one; `field` draws a gait file as its costate file.
+#[test]
+fn costate_and_gait_mean_the_same_files_everywhere() {
+    let (json, gait) = (
+        data("tiny-limit.costate.json"),
+        core_data("tiny-limit.gait"),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("field");
+    for (cmd, flag, file, says) in [
+        (
+            "replay",
+            "--costate",
+            &gait,
+            "a binary gait file (export's output)",
+        ),
+        (
+            "export",
+            "--costate",
+            &gait,
+            "replay and field take it as --gait",
+        ),
+        (
+            "replay",
+            "--gait",
+            &json,
+            "a costate file (JSON), not a binary gait file",
+        ),
+        ("field", "--gait", &json, "pass it as --costate"),
+        (
+            "field",
+            "--costate",
+            &gait,
+            "a binary gait file (export's output)",
+        ),
+    ] {
+        let o = sim(&[cmd, flag, arg(file), "-o", arg(&out)]);
+        assert_exit(&o, 2, says);
+        assert!(!out.exists());
+    }
+    let field = |flag: &str, file: &Path, out: &Path| {
+        let o = sim(&["field", flag, arg(file), "-o", arg(out)]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        read_dir(out)
+    };
+    let from_gait = field("--gait", &gait, &out);
+    let from_json = field("--costate", &json, &dir.path().join("json"));
+    for name in ["field.csv", "field.svg"] {
+        assert!(from_gait[name] == from_json[name], "{name}");
     }
 }

@@ -235,7 +235,7 @@ fn solved(out: &Path) {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
-/// Issue 21, defect 1: `solve --from c.json --out c.json --force` and `field --gait c.json
+/// Issue 21, defect 1: `solve --from c.json --out c.json --force` and `field --costate c.json
 /// --out c.json --force` replaced their input by a directory. An output that names or
 /// contains an input (by any name) is refused with exit 2, with or without `--force`.
 #[test]
@@ -261,7 +261,7 @@ fn no_output_names_or_contains_an_input_even_with_force() {
         for force in [&[][..], &["--force"][..]] {
             let solve = Solve::quick().from(input).out(out).with(force);
             let field = [
-                &["field", "--gait", arg(input), "--out", arg(out)][..],
+                &["field", "--costate", arg(input), "--out", arg(out)][..],
                 force,
             ]
             .concat();

@@ -8,6 +8,15 @@ use purcell_solver::problem::{Problem, Spec};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
+/// The exit codes, as `--help` lists them after every command's flags (the one list; the
+/// README's table says more on each).
+pub const EXIT_CODES: &str = "\
+Exit codes:
+  0  success
+  1  I/O error after the work (writing the results or stdout), or no worker threads
+  2  bad input or usage, refused before any work
+  3  no solution: solve found no admissible extremal; replay: a replay failed";
+
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
 pub const MAX_STARTS: usize = 4096;
 /// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
@@ -92,7 +101,7 @@ impl<S: Args> ProblemArgs<S> {
 pub struct OutDirArgs {
     /// Output directory: created, or replaced in one step if it is empty or a previous
     /// result of purcell-sim (anything else is refused before any work).
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: PathBuf,
     /// Replace --out even if it holds files purcell-sim did not write.
     #[arg(long)]
@@ -109,6 +118,22 @@ impl OutDirArgs {
     ) -> Result<output::OutputDir, Failure> {
         output::OutputDir::prepare(&self.out, command, self.force, inputs)
             .map_err(output_failure(true))
+    }
+}
+
+/// What `solve` and `sweep` print on stdout: a short summary, or with `--json` their
+/// `report.json` (`-q` prints neither).
+#[derive(Debug, Args)]
+pub struct PrintArgs {
+    /// Print report.json on stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// A warning on stderr, unless `quiet` (`-q`).
+pub(super) fn warn(quiet: bool, message: std::fmt::Arguments<'_>) {
+    if !quiet {
+        eprintln!("warning: {message}");
     }
 }
 
@@ -177,9 +202,9 @@ pub fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
 pub(super) struct Progress(Option<indicatif::ProgressBar>);
 
 impl Progress {
-    /// A bar of `len` ticks drawn by `template` (indicatif's).
-    pub(super) fn new(len: u64, template: &str) -> Self {
-        Self(std::io::stderr().is_terminal().then(|| {
+    /// A bar of `len` ticks drawn by `template` (indicatif's); none if `quiet`.
+    pub(super) fn new(len: u64, template: &str, quiet: bool) -> Self {
+        Self((!quiet && std::io::stderr().is_terminal()).then(|| {
             let b = indicatif::ProgressBar::new(len);
             b.set_style(
                 indicatif::ProgressStyle::with_template(template)
@@ -209,13 +234,42 @@ pub(super) fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
     input::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))
 }
 
-/// Reads a costate file (exit 2 if unreadable or invalid).
+/// Reads a costate file (exit 2 if unreadable or invalid, or a binary gait file: the
+/// message says so).
 pub(super) fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
-    let text = String::from_utf8(read_input(path)?).map_err(|e| {
+    let bytes = read_input(path)?;
+    if bytes.starts_with(&purcell_core::gait::MAGIC) {
+        return Err(fail(
+            2,
+            format!(
+                "{}: a binary gait file (export's output), not a costate file \
+                 (DIR/costate.json); replay and field take it as --gait",
+                path.display()
+            ),
+        ));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
         fail(
             2,
             format!("{}: malformed costate file: {e}", path.display()),
         )
     })?;
     CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
+}
+
+/// Reads a binary gait file (exit 2 if unreadable, or a costate file: the message says so;
+/// the core checks the rest).
+pub(super) fn read_gait(path: &Path) -> Result<Vec<u8>, Failure> {
+    let bytes = read_input(path)?;
+    if bytes.trim_ascii_start().starts_with(b"{") {
+        return Err(fail(
+            2,
+            format!(
+                "{}: a costate file (JSON), not a binary gait file (export's output); pass it \
+                 as --costate",
+                path.display()
+            ),
+        ));
+    }
+    Ok(bytes)
 }

@@ -15,7 +15,7 @@ pub struct ExportArgs {
     pub costate: PathBuf,
     /// The binary gait file to write (atomically; an existing file is replaced only if it is
     /// a gait file, never the costate file).
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: PathBuf,
     /// Replace --out even if it holds something else (never the costate file).
     #[arg(long)]

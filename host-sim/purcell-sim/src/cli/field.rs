@@ -1,10 +1,13 @@
 //! `field`: the curvature of the connection over the shape plane (MODEL.md §8), for a
-//! swimmer or under the gait of a costate file.
+//! swimmer or under a stored gait (a costate file or a binary gait file).
 
-use super::args::{Failure, ModelArgs, OutDirArgs, arr, fail, output_failure, read_costate};
+use super::args::{
+    Failure, ModelArgs, OutDirArgs, arr, fail, output_failure, read_costate, read_gait,
+};
+use crate::costate_file::CostateFile;
 use crate::{plots, replay};
 use clap::{Args, ValueEnum};
-use purcell_core::Arc;
+use purcell_core::{Arc, Gait};
 use purcell_solver::problem::{Problem, Spec};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -23,10 +26,13 @@ pub enum FieldComponent {
 /// `field` flags.
 #[derive(Debug, Args)]
 pub struct FieldArgs {
-    /// Swimmer parameters (not with --gait: the gait's file has its own).
+    /// Swimmer parameters (not with --costate or --gait: a gait's file has its own).
     #[command(flatten)]
     pub model: ModelArgs,
     /// A costate file (DIR/costate.json) whose gait (replayed in f64) is drawn on top.
+    #[arg(long, conflicts_with_all = ["links", "drag", "ratio", "gait"])]
+    pub costate: Option<PathBuf>,
+    /// A binary gait file (export's output), drawn the same way.
     #[arg(long, conflicts_with_all = ["links", "drag", "ratio"])]
     pub gait: Option<PathBuf>,
     /// Draw only this row (default: all three). field.csv always has all three.
@@ -40,15 +46,30 @@ pub struct FieldArgs {
     pub output: OutDirArgs,
 }
 
+/// The numbers of the binary gait file `path`, as a costate file (exit 2 if it is none).
+fn costate_of_gait(path: &Path) -> Result<CostateFile, Failure> {
+    let bytes = read_gait(path)?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    Ok(CostateFile::new(
+        *gait.params(),
+        gait.arcs().collect(),
+        gait.checkpoints().collect(),
+    ))
+}
+
 /// `field`: the swimmer (and gait) of the flags, its figures written; the files as printed.
 pub(super) fn run_field(a: FieldArgs) -> Result<String, Failure> {
-    let (problem, states, arcs) = match &a.gait {
-        Some(path) => {
-            let file = read_costate(path)?;
+    let stored = match (&a.costate, &a.gait) {
+        (Some(path), _) => Some((path, read_costate(path)?)),
+        (None, Some(path)) => Some((path, costate_of_gait(path)?)),
+        (None, None) => None,
+    };
+    let (problem, states, arcs) = match &stored {
+        Some((path, file)) => {
             let problem = file
                 .problem()
                 .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-            let (states, stride) = replay::gait_states(&file, 10_000).map_err(|e| {
+            let (states, stride) = replay::gait_states(file, 10_000).map_err(|e| {
                 fail(
                     2,
                     format!("{}: the gait does not replay: {e}", path.display()),
@@ -86,7 +107,7 @@ pub(super) fn run_field(a: FieldArgs) -> Result<String, Failure> {
         Some(FieldComponent::Y) => vec![plots::field::Component::Y],
         Some(FieldComponent::Theta) => vec![plots::field::Component::Theta],
     };
-    let inputs: Vec<&Path> = a.gait.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&Path> = stored.iter().map(|(p, _)| p.as_path()).collect();
     let out = a.output.prepare("field", &inputs)?;
     let options = plots::Options { degrees: a.degrees };
     let gait = states.as_deref().map(|states| plots::FieldGait {

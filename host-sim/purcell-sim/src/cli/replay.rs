@@ -1,7 +1,7 @@
 //! `replay`: a stored gait (a costate file or a binary gait file) through the core, as
 //! firmware flies it; and the checks every route to a replay makes of a stored gait.
 
-use super::args::{Failure, fail, output_failure, read_costate, read_input};
+use super::args::{Failure, fail, output_failure, read_costate, read_gait};
 use crate::{input, output, replay};
 use clap::{Args, ValueEnum};
 use purcell_core::Gait;
@@ -38,7 +38,7 @@ pub struct ReplayArgs {
     pub no_checkpoints: bool,
     /// Also write the JSON report to this file (atomically; an existing file is replaced
     /// only if it is a previous replay report, never the costate file).
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: Option<PathBuf>,
     /// Replace --out even if it holds something else (never the costate file).
     #[arg(long)]
@@ -78,7 +78,7 @@ pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
                 .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
             (path, bytes)
         }
-        (None, Some(path)) => (path, read_input(path)?),
+        (None, Some(path)) => (path, read_gait(path)?),
         (None, None) => return Err(fail(2, "replay needs --costate or --gait")),
     };
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;

@@ -2,16 +2,17 @@
 //! (`--from`), written with its costate file, report and figures.
 
 use super::args::{
-    Failure, OutDirArgs, ProblemArgs, Progress, arr, fail, output_failure, read_costate,
-    search_limits,
+    Failure, MAX_STARTS, OutDirArgs, PrintArgs, ProblemArgs, Progress, arr, fail, output_failure,
+    read_costate, search_limits, warn,
 };
+use super::summary;
 use crate::costate_file::CostateFile;
 use crate::{output, plots, replay};
 use clap::{ArgAction, Args};
 use purcell_core::{Arc, Gait};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation;
-use purcell_solver::solver::{Evidence, Extremal, Solution, SolveOptions, solve};
+use purcell_solver::solver::{Evidence, Extremal, Solution, SolveError, SolveOptions, solve};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -74,6 +75,9 @@ pub struct SolveArgs {
     /// The output directory.
     #[command(flatten)]
     pub output: OutDirArgs,
+    /// What to print.
+    #[command(flatten)]
+    pub print: PrintArgs,
 }
 
 /// `theta` modulo 2π in `]−π, π]` (as given if it is there already; NaN if not finite).
@@ -112,19 +116,23 @@ fn checkpoint_spacing(given: Option<u32>, steps: u32) -> Result<u32, Failure> {
     Ok(every)
 }
 
-/// `solve`: checks every input, prepares the output, solves, writes the files; the report
-/// as printed.
-pub(super) fn run_solve(a: SolveArgs) -> Result<String, Failure> {
+/// `solve`: checks every input, prepares the output, solves, writes the files; the summary
+/// (or with `--json` the report) as printed; no warning if `quiet`.
+pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
     let (problem, checkpoint_every) = checked_problem(&a)?;
     let inputs: Vec<&Path> = a.from.iter().map(PathBuf::as_path).collect();
     let out = a.output.prepare("solve", &inputs)?;
-    let (solution, seconds) = find(&a, &problem)?;
+    let (solution, seconds) = find(&a, &problem, quiet)?;
     if let Some(e) = solution.search.as_ref().filter(|e| !e.satisfied) {
-        eprintln!(
-            "warning: the search used its budget of {} starts before its stopping rule was met \
-             (estimated chance that another start finds an unseen minimum no dearer than the \
-             gait returned: {:.3}); this is the cheapest gait found: raise --starts to search on",
-            e.budget, e.unseen
+        warn(
+            quiet,
+            format_args!(
+                "the search used its budget of {} starts before its stopping rule was met \
+                 (estimated chance that another start finds an unseen minimum no dearer than \
+                 the gait returned: {:.3}); this is the cheapest gait found: raise --starts to \
+                 search on",
+                e.budget, e.unseen
+            ),
         );
     }
     let best = &solution.extremals[solution.best];
@@ -159,7 +167,11 @@ pub(super) fn run_solve(a: SolveArgs) -> Result<String, Failure> {
         );
     }
     out.commit(&files).map_err(output_failure(false))?;
-    Ok(report_text)
+    Ok(if a.print.json {
+        report_text
+    } else {
+        summary::solve(&report, &a.output.out, &files)
+    })
 }
 
 /// The problem of `a` and its checkpoint spacing, checked as `solve` input (exit 2): the
@@ -180,7 +192,7 @@ pub fn checked_problem(a: &SolveArgs) -> Result<(Problem, u32), Failure> {
 /// The solution of `problem` from `a.from`'s stored extremal, or from the global search
 /// (without `--from`, or when it reaches no admissible extremal: a warning), and its
 /// seconds; exit 2 for a `--from` file that is no start, 3 for no extremal.
-fn find(a: &SolveArgs, problem: &Problem) -> Result<(Solution, f64), Failure> {
+fn find(a: &SolveArgs, problem: &Problem, quiet: bool) -> Result<(Solution, f64), Failure> {
     let search = &a.problem.search;
     let options = SolveOptions {
         starts: search.starts,
@@ -190,6 +202,7 @@ fn find(a: &SolveArgs, problem: &Problem) -> Result<(Solution, f64), Failure> {
     let progress = Progress::new(
         search.starts as u64 + 1,
         "searching {bar:30} {pos} starts ({elapsed})",
+        quiet,
     );
     let tick = || progress.tick();
     let warm = match &a.from {
@@ -202,17 +215,49 @@ fn find(a: &SolveArgs, problem: &Problem) -> Result<(Solution, f64), Failure> {
         Some(w) => {
             let (result, failed) = continuation::solve_from(problem, w, &options, &tick);
             if let Some(e) = failed {
-                eprintln!(
-                    "warning: --from reached no admissible extremal of this problem ({e}); \
-                     solved by the global search instead"
+                warn(
+                    quiet,
+                    format_args!(
+                        "--from reached no admissible extremal of this problem ({e}); solved \
+                         by the global search instead"
+                    ),
                 );
             }
             result
         }
     };
     progress.finish();
-    let solution = result.map_err(|e| fail(3, e))?;
+    let solution = result.map_err(|e| fail(3, format!("{e}\n{}", what_to_try(&e, a, problem))))?;
     Ok((solution, t0.elapsed().as_secs_f64()))
+}
+
+/// What exit 3's message suggests after `e`, by its cause.
+fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
+    let starts = a.problem.search.starts;
+    let mut tries = Vec::new();
+    if starts < MAX_STARTS {
+        tries.push(format!(
+            "more starts (--starts {}; {starts} now)",
+            (4 * starts).min(MAX_STARTS)
+        ));
+    }
+    tries.push(format!("another --seed ({} now)", a.problem.search.seed));
+    tries.push(
+        "a warm start from the gait of a nearer target, solved first (--from DIR/costate.json)"
+            .into(),
+    );
+    match (e, problem.alpha_max) {
+        (SolveError::Unreachable { .. }, _) => {}
+        (_, Some(limit)) => tries.push(format!("a looser joint limit (--alpha-max; {limit} now)")),
+        (SolveError::NoneAdmissible { .. }, None) => tries.push(
+            "another start shape if it is yours to choose (--alpha0): every extremal found \
+             crosses the links' overlap"
+                .into(),
+        ),
+        (_, None) => {}
+    }
+    let last = tries.pop().unwrap_or_default();
+    format!("try {}, or {last}", tries.join(", "))
 }
 
 /// The stored extremal of `path` as a start for `problem`: same swimmer required.

@@ -2,8 +2,9 @@
 //! a summary and a map of the cost.
 
 use super::args::{
-    Failure, OutDirArgs, ProblemArgs, Progress, fail, output_failure, search_limits,
+    Failure, OutDirArgs, PrintArgs, ProblemArgs, Progress, fail, output_failure, search_limits,
 };
+use super::summary;
 use crate::{output, plots};
 use clap::Args;
 use purcell_solver::problem::Problem;
@@ -50,6 +51,9 @@ pub struct SweepArgs {
     /// The output directory.
     #[command(flatten)]
     pub output: OutDirArgs,
+    /// What to print.
+    #[command(flatten)]
+    pub print: PrintArgs,
 }
 
 /// `FROM:TO:COUNT` or a single value.
@@ -77,8 +81,8 @@ pub fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
 }
 
 /// `sweep`: checks every input, prepares the output, solves every target, writes the files;
-/// the summary as printed.
-pub(super) fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
+/// the summary (or with `--json` the report) as printed; no progress bar if `quiet`.
+pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
     let lattice = Lattice {
         axes: [axis("x", &a.x)?, axis("y", &a.y)?, axis("theta", &a.theta)?],
     };
@@ -103,6 +107,7 @@ pub(super) fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
     let progress = Progress::new(
         2 * lattice.len() as u64,
         "sweeping {bar:30} {pos}/{len} searches and refinements ({elapsed})",
+        quiet,
     );
     let t0 = Instant::now();
     let points = continuation::sweep(&spec, &lattice, &options, &|| progress.tick())
@@ -132,5 +137,9 @@ pub(super) fn run_sweep(a: SweepArgs) -> Result<String, Failure> {
         );
     }
     out.commit(&files).map_err(output_failure(false))?;
-    Ok(summary_text)
+    Ok(if a.print.json {
+        summary_text
+    } else {
+        summary::sweep(&summary, &a.output.out, &files)
+    })
 }

@@ -1,0 +1,137 @@
+//! The short summaries `solve` and `sweep` print on stdout, read from the report they wrote
+//! (so the two never disagree); `--json` prints the report instead.
+
+use serde_json::Value;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// A number of the report in `{:.1e}`, `–` where it is `null`.
+fn sci(v: &Value) -> String {
+    v.as_f64().map_or("–".into(), |x| format!("{x:.1e}"))
+}
+
+/// `said` if the flag `v` of the report is true, else `not said`.
+fn flag(v: &Value, said: &str) -> String {
+    if v.as_bool() == Some(true) {
+        said.into()
+    } else {
+        format!("not {said}")
+    }
+}
+
+/// The last line: where the files went (figures counted, not listed).
+fn wrote(out: &Path, files: &[(String, Vec<u8>)]) -> String {
+    let figures = files.iter().filter(|f| f.0.ends_with(".svg")).count();
+    let mut names: Vec<&str> = files
+        .iter()
+        .map(|f| f.0.as_str())
+        .filter(|n| !n.ends_with(".svg") && !n.ends_with(".png"))
+        .collect();
+    let plural = if figures == 1 { "" } else { "s" };
+    let counted = format!("{figures} figure{plural} .svg/.png");
+    if figures > 0 {
+        names.push(&counted);
+    }
+    format!("wrote      {}/ ({})\n", out.display(), names.join(", "))
+}
+
+/// `solve`'s summary of `report` (`report.json`), its files written to `out`.
+pub(super) fn solve(report: &Value, out: &Path, files: &[(String, Vec<u8>)]) -> String {
+    let r = report;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "cost       J = {:.7}, extremal {} of {} ({}, {}, max |alpha_i| {:.4} rad)",
+        r["cost"].as_f64().unwrap_or(f64::NAN),
+        r["returned"].as_u64().map_or(0, |i| i + 1),
+        r["extremals"].as_array().map_or(0, Vec::len),
+        flag(&r["admissible"], "admissible"),
+        flag(&r["local_min"], "a local minimum"),
+        r["max_abs_alpha"].as_f64().unwrap_or(f64::NAN),
+    );
+    let _ = writeln!(s, "arcs       {}", arcs(r));
+    let f32_replay = r["replays"].as_array().and_then(|v| {
+        v.iter()
+            .find(|x| x["precision"] == "f32" && x["checkpoints"] == true)
+    });
+    let _ = writeln!(
+        s,
+        "residuals  terminal {} (core {}), KKT {}, law {}; f32 replay {}",
+        sci(&r["residual"]),
+        sci(&r["terminal_residual"]),
+        sci(&r["kkt_residual"]),
+        sci(&r["law_residual"]),
+        f32_replay.map_or("–".into(), |x| format!(
+            "{} rad, {} in g",
+            sci(&x["alpha_error"]),
+            sci(&x["g_error"])
+        )),
+    );
+    let e = &r["search"];
+    let _ = writeln!(
+        s,
+        "search     {}",
+        if e.is_null() {
+            "none (from --from's extremal)".to_string()
+        } else {
+            format!(
+                "{} of {} starts, {} distinct minima, stopping rule {} (unseen {:.3})",
+                e["starts"],
+                e["budget"],
+                e["distinct_minima"],
+                if e["rule_met"] == true {
+                    "met"
+                } else {
+                    "not met"
+                },
+                e["unseen_estimate"].as_f64().unwrap_or(f64::NAN),
+            )
+        }
+    );
+    let seconds = r["solve_seconds"].as_f64().unwrap_or(f64::NAN);
+    let _ = writeln!(s, "time       {seconds:.2} s");
+    s + &wrote(out, files)
+}
+
+/// The joint-limit arcs of `report`, the first two in full.
+fn arcs(report: &Value) -> String {
+    let all = report["arcs"]
+        .as_array()
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    if all.is_empty() {
+        return "none on the joint limit".into();
+    }
+    let limit = report["problem"]["alpha_max"].as_f64().unwrap_or(f64::NAN);
+    let mut shown: Vec<String> = all
+        .iter()
+        .take(2)
+        .map(|a| {
+            let at = limit * a["sign"].as_f64().unwrap_or(f64::NAN);
+            format!(
+                "alpha{} = {at} rad, steps {}..={}",
+                a["joint"], a["first"], a["last"]
+            )
+        })
+        .collect();
+    if all.len() > 2 {
+        shown.push("…".into());
+    }
+    format!("{} on the joint limit ({})", all.len(), shown.join(", "))
+}
+
+/// `sweep`'s summary of `report` (its `report.json`), its files written to `out`.
+pub(super) fn sweep(report: &Value, out: &Path, files: &[(String, Vec<u8>)]) -> String {
+    let axis = |name: &str| report["axes"][name].as_array().map_or(0, Vec::len);
+    format!(
+        "targets    {} ({} x, {} y, {} theta), {} solved (sweep.csv's status says how each \
+         went)\ntime       {:.2} s\n{}",
+        report["targets"],
+        axis("x"),
+        axis("y"),
+        axis("theta"),
+        report["solved"],
+        report["sweep_seconds"].as_f64().unwrap_or(f64::NAN),
+        wrote(out, files)
+    )
+}
