@@ -44,6 +44,17 @@ pub(crate) fn input_error(message: impl ToString) -> PyErr {
     InputError::new_err(message.to_string())
 }
 
+/// The start budget `n` as a count: a negative one is refused with the command line's
+/// `--starts` message.
+pub(crate) fn starts(n: i64) -> PyResult<usize> {
+    usize::try_from(n).map_err(|_| {
+        input_error(format!(
+            "--starts must be 1 to {} (got {n})",
+            purcell_sim::cli::MAX_STARTS
+        ))
+    })
+}
+
 /// Rows of `n` numbers as an `(rows.len(), n)` array.
 pub(crate) fn array2<'py, const N: usize>(
     py: Python<'py>,

@@ -3,7 +3,6 @@
 //! checks for Ctrl-C.
 
 use crate::{InputError, NoSolution, detach, input_error, solution};
-use purcell_sim::cli::MAX_STARTS;
 use purcell_sim::cli::args::{ModelArgs, OutDirArgs, PrintArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
 use purcell_solver::problem::Problem;
@@ -57,11 +56,7 @@ pub fn solve(
     warm: Option<Bound<'_, PyAny>>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<solution::Solution>> {
-    let Ok(starts) = usize::try_from(starts) else {
-        return Err(input_error(format!(
-            "--starts must be 1 to {MAX_STARTS} (got {starts})"
-        )));
-    };
+    let starts = crate::starts(starts)?;
     let args = SolveArgs {
         target,
         problem: ProblemArgs {

@@ -32,13 +32,7 @@ pub(crate) struct ProblemKw {
 impl ProblemKw {
     /// The problem (target 0) and search options, with the command line's checks.
     fn checked(&self) -> PyResult<(Spec, SolveOptions)> {
-        let Ok(starts) = usize::try_from(self.starts) else {
-            return Err(input_error(format!(
-                "--starts must be 1 to {} (got {})",
-                purcell_sim::cli::MAX_STARTS,
-                self.starts
-            )));
-        };
+        let starts = crate::starts(self.starts)?;
         let args = ProblemArgs {
             horizon: self.horizon,
             step: self.step,
