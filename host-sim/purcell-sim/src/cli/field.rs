@@ -2,12 +2,11 @@
 //! swimmer or under a stored gait (a costate file or a binary gait file).
 
 use super::args::{
-    Failure, ModelArgs, OutDirArgs, arr, fail, output_failure, read_costate, read_gait,
+    Failure, ModelArgs, OutDirArgs, arr, costate_of_gait, fail, output_failure, read_costate,
 };
-use crate::costate_file::CostateFile;
 use crate::{plots, replay};
 use clap::{Args, ValueEnum};
-use purcell_core::{Arc, Gait};
+use purcell_core::Arc;
 use purcell_solver::problem::{Problem, Spec};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -44,17 +43,6 @@ pub struct FieldArgs {
     /// The output directory.
     #[command(flatten)]
     pub output: OutDirArgs,
-}
-
-/// The numbers of the binary gait file `path`, as a costate file (exit 2 if it is none).
-fn costate_of_gait(path: &Path) -> Result<CostateFile, Failure> {
-    let bytes = read_gait(path)?;
-    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-    Ok(CostateFile::new(
-        *gait.params(),
-        gait.arcs().collect(),
-        gait.checkpoints().collect(),
-    ))
 }
 
 /// `field`: the swimmer (and gait) of the flags, its figures written; the files as printed.

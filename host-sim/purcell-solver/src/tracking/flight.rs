@@ -1,0 +1,202 @@
+//! Flights of a gait through a plant whose parameters differ from the model's.
+//!
+//! The law runs on the model (as firmware does: [`purcell_core::Replay`] with its checkpoints)
+//! and gives the nominal state `(α_k, g_k)` and control `u_k^nom` at each step; the plant, a
+//! [`Kinematics`] with its own drag ratio and link lengths, is driven by the control flown:
+//! `α_{k+1} = α_k + h·u_k`, `g_{k+1} = g_k·exp(−h·A_plant(α_k)·u_k)`.
+//!
+//! - [`Control::Open`]: `u_k = u_k^nom`, the replay of the gait as it is;
+//! - [`Control::Closed`]: [`purcell_core::tracking::track`] with the gains of
+//!   [`super::gains`], on the measured state (the plant's state plus Gaussian noise,
+//!   [`Noise`]).
+
+use super::gains::Table;
+use crate::solver::starts::{GOLDEN_GAMMA, splitmix64};
+use nalgebra::Vector2;
+use purcell_core::tracking::{Tracker, tracking_error};
+use purcell_core::{Error, Kinematics, Sample, Se2, State, Swimmer, TerminalError};
+
+/// Relative errors of the plant's parameters against the model's (`0.1`: 10 % larger).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Mismatch {
+    /// Of the drag ratio `r`.
+    pub ratio: f64,
+    /// Of the drag coefficient `k` (which cancels from `A`: no effect on the motion).
+    pub drag: f64,
+    /// Of the link lengths, as `(L0·(1 + E), L1·(1 − E), L2·(1 + E))`: middle and rear link
+    /// longer, front link shorter (a common scale of all three only scales the displacement).
+    pub length: f64,
+}
+
+impl Mismatch {
+    /// The plant: `model`'s swimmer with these errors, same `h`.
+    ///
+    /// Errors: [`Error::InvalidParameters`] if a parameter is no longer positive.
+    pub fn plant(&self, model: &Kinematics<f64>) -> Result<Kinematics<f64>, Error> {
+        let sw = model.swimmer();
+        let [l0, l1, l2] = sw.lengths();
+        let e = self.length;
+        let swimmer = Swimmer::new(
+            [l0 * (1.0 + e), l1 * (1.0 - e), l2 * (1.0 + e)],
+            sw.drag() * (1.0 + self.drag),
+            sw.ratio() * (1.0 + self.ratio),
+        )?;
+        Kinematics::new(swimmer, model.h())
+    }
+}
+
+/// Gaussian measurement noise: standard deviations of the pose `(x, y, θ)` (m, rad) and of
+/// the joint angles (rad), from a seeded generator.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Noise {
+    /// Of each of `x`, `y`, `θ`.
+    pub pose: f64,
+    /// Of each joint angle.
+    pub shape: f64,
+    /// Seed of the generator.
+    pub seed: u64,
+}
+
+/// Standard normal draws by Box–Muller on SplitMix64 ([`splitmix64`]).
+struct Gaussian(u64);
+
+impl Gaussian {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(GOLDEN_GAMMA);
+        // (0, 1]: 53 random bits, offset by half a unit so that ln never sees 0.
+        ((splitmix64(self.0) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    fn normal(&mut self) -> f64 {
+        let (u1, u2) = (self.uniform(), self.uniform());
+        (-2.0 * u1.ln()).sqrt() * (2.0 * core::f64::consts::PI * u2).cos()
+    }
+}
+
+impl Noise {
+    /// `state` as measured: each number plus its noise (the exact state without noise).
+    fn measure(&self, rng: &mut Gaussian, state: &State<f64>) -> State<f64> {
+        let mut m = *state;
+        if self.shape > 0.0 {
+            m.alpha += Vector2::new(rng.normal(), rng.normal()) * self.shape;
+        }
+        if self.pose > 0.0 {
+            let g = &state.g;
+            let d = [rng.normal(), rng.normal(), rng.normal()].map(|n| n * self.pose);
+            m.g = Se2::new(g.x() + d[0], g.y() + d[1], g.theta() + d[2]);
+        }
+        m
+    }
+}
+
+/// How far inside the links' overlap `|α_i| = π` the tracking law holds a gait without a joint
+/// limit, radians.
+pub const OVERLAP_MARGIN: f64 = 0.02;
+
+/// The bound the tracking law holds the joints within: the gait's joint limit `α_max`, or
+/// [`OVERLAP_MARGIN`] inside the overlap.
+pub fn joint_bound(alpha_max: Option<f64>) -> f64 {
+    alpha_max.unwrap_or(core::f64::consts::PI - OVERLAP_MARGIN)
+}
+
+/// How the plant is controlled.
+#[derive(Clone, Copy, Debug)]
+pub enum Control<'a> {
+    /// The nominal controls.
+    Open,
+    /// The tracking law with its table, the joints clamped to `|α_i| ≤ limit` ([`joint_bound`]).
+    Closed {
+        /// The records.
+        table: &'a Table,
+        /// The joints' bound.
+        limit: f64,
+    },
+}
+
+/// A finished flight.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outcome {
+    /// The plant's final state.
+    pub end: State<f64>,
+    /// `Σ h/2·|u_k|²` of the controls flown.
+    pub cost: f64,
+    /// `max_k max_i |α_{k,i}|` of the plant.
+    pub max_abs_alpha: f64,
+    /// The tracking law's final estimate `ε̂` of the drag ratio's relative error (0 open loop).
+    pub estimate: f64,
+    /// Per step `k = 0 … N−1`, the plant's pose error against the nominal pose before the
+    /// step (the larger pose component of [`TerminalError`] against the nominal state).
+    pub deviation: Vec<f64>,
+}
+
+/// A flight that stopped: the step and why.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("step {step}: {error}")]
+pub struct FlightFailure {
+    /// The step that failed.
+    pub step: u32,
+    /// Why.
+    pub error: Error,
+}
+
+/// Flies the nominal samples `nominal` (a model replay) through `plant` from `start` under
+/// `control`, measuring with `noise`.
+///
+/// Errors: the first step that fails (the replay's, the tracking law's or the plant's, e.g.
+/// a joint driven to the overlap limit), or [`Error::CapacityExceeded`] if the replay has
+/// more steps than its table.
+pub fn fly<I>(
+    nominal: I,
+    plant: &Kinematics<f64>,
+    start: State<f64>,
+    control: Control<'_>,
+    noise: &Noise,
+) -> Result<Outcome, FlightFailure>
+where
+    I: Iterator<Item = Result<Sample<f64>, Error>>,
+{
+    let mut rng = Gaussian(noise.seed);
+    let mut tracker = Tracker::new();
+    let (mut state, mut cost, mut max_abs_alpha) = (start, 0.0, 0.0f64);
+    let mut deviation = Vec::new();
+    let h = plant.h();
+    for (k, sample) in nominal.enumerate() {
+        let step = k as u32;
+        let fail = |error| FlightFailure { step, error };
+        let sample = sample.map_err(fail)?;
+        deviation.push(pose_deviation(&sample.state, &state));
+        max_abs_alpha = max_abs_alpha
+            .max(state.alpha.x.abs())
+            .max(state.alpha.y.abs());
+        let u = match control {
+            Control::Open => sample.u,
+            Control::Closed { table, limit } => {
+                let (record, first) = table.at(k).ok_or(fail(Error::CapacityExceeded))?;
+                let e = tracking_error(&sample.state, &noise.measure(&mut rng, &state));
+                if first {
+                    tracker.update(record, &e);
+                }
+                tracker
+                    .control(record, &sample.u, &e, &state.alpha, Some(limit), h)
+                    .map_err(fail)?
+            }
+        };
+        cost += 0.5 * h * u.norm_squared();
+        state = plant.step(&state, &u).map_err(fail)?;
+    }
+    max_abs_alpha = max_abs_alpha
+        .max(state.alpha.x.abs())
+        .max(state.alpha.y.abs());
+    Ok(Outcome {
+        end: state,
+        cost,
+        max_abs_alpha,
+        estimate: tracker.estimate(),
+        deviation,
+    })
+}
+
+/// The larger component of the pose error of `state` against `nominal`.
+fn pose_deviation(nominal: &State<f64>, state: &State<f64>) -> f64 {
+    TerminalError::new(state, &nominal.alpha, &nominal.g).g
+}
