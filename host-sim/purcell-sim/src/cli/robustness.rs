@@ -356,11 +356,12 @@ fn text(file: &CostateFile, nominal_cost: f64, reports: &[CaseReport]) -> String
         file.alpha_max.map_or("none".into(), |a| a.to_string())
     );
     s += "| r | links | k | pose noise | shape noise | open: g err | open: alpha err \
-          | closed: g err | closed: alpha err | open/closed | closed cost / nominal \
+          | closed: g err | closed: alpha err | open/closed (larger error) | closed cost / nominal \
           | closed max abs alpha |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for c in reports {
         let (o, k) = (&c.open, &c.closed);
-        let ratio = match (o.g_error, k.g_error) {
+        let larger = |f: &FlightReport| Some(f.g_error?.max(f.alpha_error?));
+        let ratio = match (larger(o), larger(k)) {
             (Some(a), Some(b)) if b > 0.0 => format!("{:.0}x", a / b),
             _ => "-".into(),
         };

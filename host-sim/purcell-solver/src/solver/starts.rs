@@ -298,6 +298,17 @@ pub fn family(
     out
 }
 
+/// The increment of SplitMix64's state: `2⁶⁴/φ`, odd.
+pub const GOLDEN_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// SplitMix64's output mix of a state `z` (Steele, Lea, Flood 2014): the seeded draws of the
+/// starts here and of the measurement noise in [`crate::tracking`].
+pub fn splitmix64(z: u64) -> u64 {
+    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -375,15 +386,4 @@ mod tests {
         let (a, b) = (size(0.001), size(0.1));
         assert!(a < b && a < 0.2, "{a} {b}");
     }
-}
-
-/// The increment of SplitMix64's state: `2⁶⁴/φ`, odd.
-pub const GOLDEN_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
-
-/// SplitMix64's output mix of a state `z` (Steele, Lea, Flood 2014): the seeded draws of the
-/// starts here and of the measurement noise in [`crate::tracking`].
-pub fn splitmix64(z: u64) -> u64 {
-    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }

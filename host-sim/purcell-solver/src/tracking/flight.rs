@@ -6,7 +6,7 @@
 //! `α_{k+1} = α_k + h·u_k`, `g_{k+1} = g_k·exp(−h·A_plant(α_k)·u_k)`.
 //!
 //! - [`Control::Open`]: `u_k = u_k^nom`, the replay of the gait as it is;
-//! - [`Control::Closed`]: [`purcell_core::tracking::track`] with the gains of
+//! - [`Control::Closed`]: [`purcell_core::tracking::Tracker`] with the table of
 //!   [`super::gains`], on the measured state (the plant's state plus Gaussian noise,
 //!   [`Noise`]).
 
