@@ -79,6 +79,10 @@ pub struct RobustnessArgs {
     /// See --bound-weight (rad).
     #[arg(long, default_value_t = Design::default().band, allow_hyphen_values = true)]
     pub band: f64,
+    /// Run the law and the tracking law in f32 (the table rounded), as the Cortex-M4F would;
+    /// the plant stays f64.
+    #[arg(long)]
+    pub f32: bool,
     /// Print the JSON report instead of the summary.
     #[command(flatten)]
     pub print: PrintArgs,
@@ -190,6 +194,7 @@ fn flight_report(gait: &Gait<'_>, r: Result<Outcome, impl ToString>) -> FlightRe
 fn fly_case(
     gait: &Gait<'_>,
     table: &Table,
+    f32: bool,
     (mismatch, noise): (Mismatch, Noise),
 ) -> Result<CaseReport, Failure> {
     let p = gait.params();
@@ -198,11 +203,14 @@ fn fly_case(
         .plant(&model)
         .map_err(|e| fail(2, format!("the plant: {e}")))?;
     let run = |control: Control<'_>| {
-        let replay = gait.replay::<f64>().map_err(|e| fail(2, e))?;
-        Ok::<_, Failure>(flight_report(
-            gait,
-            fly(replay, &plant, p.start(), control, &noise),
-        ))
+        let flight = if f32 {
+            let replay = gait.replay::<f32>().map_err(|e| fail(2, e))?;
+            fly(replay, &plant, p.start(), control, &noise)
+        } else {
+            let replay = gait.replay::<f64>().map_err(|e| fail(2, e))?;
+            fly(replay, &plant, p.start(), control, &noise)
+        };
+        Ok::<_, Failure>(flight_report(gait, flight))
     };
     let open = run(Control::Open)?;
     let closed = run(Control::Closed {
@@ -304,12 +312,13 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
         .sum();
     let reports = cases(&a)
         .into_iter()
-        .map(|c| fly_case(&gait, &k, c))
+        .map(|c| fly_case(&gait, &k, a.f32, c))
         .collect::<Result<Vec<_>, _>>()?;
     let report = json!({
         "format": "purcell-robustness", "version": 1,
         "crc": format!("{:#010x}", gait.crc()), "target": file.target,
         "alpha_max": file.alpha_max, "nominal_cost": nominal_cost,
+        "precision": if a.f32 { "f32" } else { "f64" },
         "design": { "terminal_pose": design.terminal_pose,
                     "terminal_alpha": design.terminal_alpha,
                     "running_pose": design.running_pose,

@@ -14,7 +14,7 @@ use super::gains::Table;
 use crate::solver::starts::{GOLDEN_GAMMA, splitmix64};
 use nalgebra::Vector2;
 use purcell_core::tracking::{Tracker, tracking_error};
-use purcell_core::{Error, Kinematics, Sample, Se2, State, Swimmer, TerminalError};
+use purcell_core::{Error, Kinematics, Real, Sample, Se2, State, Swimmer, TerminalError};
 
 /// Relative errors of the plant's parameters against the model's (`0.1`: 10 % larger).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -139,13 +139,24 @@ pub struct FlightFailure {
     pub error: Error,
 }
 
-/// Flies the nominal samples `nominal` (a model replay) through `plant` from `start` under
-/// `control`, measuring with `noise`.
+/// `state` in `T` (each number rounded to nearest; the rotation as stored).
+fn to_real<T: Real>(state: &State<f64>) -> State<T> {
+    let (a, g) = (&state.alpha, &state.g);
+    let c = T::from_f64;
+    State {
+        alpha: Vector2::new(c(a.x), c(a.y)),
+        g: Se2::from_rotation(c(g.x()), c(g.y()), c(g.cos()), c(g.sin())),
+    }
+}
+
+/// Flies the nominal samples `nominal` (a model replay in `T`, e.g. `f32` as on the M4F)
+/// through `plant` (in `f64`) from `start` under `control`, measuring with `noise`; the
+/// tracking law runs in `T` on the measured state and the table rounded to `T`.
 ///
 /// Errors: the first step that fails (the replay's, the tracking law's or the plant's, e.g.
 /// a joint driven to the overlap limit), or [`Error::CapacityExceeded`] if the replay has
 /// more steps than its table.
-pub fn fly<I>(
+pub fn fly<T: Real, I>(
     nominal: I,
     plant: &Kinematics<f64>,
     start: State<f64>,
@@ -153,10 +164,14 @@ pub fn fly<I>(
     noise: &Noise,
 ) -> Result<Outcome, FlightFailure>
 where
-    I: Iterator<Item = Result<Sample<f64>, Error>>,
+    I: Iterator<Item = Result<Sample<T>, Error>>,
 {
     let mut rng = Gaussian(noise.seed);
-    let mut tracker = Tracker::new();
+    let mut tracker = Tracker::<T>::new();
+    let (limit_t, h_t) = match control {
+        Control::Closed { limit, .. } => (T::from_f64(limit), T::from_f64(plant.h())),
+        Control::Open => (T::zero(), T::from_f64(plant.h())),
+    };
     let (mut state, mut cost, mut max_abs_alpha) = (start, 0.0, 0.0f64);
     let mut deviation = Vec::new();
     let h = plant.h();
@@ -164,23 +179,36 @@ where
         let step = k as u32;
         let fail = |error| FlightFailure { step, error };
         let sample = sample.map_err(fail)?;
-        deviation.push(pose_deviation(&sample.state, &state));
+        let nominal = State {
+            alpha: sample.state.alpha.map(T::to_f64),
+            g: Se2::from_rotation(
+                sample.state.g.x().to_f64(),
+                sample.state.g.y().to_f64(),
+                sample.state.g.cos().to_f64(),
+                sample.state.g.sin().to_f64(),
+            ),
+        };
+        deviation.push(pose_deviation(&nominal, &state));
         max_abs_alpha = max_abs_alpha
             .max(state.alpha.x.abs())
             .max(state.alpha.y.abs());
         let u = match control {
             Control::Open => sample.u,
-            Control::Closed { table, limit } => {
+            Control::Closed { table, .. } => {
                 let (record, first) = table.at(k).ok_or(fail(Error::CapacityExceeded))?;
-                let e = tracking_error(&sample.state, &noise.measure(&mut rng, &state));
+                let record = record.map(T::from_f64);
+                let measured = to_real::<T>(&noise.measure(&mut rng, &state));
+                let e = tracking_error(&sample.state, &measured);
                 if first {
-                    tracker.update(record, &e);
+                    tracker.update(&record, &e);
                 }
+                let joints = to_real::<T>(&state).alpha;
                 tracker
-                    .control(record, &sample.u, &e, &state.alpha, Some(limit), h)
+                    .control(&record, &sample.u, &e, &joints, Some(limit_t), h_t)
                     .map_err(fail)?
             }
-        };
+        }
+        .map(T::to_f64);
         cost += 0.5 * h * u.norm_squared();
         state = plant.step(&state, &u).map_err(fail)?;
     }
@@ -191,7 +219,7 @@ where
         end: state,
         cost,
         max_abs_alpha,
-        estimate: tracker.estimate(),
+        estimate: tracker.estimate().to_f64(),
         deviation,
     })
 }
