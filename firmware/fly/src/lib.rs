@@ -54,6 +54,28 @@ pub mod line {
     pub const RESULT: &str = "result";
     /// The value of [`RESULT`] on success.
     pub const OK: &str = "ok";
+    /// `purcell-loop: board=<name> scalar=<f32|f64> steps=<N> h=<s> period=<P> unit=<insn|cycles>
+    /// cycles=<C> gait=<crc32>`, a control loop's header ([`pilot`](crate::pilot)).
+    pub const LOOP: &str = "purcell-loop";
+    /// `cycle: n=<c> digest=<0x…> pose_bits=<0x…> ×4 x=<m> y=<m> theta=<rad>`, the end of a cycle
+    /// (`pose_bits`: `x y cos θ sin θ` of the body's pose as raw bits).
+    pub const CYCLE: &str = "cycle";
+    /// `ticks: unit=<insn|cycles> count=<n> mean=<M> max=<X> period=<P> margin=<P−X>
+    /// overruns=<o>`, each tick from the timer's expiry to the end of its handler.
+    pub const TICKS: &str = "ticks";
+    /// `joints: commands=<n> rates=<u1> <u2> angles=<α1> <α2>`, the joints' last commands.
+    pub const JOINTS: &str = "joints";
+}
+
+pub mod pilot;
+
+/// `f32` or `f64`: the name of `S` in the log lines.
+pub fn scalar_name<S: Stored>() -> &'static str {
+    if core::mem::size_of::<S>() == 4 {
+        "f32"
+    } else {
+        "f64"
+    }
 }
 
 /// A free-running counter that times each step.
@@ -160,16 +182,11 @@ where
     F: for<'r> FnMut(&'r mut Replay<'a, S>) -> Result<Option<&'r Sample<S>>, Error>,
 {
     let replay = gait.replay::<S>()?;
-    let scalar = if core::mem::size_of::<S>() == 4 {
-        "f32"
-    } else {
-        "f64"
-    };
     defmt::println!(
         "{=str}: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} arcs={=usize} gait={=u32:#010x}",
         line::HEADER,
         board,
-        scalar,
+        scalar_name::<S>(),
         gait.params().steps,
         S::PASSES.count,
         gait.checkpoint_count(),
