@@ -268,7 +268,7 @@ fn unit<C: Counter>() -> &'static str {
 /// Called by the idle loop with a copy of the status: logs the cycle it has not logged yet
 /// (`cycle: …`) and, once the flight is over, the ticks (`ticks: …`, against the period of
 /// `counts` raw counts), the joints' last commands and the result; then returns the exit
-/// status ([`finish`]): 0, or 1 for an error of the core or any overrun.
+/// status ([`finish`](crate::finish)): 0, or 1 for an error of the core or any overrun.
 pub fn report<S: Stored, C: Counter>(
     status: &Status<S>,
     logged: &mut u32,

@@ -1,7 +1,7 @@
 //! What the QEMU firmware (`src/firmware.rs`) and the control-loop example
 //! (`examples/control_loop.rs`) share: counting instructions with the SysTick under QEMU's
 //! `-icount shift=6` (the arithmetic here, tested on the host) and, on the MCU, the counter
-//! itself ([`Systick`]) and the fault and panic handlers (exit status 1).
+//! itself (`Systick`) and the fault and panic handlers (exit status 1).
 
 #![no_std]
 
