@@ -92,6 +92,22 @@ pub trait Counter {
     }
 }
 
+/// Core clock cycles from the DWT cycle counter (a board's [`Counter`]; QEMU's DWT reads 0).
+/// Start it first: `DCB::enable_trace`, `DWT::unlock` (Cortex-M7), `DWT::enable_cycle_counter`.
+pub struct DwtCycles;
+
+impl Counter for DwtCycles {
+    const LINE: &'static str = line::CYCLES;
+
+    #[inline(always)]
+    fn now() -> u32 {
+        core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
+        let t = cortex_m::peripheral::DWT::cycle_count();
+        core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
+        t
+    }
+}
+
 /// Running mean and maximum of per-step counts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {

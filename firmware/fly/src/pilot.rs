@@ -237,6 +237,48 @@ pub enum LoopError {
     Core(Error),
     /// Ticks ran into the next period.
     Overruns(u32),
+    /// The period is not 2 to [`SysTickTimer::MAX_COUNTS`] clocks.
+    Period,
+}
+
+/// Starts a control loop on the SysTick clocked at `clock_hz`: reads the gait (`bytes`, as
+/// `include_bytes!` embeds it), checks it replays in `S`, logs the header, and starts the
+/// timer at the gait's rate `1/h` (or `rate_hz`); returns the pilot, the timer and its period
+/// in clocks.
+///
+/// Errors: the core's for the gait, [`LoopError::Period`] for a period the SysTick cannot
+/// count.
+pub fn start<S: Stored, C: Counter>(
+    board: &str,
+    bytes: &'static [u8],
+    syst: &mut SYST,
+    clock_hz: u32,
+    rate_hz: Option<u32>,
+    cycles: u32,
+) -> Result<(Pilot<'static, S>, SysTickTimer, u32), LoopError> {
+    let gait = crate::load(bytes).map_err(LoopError::Core)?;
+    let pilot = Pilot::new(gait).map_err(LoopError::Core)?;
+    let h = rate_hz.map_or(gait.params().h, |hz| 1.0 / f64::from(hz.max(1)));
+    let counts = period_counts(h, clock_hz, SysTickTimer::MAX_COUNTS).ok_or(LoopError::Period)?;
+    log_header::<S, C>(board, &gait, counts, cycles);
+    Ok((pilot, SysTickTimer::start(syst, counts), counts))
+}
+
+/// The idle loop: logs what `status` (a copy of the status the ticks share) reports
+/// ([`report`]), sleeping between ticks, and calls `exit` with the run's status once the
+/// flight is over.
+pub fn idle<S: Stored, C: Counter>(
+    counts: u32,
+    mut status: impl FnMut() -> Status<S>,
+    exit: fn(i32) -> !,
+) -> ! {
+    let mut logged = 0;
+    loop {
+        if let Some(code) = report::<S, C>(&status(), &mut logged, counts) {
+            exit(code)
+        }
+        cortex_m::asm::wfi();
+    }
 }
 
 /// Logs the loop's header line (`purcell-loop: …`, [`line::LOOP`]).

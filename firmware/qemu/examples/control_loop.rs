@@ -10,7 +10,8 @@
 //! sleeps (`wfi`), and QEMU, run with `sleep=off`, skips the idle time.
 //!
 //! `PURCELL_LOOP_HZ` (at build time) ticks at another rate than `1/h`: fast enough, the ticks
-//! overrun and the run fails (`firmware/check.sh` checks that it does).
+//! overrun and the run fails (`firmware/check.sh` checks that it does). The same loop on a
+//! board: `firmware/board-stm32f4-discovery/examples/control_loop.rs`.
 //!
 //! Run: `cargo run -p purcell-mcu --example control_loop --target thumbv7em-none-eabihf --release`.
 
@@ -22,8 +23,8 @@ const CYCLES: u32 = 3;
 
 #[cfg(target_os = "none")]
 mod mps2 {
-    //! The little RTIC needs of a device crate (QEMU's MPS2 boards have none): the NVIC's
-    //! priority bits (3 on the AN386's Cortex-M4). No device interrupt is used.
+    //! What RTIC needs of a device crate, which QEMU's MPS2 boards lack: the NVIC's priority
+    //! bits (3 on the AN386's Cortex-M4). No device interrupt is used.
 
     /// Priority bits of the NVIC.
     pub const NVIC_PRIO_BITS: u8 = 3;
@@ -34,7 +35,7 @@ mod mps2 {
 mod app {
     use crate::CYCLES;
     use defmt_semihosting as _;
-    use purcell_fly::pilot::{Pilot, Status, SysTickTimer, period_counts};
+    use purcell_fly::pilot::{self, Pilot, Status, SysTickTimer};
     use purcell_mcu::Systick;
 
     /// The gait flown: `$PURCELL_GAIT`, or the committed paper's gait (see `build.rs`).
@@ -52,58 +53,31 @@ mod app {
         pilot: Pilot<'static, f32>,
         timer: SysTickTimer,
         counts: u32,
-        logged: u32,
-    }
-
-    /// The timer's period in SysTick counts: `h`, or `1/PURCELL_LOOP_HZ`.
-    fn period(h: f64) -> Option<u32> {
-        let h = match option_env!("PURCELL_LOOP_HZ") {
-            Some(hz) => 1.0 / f64::from(hz.parse::<u32>().ok()?),
-            None => h,
-        };
-        period_counts(h, CLOCK_HZ, SysTickTimer::MAX_COUNTS)
     }
 
     #[init]
-    fn init(mut cx: init::Context) -> (Shared, Local) {
-        let start = purcell_fly::load(GAIT)
-            .and_then(|gait| Ok((gait, Pilot::new(gait)?)))
-            .map_err(purcell_fly::pilot::LoopError::Core);
-        let (gait, pilot) = match start {
-            Ok(started) => started,
-            Err(e) => semihosting::process::exit(purcell_fly::finish(Err(e))),
-        };
-        let Some(counts) = period(gait.params().h) else {
-            defmt::error!("failed: the period is not 2 to 2^24 SysTick counts");
-            semihosting::process::exit(1)
-        };
-        purcell_fly::pilot::log_header::<f32, Systick>("mps2-an386", &gait, counts, CYCLES);
-        let timer = SysTickTimer::start(&mut cx.core.SYST, counts);
+    fn init(cx: init::Context) -> (Shared, Local) {
+        let mut syst = cx.core.SYST;
+        let rate_hz = option_env!("PURCELL_LOOP_HZ").and_then(|hz| hz.parse().ok());
+        let start =
+            pilot::start::<f32, Systick>("mps2-an386", GAIT, &mut syst, CLOCK_HZ, rate_hz, CYCLES);
+        let (pilot, timer, counts) =
+            start.unwrap_or_else(|e| semihosting::process::exit(purcell_fly::finish(Err(e))));
         let status = Status::default();
-        let local = Local {
-            pilot,
-            timer,
-            counts,
-            logged: 0,
-        };
-        (Shared { status }, local)
+        (
+            Shared { status },
+            Local {
+                pilot,
+                timer,
+                counts,
+            },
+        )
     }
 
-    /// Logs what the ticks report, sleeping in between; exits once the flight is over.
-    #[idle(shared = [status], local = [counts, logged])]
+    #[idle(shared = [status], local = [counts])]
     fn idle(mut cx: idle::Context) -> ! {
-        loop {
-            let status = cx.shared.status.lock(|s| *s);
-            let report = purcell_fly::pilot::report::<f32, Systick>(
-                &status,
-                cx.local.logged,
-                *cx.local.counts,
-            );
-            if let Some(code) = report {
-                semihosting::process::exit(code);
-            }
-            cortex_m::asm::wfi();
-        }
+        let status = || cx.shared.status.lock(|s| *s);
+        pilot::idle::<f32, Systick>(*cx.local.counts, status, semihosting::process::exit)
     }
 
     /// One tick: one step of the law, the joints commanded, timed to the end of the handler.
