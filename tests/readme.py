@@ -139,6 +139,8 @@ def main() -> None:
             f"{len(cheaper)}, from J = {min(cheaper):.7f}",
             "the cheaper inadmissible extremals",
         )
+        residuals = f"{sci(report['residual'])}, {sci(report['kkt_residual'])}"
+        quoted(f"| {residuals} |", "the terminal and KKT residuals")
         if report["local_min"] is not True:
             fail("the returned gait is not certified a strict local minimum")
 
