@@ -1,9 +1,9 @@
 //! The gait as a control loop on the STM32F4-Discovery at 168 MHz, with RTIC 2: the same loop
 //! as the QEMU example CI runs (`firmware/qemu/examples/control_loop.rs`, both through
 //! [`purcell_fly::pilot`]). The SysTick, on the 168 MHz core clock, expires every `h` (10 ms
-//! for the paper's gait); its handler steps the law once, commands the joints (kept in
-//! `Status::joints` here: put your motor driver there) and flies the gait [`CYCLES`] times in
-//! a row. The idle task logs each cycle's digest and pose over RTT, then the ticks in core
+//! for the paper's gait); its handler steps the law once, commands the joints (recorded in
+//! `Status::joints`: drive your motors from them in `tick`, or give `Pilot::tick` your driver)
+//! and flies the gait [`CYCLES`] times in a row. The idle task logs each cycle's digest and pose over RTT, then the ticks in core
 //! cycles (the SysTick counts the core clock, as the DWT does) from the timer's expiry to the
 //! end of its handler, the margin to the period, and the overruns (any fails the run).
 //!
