@@ -31,9 +31,9 @@ step "core for the MCU (thumbv7em-none-eabihf)"
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release --features defmt
 msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' core/Cargo.toml).0
-step "core with its minimum Rust version $msrv (host and thumbv7em; .ci/run installs it)"
+step "core and purcell-fly with their minimum Rust version $msrv (host and thumbv7em; .ci/run installs it)"
 CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --features serde
-CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --target thumbv7em-none-eabihf --features defmt
+CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core -p purcell-fly --target thumbv7em-none-eabihf --features purcell-core/defmt
 step "a program outside the workspace solves the paper's problem through purcell-solver"
 bash tests/outside.sh
 step "board example (STM32F4-Discovery at 168 MHz, flip-link; the flight and the control loop): format, lints, firmware build"
