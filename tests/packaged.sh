@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The crates a user depends on, as crates.io would ship them:
+# The crates a user depends on, as crates.io and docs.rs would ship them:
 #  1. `cargo package` of each crate in CRATES (together, so that one may depend on another
-#     before either is published) fails on any warning;
+#     before either is published) fails on any warning, and so does their documentation with
+#     every feature on (docs.rs builds it so: [package.metadata.docs.rs] all-features);
 #  2. a copy of the board example (firmware/board-stm32f4-discovery) in a temporary folder
 #     outside the repository, its dependencies on these crates by version only and patched to
 #     the unpacked packages (target/package/<crate>-<version>/), builds for
@@ -23,6 +24,7 @@ if grep -q '^warning' <<<"$package"; then
   exit 1
 fi
 grep '^ *Packaged' <<<"$package"
+RUSTDOCFLAGS="-D warnings" cargo doc -q --no-deps --all-features "${args[@]}"
 
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
