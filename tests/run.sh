@@ -42,7 +42,7 @@ if grep -q '^warning' <<<"$package"; then echo "$package"; exit 1; fi
 step "board example (STM32F4-Discovery): format, lints, firmware build"
 (cd firmware/board-stm32f4-discovery && cargo fmt --check &&
   cargo clippy -q --release --locked -- -D warnings && cargo build -q --release --locked)
-step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
+step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets; the C API example (M4F and host)"
 bash firmware/check.sh
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
 step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"

@@ -4,8 +4,10 @@
 # sources generate (CI). .ci/run installs cbindgen when it is missing.
 set -euo pipefail
 cd "$(dirname "$0")"
-command -v cbindgen >/dev/null ||
-  { echo "header.sh: cbindgen not found: cargo install cbindgen --locked --version 0.29.4" >&2; exit 1; }
+if [[ $(cbindgen --version 2>/dev/null) != "cbindgen 0.29.4" ]]; then
+  echo "header.sh: needs cbindgen 0.29.4: cargo install cbindgen --locked --version 0.29.4" >&2
+  exit 1
+fi
 header=include/purcell.h
 if [[ ${1:-} == --check ]]; then
   fresh=$(mktemp)
