@@ -302,42 +302,24 @@ fn export_format_c_writes_the_gait_files_bytes() {
         assert!(header.contains("#define TINY_LIMIT_LEN 684u\n"), "{header}");
         assert!(header.contains("extern const uint8_t tiny_limit[TINY_LIMIT_LEN];"));
     }
+    let to_c = |out: &Path, extra: &[&str]| {
+        let args = [
+            "export",
+            "--gait",
+            arg(&gait),
+            "--format",
+            "c",
+            "--out",
+            arg(out),
+        ];
+        sim(&[&args[..], extra].concat())
+    };
     std::fs::write(&h, "/* mine */\n").unwrap();
-    let o = sim(&[
-        "export",
-        "--gait",
-        arg(&gait),
-        "--format",
-        "c",
-        "--out",
-        arg(&c),
-    ]);
-    assert_exit(&o, 2, "--force");
+    assert_exit(&to_c(&c, &[]), 2, "--force");
     assert_eq!(std::fs::read(&h).unwrap(), b"/* mine */\n");
-    let args = [
-        "export",
-        "--gait",
-        arg(&gait),
-        "--format",
-        "c",
-        "--out",
-        arg(&c),
-        "--force",
-    ];
-    assert_eq!(sim(&args).status.code(), Some(0));
-    assert!(
-        std::fs::read_to_string(&h)
-            .unwrap()
-            .contains("TINY_LIMIT_LEN")
-    );
-    let o = sim(&[
-        "export",
-        "--gait",
-        arg(&gait),
-        "--format",
-        "c",
-        "--out",
-        arg(&h),
-    ]);
+    assert_eq!(to_c(&c, &["--force"]).status.code(), Some(0));
+    let header = std::fs::read_to_string(&h).unwrap();
+    assert!(header.contains("TINY_LIMIT_LEN"));
+    let o = to_c(&h, &[]);
     assert_exit(&o, 2, "--out must end in .c");
 }
