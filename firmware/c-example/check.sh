@@ -11,7 +11,8 @@
 #  2. no panic machinery linked into the firmware, so none reachable from the API, and no
 #     soft-float helper reachable from purcell_flight_step (purcell-mcu-check disasm);
 #  3. the same C program built with the host's gcc against the host's libpurcell_capi.a flies
-#     the paper's gait and its constrained one (paper-limit.gait, arcs) with the host's digest.
+#     the paper's gait and its constrained one (paper-limit.gait, arcs) with the host's digest,
+#     and refuses the paper's with its first byte changed (exit 1, the core's reason).
 # Needs cbindgen 0.29.4, arm-none-eabi-gcc (gcc-arm-none-eabi), binutils-arm-none-eabi,
 # qemu-system-arm, gcc (.ci/run installs them).
 # Builds go to $TARGET/c-example/.
@@ -99,4 +100,18 @@ for name in paper limit; do
   "$out/$name/host" | tee "$out/$name/host.log"
   same_digest "$name" "$out/$name/host.log"
 done
-echo "c-example: ok (header, M4F firmware, host program)"
+# A gait whose first byte is not the magic's: refused through the API, with the core's reason.
+mkdir -p "$out/refused"
+cp "$out/paper/gait.h" "$out/refused/"
+sed '0,/^    0x50,/s//    0x51,/' "$out/paper/gait.c" >"$out/refused/gait.c"
+"${CC:-gcc}" "${warn[@]}" -I "$out/refused" -o "$out/refused/host" "$src/host.c" "$src/fly.c" \
+  "$out/refused/gait.c" "$host_lib" "${native[@]}"
+status=0
+"$out/refused/host" >"$out/refused/host.log" || status=$?
+if [[ $status -ne 1 ]] || ! grep -q '^failed: not a gait file (bad magic) (status -110)$' "$out/refused/host.log"; then
+  echo "c-example: a gait without its magic: expected exit 1 and its reason, got status $status:" >&2
+  cat "$out/refused/host.log" >&2
+  exit 1
+fi
+cat "$out/refused/host.log"
+echo "c-example: ok (header, M4F firmware, host program, a refused gait)"
