@@ -181,6 +181,16 @@ int fly(const char *board, const uint8_t *gait, size_t len) {
       return 1;
     }
   }
+  uint32_t stack = platform_stack_bytes();
+  if (stack == UINT32_MAX) {
+    put("failed: the stack reached the bottom of the measured window\n");
+    return 1;
+  }
+  if (stack != 0) {
+    put("stack: bytes=");
+    put_uint(stack, 10, 1);
+    put(" (deepest use of the run: open, steps, digest, terminal error)\n");
+  }
   put("result: ok\n");
   return 0;
 }

@@ -10,5 +10,6 @@ const uint32_t PLATFORM_INSN[2] = {0, 1};
 void platform_write(const char *s) { fputs(s, stdout); }
 uint32_t platform_now(void) { return 0; }
 uint32_t platform_elapsed(uint32_t start, uint32_t end) { return end - start; }
+uint32_t platform_stack_bytes(void) { return 0; }
 
 int main(void) { return fly("host", gait, GAIT_LEN); }

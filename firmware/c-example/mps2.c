@@ -69,11 +69,32 @@ int main(void) {
 
 extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _stack_top;
 
+/* The stack's lowest 16 KiB below its top are painted at reset; the deepest use is where the
+ * paint was overwritten. */
+#define STACK_WINDOW_WORDS 4096u
+#define PAINT 0xA5C35A3Cu
+
+/* The window's lowest word (through an integer: the linker symbol is no C object). */
+static volatile uint32_t *stack_window(void) {
+  return (volatile uint32_t *)((uintptr_t)&_stack_top - 4u * STACK_WINDOW_WORDS);
+}
+
+uint32_t platform_stack_bytes(void) {
+  volatile uint32_t *p = stack_window(), *top = p + STACK_WINDOW_WORDS;
+  if (*p != PAINT) return UINT32_MAX;
+  while (p < top && *p == PAINT) p++;
+  return (uint32_t)(top - p) * 4u;
+}
+
 void __attribute__((noreturn)) reset_handler(void) {
   CPACR |= 0xFu << 20; /* CP10, CP11: full access to the FPU */
   __asm__ volatile("dsb\n isb" ::: "memory");
   for (uint32_t *src = &_sidata, *dst = &_sdata; dst < &_edata;) *dst++ = *src++;
   for (uint32_t *dst = &_sbss; dst < &_ebss;) *dst++ = 0;
+  uint32_t *sp;
+  __asm__ volatile("mov %0, sp" : "=r"(sp));
+  /* Below this frame (16 words of margin): free. */
+  for (volatile uint32_t *p = stack_window(); p < sp - 16; p++) *p = PAINT;
   exit_with(main());
 }
 
