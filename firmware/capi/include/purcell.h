@@ -12,12 +12,13 @@
 #include <stdint.h>
 
 // `purcell_flight_open` option: keep the trajectory's digest (FNV-1a over every sample and
-// the final state, as the Rust firmware and `purcell-sim replay` print it). It costs about
-// as much as the step itself; a controller that does not check its flight leaves it off.
+// the final state, as the Rust firmware and `purcell-sim replay` print it). It adds about 200
+// instructions to a step of about 690 on a Cortex-M4F: a controller leaves it off.
 #define PURCELL_OPTION_DIGEST 1
 
 // The size of a `PurcellFlight` in 8-byte words: room for the flight on a 32-bit
-// microcontroller and on a 64-bit host (checked at compile time).
+// microcontroller (456 bytes on a Cortex-M4F) and on a 64-bit host (512), with a margin
+// (checked at compile time on every target).
 #define PURCELL_FLIGHT_WORDS 80
 
 // The result of a call: `PURCELL_STATUS_OK` (0), `PURCELL_STATUS_FINISHED` (1), or an error

@@ -5,7 +5,7 @@
 // On the host the static library links std for its panic handler and unwinding (a C program
 // links it with the libraries `cargo rustc -- --print native-static-libs` names); on a
 // microcontroller the handler below stands in, and no panic is reachable from the API
-// (firmware/c-example/check.sh scans the disassembly).
+// (firmware/c-example/check.sh finds no panic symbol in the library or the C firmware).
 #[cfg(not(target_os = "none"))]
 extern crate std;
 
@@ -23,12 +23,13 @@ use purcell_core::{Gait, Replay, Sample, State, TrajectoryDigest};
 pub use status::PurcellStatus;
 
 /// `purcell_flight_open` option: keep the trajectory's digest (FNV-1a over every sample and
-/// the final state, as the Rust firmware and `purcell-sim replay` print it). It costs about
-/// as much as the step itself; a controller that does not check its flight leaves it off.
+/// the final state, as the Rust firmware and `purcell-sim replay` print it). It adds about 200
+/// instructions to a step of about 690 on a Cortex-M4F: a controller leaves it off.
 pub const PURCELL_OPTION_DIGEST: u32 = 1;
 
 /// The size of a `PurcellFlight` in 8-byte words: room for the flight on a 32-bit
-/// microcontroller and on a 64-bit host (checked at compile time).
+/// microcontroller (456 bytes on a Cortex-M4F) and on a 64-bit host (512), with a margin
+/// (checked at compile time on every target).
 pub const PURCELL_FLIGHT_WORDS: usize = 80;
 
 /// A flight's state, opaque: declare one (`static PurcellFlight flight;`), open it with
@@ -439,6 +440,6 @@ pub unsafe extern "C" fn purcell_status_message(
 #[cfg(all(target_os = "none", not(test)))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
-    // Unreachable from the API (firmware/c-example/check.sh proves it on the M4F build).
+    // Unreachable from the API: no panic symbol is left in the library (c-example/check.sh).
     loop {}
 }
