@@ -24,7 +24,11 @@
 #     cycle from the SysTick at 1/h, every cycle's digest equal to `purcell-sim replay --gait …
 #     --precision f32`'s, every cycle's pose to the host's composition (`purcell-mcu-check
 #     loop`), no tick overran; ticking far faster than the step (PURCELL_LOOP_HZ) must overrun
-#     and exit 1.
+#     and exit 1;
+#  9. the C example (c-example/check.sh): the C API's header is cbindgen's, a C firmware
+#     linked against libpurcell_capi.a flies the paper's gait exported as C in QEMU with the
+#     host's digest (instructions per step beside the Rust firmware's), no panic linked, and
+#     the same C program on the host flies with the host's digest.
 # Needs qemu-system-arm, defmt-print, arm-none-eabi-objdump/-size (binutils-arm-none-eabi)
 # and the thumbv7em-none-eabihf and thumbv7m-none-eabi targets. Logs and listings go to
 # $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 4).
@@ -138,4 +142,5 @@ fi
 echo "loop: every cycle's digest is purcell-sim replay's ($host_digest)"
 echo "--- control loop ticking at 100 kHz, faster than a step: must overrun and exit 1"
 PURCELL_LOOP_HZ=100000 fails_with overrun '^failed: Overruns' loop_run
-echo "mcu: 9 passed, 0 failed"
+bash firmware/c-example/check.sh
+echo "mcu: 10 passed, 0 failed"

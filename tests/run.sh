@@ -42,7 +42,7 @@ step "board example (STM32F4-Discovery at 168 MHz, flip-link; the flight and the
   cargo build -q --release --locked --bins --examples)
 step "user-facing crates package without a warning; a copy of the board example outside the repository builds against the packages"
 bash tests/packaged.sh
-step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
+step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets; the control loop; the C API example (M4F and host)"
 bash firmware/check.sh
 step "README.md's numbers, re-measured (tests/readme.py: a fresh solve, the committed gaits, the M4F log above)"
 target_dir=${CARGO_TARGET_DIR:-target}

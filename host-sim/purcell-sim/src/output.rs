@@ -1,10 +1,12 @@
-//! Results: `trajectory.csv`, the costate file, and ([`target`]) where every output goes:
-//! never over anything the tool did not write, checked before the work, atomically.
+//! Results: `trajectory.csv`, the costate file, a gait as C source ([`c_array`]), and
+//! ([`target`]) where every output goes: never over anything the tool did not write, checked
+//! before the work, atomically.
 
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::{Extremal, Trajectory};
 use std::fmt::Write as _;
 
+pub mod c_array;
 pub mod target;
 pub use target::{MANIFEST, OutputDir, OutputError, OutputFile};
 
