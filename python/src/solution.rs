@@ -239,7 +239,7 @@ impl Solution {
         let mut files = vec![
             (
                 "trajectory.csv".to_string(),
-                output::trajectory_csv(&slf.problem, &x.trajectory).into_bytes(),
+                output::trajectory_csv(&slf.problem, x).into_bytes(),
             ),
             ("costate.json".to_string(), slf.file.to_json().into_bytes()),
             (

@@ -14,6 +14,7 @@ pub mod replay;
 pub mod solve;
 mod summary;
 pub mod sweep;
+pub mod units;
 
 pub use args::{EXIT_CODES, Failure, MAX_SOLVE_STEPS, MAX_STARTS};
 pub use solve::MAX_CHECKPOINTS;
