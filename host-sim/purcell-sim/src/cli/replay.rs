@@ -90,6 +90,11 @@ pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
     };
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
     check_stored(path, &gait, !matches!(a.precision, Some(Precision::F64)))?;
+    if let (Some(o), Some(t)) = (&a.out, &a.trace)
+        && std::path::absolute(o).ok() == std::path::absolute(t).ok()
+    {
+        return Err(fail(2, "--out and --trace name the same file"));
+    }
     let prepare = |out: &Option<PathBuf>, recognise, inputs: &[&Path]| {
         out.as_deref()
             .map(|p| output::OutputFile::prepare(p, recognise, a.force, inputs))
