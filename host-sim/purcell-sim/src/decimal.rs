@@ -149,6 +149,11 @@ pub fn time(k: u64, h: f64) -> String {
         .map_or_else(|| (k as f64 * h).to_string(), |t| t.to_string())
 }
 
+/// The time `t_k` of [`time`] as a number: the `f64` nearest the decimal `k·h`.
+pub fn time_value(k: u64, h: f64) -> f64 {
+    time(k, h).parse().unwrap_or(k as f64 * h)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -175,7 +180,7 @@ mod tests {
     #[test]
     fn times_are_exact_multiples() {
         assert_eq!(time(9999, 0.01), "99.99");
-        assert_eq!(time(9999, 0.01).parse::<f64>().unwrap(), 99.99);
+        assert_eq!(time_value(9999, 0.01), 99.99);
         assert_eq!(time(0, 0.01), "0");
         assert_eq!(time(3, 0.1), "0.3");
         assert_eq!(time(7, 1e-7), "0.0000007");
