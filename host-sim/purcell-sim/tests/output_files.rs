@@ -26,6 +26,14 @@ fn rows(path: &Path) -> Vec<Vec<String>> {
         .collect()
 }
 
+/// The quick problem solved into `dir/out`; that directory.
+fn quick_solve(dir: &Path) -> std::path::PathBuf {
+    let out = dir.join("out");
+    let o = Solve::quick().no_plots().out(&out).run();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    out
+}
+
 /// The header of trajectory.csv and of a trace.
 const PATH_HEADER: &str = "k,t_s,alpha1_rad,alpha2_rad,u1_rad_per_s,u2_rad_per_s,x_m,y_m,\
                            theta_rad,xi1_rad_per_s,xi2_rad_per_s,arc1,arc2";
@@ -116,9 +124,7 @@ fn help_states_the_units_and_defaults_paste_back() {
 #[test]
 fn trajectory_csv_has_units_exact_times_and_the_costate() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("out");
-    let o = Solve::quick().no_plots().out(&out).run();
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = quick_solve(tmp.path());
     let rows = rows(&out.join("trajectory.csv"));
     assert_eq!(rows[0].join(","), PATH_HEADER);
     assert_eq!(rows.len(), 102);
@@ -148,24 +154,10 @@ fn trajectory_csv_has_units_exact_times_and_the_costate() {
 fn sweep_csv_keys_are_the_decimals_typed() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    let o = sim(&[
-        "sweep",
-        "--x",
-        "0:0.3:4",
-        "--y",
-        "0.05",
-        "--theta",
-        "0deg:2deg:2",
-        "--horizon",
-        "10",
-        "--step",
-        "0.1",
-        "--starts",
-        "1",
-        "--no-plots",
-        "--out",
-        arg(&out),
-    ]);
+    let flags = "--x 0:0.3:4 --y 0.05 --theta 0deg:2deg:2 --horizon 10 --step 0.1 --starts 1";
+    let mut args: Vec<&str> = ["sweep", "--no-plots", "--out", arg(&out)].into();
+    args.extend(flags.split(' '));
+    let o = sim(&args);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let rows = rows(&out.join("sweep.csv"));
     assert_eq!(
@@ -229,9 +221,7 @@ fn replay_trace_writes_the_path_as_replayed() {
 #[test]
 fn an_f64_trace_follows_the_trajectory() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("out");
-    let o = Solve::quick().no_plots().out(&out).run();
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = quick_solve(tmp.path());
     let trace = tmp.path().join("trace.csv");
     let costate = out.join("costate.json");
     let o = sim(&["replay", "--costate", arg(&costate), "--trace", arg(&trace)]);

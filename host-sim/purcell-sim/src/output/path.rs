@@ -9,6 +9,9 @@
 //! (rad/s, the units of `u`; row 0 holds `ξ^{−1}`; at a state on the joint limit `ξ̃^{k−1}`,
 //! with that state's jump, MODEL.md §9); and the joint-limit arcs the state is on: `arc1`,
 //! `arc2` are `+1` (`α_i = +α_max`), `−1` (`α_i = −α_max`) or `0` (off any arc of joint `i`).
+//! On an arc of joint `i` the two files differ in `ξ_i` alone: `trajectory.csv` holds the
+//! solver's `ξ̃_i` (with the jump), a trace the core's `ξ_i`, which the arc step sets to
+//! `(Aᵀζ)_i` (MODEL.md §9); elsewhere they agree to the law's rounding.
 //! Numbers in shortest round-trip form of their type (`f32` for an `f32` replay).
 
 use crate::decimal;
