@@ -19,7 +19,11 @@
 #  6. M3 (mps2-an385, no FPU), f32 in software floating point: bit-identical to the host f32
 #     flight (and so to the M4F), mean and largest step <= PURCELL_M3_MAX_INSN (default
 #     36000, a regression guard);
-#  7. the M7 build run on the M4F board must exit 1 through the HardFault handler.
+#  7. the M7 build run on the M4F board must exit 1 through the HardFault handler;
+#  8. the C example (c-example/check.sh): the C API's header is cbindgen's, a C firmware
+#     linked against libpurcell_capi.a flies the paper's gait exported as C in QEMU with the
+#     host's digest (instructions per step beside the Rust firmware's), no panic linked, and
+#     the same C program on the host flies with the host's digest.
 # Needs qemu-system-arm, defmt-print, arm-none-eabi-objdump/-size (binutils-arm-none-eabi)
 # and the thumbv7em-none-eabihf and thumbv7m-none-eabi targets. Logs and listings go to
 # $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 4).
@@ -120,4 +124,5 @@ fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mc
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
 PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/qemu/qemu-run.sh "$m7"
-echo "mcu: 7 passed, 0 failed"
+bash firmware/c-example/check.sh
+echo "mcu: 8 passed, 0 failed"

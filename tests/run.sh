@@ -42,8 +42,15 @@ if grep -q '^warning' <<<"$package"; then echo "$package"; exit 1; fi
 step "board example (STM32F4-Discovery): format, lints, firmware build"
 (cd firmware/board-stm32f4-discovery && cargo fmt --check &&
   cargo clippy -q --release --locked -- -D warnings && cargo build -q --release --locked)
-step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
+step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets; the C API example (M4F and host)"
 bash firmware/check.sh
+step "README.md's numbers, re-measured (tests/readme.py: a fresh solve, the committed gaits, the M4F log above)"
+target_dir=${CARGO_TARGET_DIR:-target}
+ruff=${PURCELL_PY_TOOLS:-$PWD/target/python-tools}/bin/ruff
+cargo build -q --profile test -p purcell-sim
+"$ruff" check tests/readme.py
+"$ruff" format --check tests/readme.py
+python3 tests/readme.py "$target_dir/debug/purcell-sim" "$target_dir/mcu-check"
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
 step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs

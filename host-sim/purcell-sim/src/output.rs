@@ -1,10 +1,12 @@
-//! Results: `trajectory.csv` ([`path`]), the costate file, `sweep.csv`, and ([`target`]) where every output goes:
-//! never over anything the tool did not write, checked before the work, atomically.
+//! Results: `trajectory.csv` ([`path`]), the costate file, `sweep.csv`, a gait as C source
+//! ([`c_array`]), and ([`target`]) where every output goes: never over anything the tool did
+//! not write, checked before the work, atomically.
 
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::Extremal;
 use std::fmt::Write as _;
 
+pub mod c_array;
 pub mod path;
 pub mod target;
 pub use target::{MANIFEST, OutputDir, OutputError, OutputFile};

@@ -223,7 +223,7 @@ pub(super) fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
             2,
             format!(
                 "{}: a binary gait file (export's output), not a costate file \
-                 (DIR/costate.json); replay and field take it as --gait",
+                 (DIR/costate.json); replay, field and export take it as --gait",
                 path.display()
             ),
         ));

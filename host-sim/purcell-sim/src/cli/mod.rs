@@ -1,9 +1,9 @@
 //! The `purcell-sim` command line (clap), one module per subcommand: [`solve`] (the optimal
 //! gait of one target), [`replay`] (a gait through the core, as firmware flies it),
-//! [`export`] (the binary gait file), [`connection`] (the local connection as JSON),
-//! [`sweep`] (a lattice of targets by continuation), [`field`] (the connection's curvature)
-//! and [`docs`] (shell completions and the manual page); [`args`] holds the flags, checks and
-//! errors they share, `summary` what `solve` and `sweep` print.
+//! [`export`] (the binary gait file, or its bytes as C source), [`connection`] (the local
+//! connection as JSON), [`sweep`] (a lattice of targets by continuation), [`field`] (the
+//! connection's curvature) and [`docs`] (shell completions and the manual page); [`args`]
+//! holds the flags, checks and errors they share, `summary` what `solve` and `sweep` print.
 
 pub mod args;
 pub mod connection;
@@ -58,7 +58,8 @@ pub enum Command {
     /// terminal error against the target and alpha0.
     #[command(after_help = args::EXIT_CODES)]
     Replay(replay::ReplayArgs),
-    /// Write the binary gait file of a costate file, for `include_bytes!` in firmware.
+    /// Write the binary gait file of a costate file, for `include_bytes!` in firmware, or
+    /// (--format c) its bytes as a C array for the C API's purcell_flight_open.
     #[command(after_help = args::EXIT_CODES)]
     Export(export::ExportArgs),
     /// Print the local connection A(alpha) and its derivatives as JSON (rows x, y, theta;
