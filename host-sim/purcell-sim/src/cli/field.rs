@@ -1,9 +1,7 @@
 //! `field`: the curvature of the connection over the shape plane (MODEL.md §8), for a
 //! swimmer or under a stored gait (a costate file or a binary gait file).
 
-use super::args::{
-    Failure, ModelArgs, OutDirArgs, arr, fail, output_failure, read_costate, read_gait,
-};
+use super::args::{Failure, ModelArgs, OutDirArgs, fail, output_failure, read_costate, read_gait};
 use crate::costate_file::CostateFile;
 use crate::{plots, replay};
 use clap::{Args, ValueEnum};
@@ -38,7 +36,8 @@ pub struct FieldArgs {
     /// Draw only this row (default: all three). field.csv always has all three.
     #[arg(long, value_enum)]
     pub component: Option<FieldComponent>,
-    /// Shape axes in degrees (the curvature stays per rad^2, the CSV in radians).
+    /// Shape axes of the figures in degrees (the curvature stays per rad^2, the CSV in
+    /// radians; angle flags take degrees with their own deg suffix).
     #[arg(long)]
     pub degrees: bool,
     /// The output directory.
@@ -89,7 +88,7 @@ pub(super) fn run_field(a: FieldArgs) -> Result<String, Failure> {
         }
         None => {
             let spec = Spec {
-                links: arr("links", &a.model.links)?,
+                links: a.model.links,
                 drag: a.model.drag,
                 ratio: a.model.ratio,
                 ..Spec::default()

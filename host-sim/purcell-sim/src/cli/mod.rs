@@ -14,6 +14,7 @@ pub mod replay;
 pub mod solve;
 mod summary;
 pub mod sweep;
+pub mod units;
 
 pub use args::{EXIT_CODES, Failure, MAX_SOLVE_STEPS, MAX_STARTS};
 pub use solve::MAX_CHECKPOINTS;
@@ -66,8 +67,15 @@ pub enum Command {
     #[command(after_help = args::EXIT_CODES)]
     Connection(connection::ConnectionArgs),
     /// Solve a lattice of targets by continuation from neighbours and write DIR/sweep.csv
-    /// (target, cost, residual, largest |alpha_i|, local minimum) and a map of the cost over
-    /// the target plane; print a summary (--json: the report).
+    /// (target, cost, residual, largest |alpha_i|, local minimum, status) and a map of the
+    /// cost over the target plane; print a summary (--json: the report).
+    ///
+    /// sweep.csv's status: "ok" (the certificates vouch for the extremal); else the first
+    /// that does not: "not admissible", "not a strict local minimum", "terminal residual
+    /// above 1e-10", "KKT residual above 1e-8", "law residual above 1e-9"; or, for a target
+    /// without an extremal (its numbers empty), why: "no start reached the target: ...", "N
+    /// extremal(s) of the coarse search, none carried to the problem's grid: ...", "N
+    /// extremal(s) found, none admissible: ...".
     #[command(after_help = args::EXIT_CODES)]
     Sweep(sweep::SweepArgs),
     /// Draw the curvature of the connection over the shape plane (rows x, y, theta), with a
