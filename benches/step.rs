@@ -5,7 +5,7 @@
 //! The state is step 2 500 of the f64 replay of a `|μ| ≈ 13` extremal of the paper's problem
 //! (α ≈ (1.6, 0.9), g far from the identity), so every branch taken is the one taken in
 //! flight (the extremals are the fixtures of `purcell_core::testkit`). `replay` runs the whole
-//! 10 000-step horizon of the paper's returned extremal (`J = 0.686`) through
+//! 10 000-step horizon of a paper's-problem extremal (`J = 0.686`, the testkit fixture) through
 //! [`Replay::step`], with the f64 replay's checkpoints every 100 steps in f32 (none needed in
 //! f64), and reports the time per step as throughput.
 //! Run: `cargo bench -p purcell-benches --bench step`.

@@ -19,7 +19,16 @@
 #  6. M3 (mps2-an385, no FPU), f32 in software floating point: bit-identical to the host f32
 #     flight (and so to the M4F), mean and largest step <= PURCELL_M3_MAX_INSN (default
 #     36000, a regression guard);
-#  7. the M7 build run on the M4F board must exit 1 through the HardFault handler.
+#  7. the M7 build run on the M4F board must exit 1 through the HardFault handler;
+#  8. the control loop (qemu/examples/control_loop.rs, RTIC): the paper's gait flown cycle after
+#     cycle from the SysTick at 1/h, every cycle's digest equal to `purcell-sim replay --gait …
+#     --precision f32`'s, every cycle's pose to the host's composition (`purcell-mcu-check
+#     loop`), no tick overran; ticking far faster than the step (PURCELL_LOOP_HZ) must overrun
+#     and exit 1;
+#  9. the C example (c-example/check.sh): the C API's header is cbindgen's, a C firmware
+#     linked against libpurcell_capi.a flies the paper's gait exported as C in QEMU with the
+#     host's digest (instructions per step beside the Rust firmware's), no panic linked, and
+#     the same C program on the host flies with the host's digest.
 # Needs qemu-system-arm, defmt-print, arm-none-eabi-objdump/-size (binutils-arm-none-eabi)
 # and the thumbv7em-none-eabihf and thumbv7m-none-eabi targets. Logs and listings go to
 # $TARGET/mcu-check/. The M4F release ELF left behind is the paper's gait (step 4).
@@ -120,4 +129,18 @@ fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mc
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
 PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/qemu/qemu-run.sh "$m7"
-echo "mcu: 7 passed, 0 failed"
+echo "--- control loop: the paper's gait cycle after cycle from the SysTick at 1/h (RTIC), against the host"
+loop_run() { cargo run -q -p purcell-mcu --example control_loop --target thumbv7em-none-eabihf --release; }
+loop_run 2>"$out/loop.stderr" | tee "$out/loop.log"
+tool loop "$out/loop.log" --gait core/examples/paper.gait
+host_digest=$(sim replay --gait core/examples/paper.gait --precision f32 | sed -n 's/^digest: //p')
+cycle_digests=$(sed -n 's/^cycle: .* digest=\(0x[0-9a-f]*\) .*/\1/p' "$out/loop.log" | sort -u)
+if [[ -z $host_digest || $cycle_digests != "$host_digest" ]]; then
+  echo "check.sh: loop: cycle digests '$cycle_digests', purcell-sim replay '$host_digest'" >&2
+  exit 1
+fi
+echo "loop: every cycle's digest is purcell-sim replay's ($host_digest)"
+echo "--- control loop ticking at 100 kHz, faster than a step: must overrun and exit 1"
+PURCELL_LOOP_HZ=100000 fails_with overrun '^failed: Overruns' loop_run
+bash firmware/c-example/check.sh
+echo "mcu: 10 passed, 0 failed"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Python package's checks (run by tests/run.sh): format and lints of the crate (its own
 # workspace and lock file), the abi3 wheel built by maturin, installed in a fresh virtual
-# environment with numpy, pytest, pandas and Dask, pytest against the workspace's purcell-sim, ruff.
+# environment with numpy, pytest, pandas, jsonschema and Dask, pytest against the
+# workspace's purcell-sim, ruff.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root/python"
@@ -18,9 +19,10 @@ cargo clippy -q --locked --all-targets -- -D warnings
 rm -rf "$wheels"
 "$tools/bin/maturin" build -q --release --locked -o "$wheels"
 python3 -m venv --clear "$venv"
-# pandas (Sweep.to_pandas), Dask distributed (purcell.distributed's test on a LocalCluster)
-# and matplotlib (the examples): about 15 s more with pip's cache warm.
-"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest pandas 'dask[distributed]' matplotlib
+# pandas (Sweep.to_pandas; test_outputs reads trajectory.csv and sweep.csv with it),
+# jsonschema (the JSON outputs against docs/schemas), Dask distributed (purcell.distributed's
+# test on a LocalCluster) and matplotlib (the examples): about 15 s more with pip's cache warm.
+"$venv/bin/pip" install -q "$wheels"/purcell-*.whl pytest pandas jsonschema 'dask[distributed]' matplotlib
 
 # The command line the tests compare with: the workspace's, in the test profile.
 (cd "$root" && cargo build -q --profile test -p purcell-sim)

@@ -31,19 +31,26 @@ step "core for the MCU (thumbv7em-none-eabihf)"
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release
 cargo build -p purcell-core --target thumbv7em-none-eabihf --release --features defmt
 msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' core/Cargo.toml).0
-step "core with its minimum Rust version $msrv (host and thumbv7em; .ci/run installs it)"
+step "core and purcell-fly with their minimum Rust version $msrv (host and thumbv7em; .ci/run installs it)"
 CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --features serde
-CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core --target thumbv7em-none-eabihf --features defmt
+CARGO_TARGET_DIR=target/msrv cargo "+$msrv" build -q -p purcell-core -p purcell-fly --target thumbv7em-none-eabihf --features purcell-core/defmt
 step "a program outside the workspace solves the paper's problem through purcell-solver"
 bash tests/outside.sh
-step "purcell-core packages for crates.io without a warning"
-package=$(cargo package -p purcell-core --allow-dirty 2>&1) || { echo "$package"; exit 1; }
-if grep -q '^warning' <<<"$package"; then echo "$package"; exit 1; fi
-step "board example (STM32F4-Discovery): format, lints, firmware build"
+step "board example (STM32F4-Discovery at 168 MHz, flip-link; the flight and the control loop): format, lints, firmware build"
 (cd firmware/board-stm32f4-discovery && cargo fmt --check &&
-  cargo clippy -q --release --locked -- -D warnings && cargo build -q --release --locked)
-step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets"
+  cargo clippy -q --release --locked --bins --examples -- -D warnings &&
+  cargo build -q --release --locked --bins --examples)
+step "user-facing crates package without a warning; a copy of the board example outside the repository builds against the packages"
+bash tests/packaged.sh
+step "firmware in QEMU: exported gaits (solved, constrained, corrupted), M4F f32, M7 f64 and M3 soft-float f32, bit-identical to the host, budgets; the control loop; the C API example (M4F and host)"
 bash firmware/check.sh
+step "README.md's numbers, re-measured (tests/readme.py: a fresh solve, the committed gaits, the M4F log above)"
+target_dir=${CARGO_TARGET_DIR:-target}
+ruff=${PURCELL_PY_TOOLS:-$PWD/target/python-tools}/bin/ruff
+cargo build -q --profile test -p purcell-sim
+"$ruff" check tests/readme.py
+"$ruff" format --check tests/readme.py
+python3 tests/readme.py "$target_dir/debug/purcell-sim" "$target_dir/mcu-check"
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
 step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs

@@ -397,6 +397,12 @@ impl<'a, T: Real> Replay<'a, T> {
         &self.state
     }
 
+    /// The sample [`Replay::step`] lent last (`None` before the first step): for a caller
+    /// that cannot keep the borrow between steps, such as the C API.
+    pub fn last_sample(&self) -> Option<&Sample<T>> {
+        (self.k > 0).then_some(&self.sample)
+    }
+
     /// The current shape costate `ξ^{k−1}`.
     pub fn xi(&self) -> &Vector2<T> {
         &self.xi

@@ -2,12 +2,14 @@
 //! noticed (`firmware/check.sh` compares the host with the MCU only, so a change on both
 //! sides would pass it).
 //!
-//! Sources: the f32 digests and final-state bits are the M4F flights in QEMU as recorded in
-//! `firmware/README.md` (the paper's gait: `digest: 0x8cf7ea4378b379b6`, `final_state_bits:
-//! 0x328b0000 0x32ec0000 0x3dcccccd 0x3dcccccd 0x3f800000 0xb2904000`; the constrained gait:
-//! `0x5b40ab4d18679a01`), which `check.sh` holds bit-identical to the host's f32 replay. The
-//! f64 digests were produced by the host replay at commit 113ade5 (the M7's f64 flight is held
-//! bit-identical to it by `check.sh`, step 5).
+//! Sources: both gaits are the main job's (`purcell-sim solve`, and `solve --alpha-max 1.5`,
+//! each exported by `purcell-sim export`), regenerated on 2026-11-26. The f32 digests and
+//! final-state bits are the M4F flights in QEMU as recorded in `firmware/README.md` (the paper's
+//! gait: `digest: 0x72d34043226bae86`, `final_state_bits: 0x34048800 0x34350000 0x3dccccdc
+//! 0x3dcccccd 0x3f800000 0xb3fb0000`; the constrained gait: `0x5b40ab4d18679a01`), which
+//! `check.sh` holds bit-identical to the host's f32 replay. The f64 digests are the host's
+//! replay of the same files (the M7's f64 flight is held bit-identical to it by `check.sh`,
+//! step 5).
 
 use purcell_core::{Gait, Replay};
 
@@ -17,7 +19,7 @@ static PAPER_LIMIT: &[u8] = include_bytes!("../examples/paper-limit.gait");
 #[test]
 fn the_committed_gaits_fly_to_their_pinned_digests() {
     for (name, bytes, f32_digest, f64_digest) in [
-        ("paper", PAPER, 0x8cf7_ea43_78b3_79b6, F64_PAPER),
+        ("paper", PAPER, 0x72d3_4043_226b_ae86, F64_PAPER),
         (
             "paper-limit",
             PAPER_LIMIT,
@@ -38,16 +40,16 @@ fn the_paper_gait_ends_on_the_m4f_final_state() {
     let gait = Gait::from_bytes(PAPER).unwrap();
     let flight = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
     let bits = [
-        0x328b_0000,
-        0x32ec_0000,
-        0x3dcc_cccd,
+        0x3404_8800,
+        0x3435_0000,
+        0x3dcc_ccdc,
         0x3dcc_cccd,
         0x3f80_0000,
-        0xb290_4000,
+        0xb3fb_0000,
     ];
     assert_eq!(flight.final_bits(), bits.map(|b: u32| u64::from(b)));
 }
 
-/// The host's f64 flights at commit 113ade5.
-const F64_PAPER: u64 = 0x4cea_571c_0caa_089e;
-const F64_PAPER_LIMIT: u64 = 0x16fc_e7a9_c3e4_b15a;
+/// The host's f64 flights of the committed gaits.
+const F64_PAPER: u64 = 0xbc72_ceca_a575_b173;
+const F64_PAPER_LIMIT: u64 = 0x81b8_5e0b_73e2_129a;

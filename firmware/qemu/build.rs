@@ -5,8 +5,8 @@
 //!    workspace root), or the committed paper's gait `core/examples/paper.gait`, as
 //!    `PURCELL_GAIT_FILE` for `include_bytes!(env!("PURCELL_GAIT_FILE"))`; cargo rebuilds when
 //!    the variable or the file changes, and a missing file stops the build with its name;
-//! 2. puts `memory.x` on the linker path and links with cortex-m-rt's `link.x` and defmt's
-//!    `defmt.x`;
+//! 2. puts `memory.x` on the linker path and links the firmware and the control-loop example
+//!    with cortex-m-rt's `link.x` and defmt's `defmt.x`;
 //! 3. with the `m7` feature, refuses to build unless `-C target-cpu=cortex-m7` is in the
 //!    rustflags (without it every `f64` operation would be a soft-float call); with `m3`,
 //!    unless the target is `thumbv7m-none-eabi` (and `m7` is off).
@@ -40,9 +40,11 @@ fn main() -> Result<(), String> {
     let memory = fs::read(manifest.join("memory.x")).map_err(|e| e.to_string())?;
     fs::write(out.join("memory.x"), memory).map_err(|e| e.to_string())?;
     println!("cargo:rustc-link-search={}", out.display());
-    println!("cargo:rustc-link-arg-bins=--nmagic");
-    println!("cargo:rustc-link-arg-bins=-Tlink.x");
-    println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+    for kind in ["bins", "examples"] {
+        for arg in ["--nmagic", "-Tlink.x", "-Tdefmt.x"] {
+            println!("cargo:rustc-link-arg-{kind}={arg}");
+        }
+    }
     if env::var_os("CARGO_FEATURE_M3").is_some()
         && (env::var("TARGET").as_deref() != Ok("thumbv7m-none-eabi")
             || env::var_os("CARGO_FEATURE_M7").is_some())

@@ -17,10 +17,11 @@ if [[ -z $machine ]]; then
     machine=mps2-an386
   fi
 fi
-# -icount shift=6: one instruction = 64 ns of virtual time (the firmware counts with SysTick).
+# -icount shift=6: one instruction = 64 ns of virtual time (the firmware counts with SysTick);
+# sleep=off: while the CPU sleeps (wfi), virtual time jumps to the next timer deadline.
 timeout "${PURCELL_QEMU_TIMEOUT:-300}" "${QEMU:-qemu-system-arm}" \
   -machine "$machine" -nographic -monitor none -serial none \
-  -semihosting-config enable=on,target=native -icount shift=6 -kernel "$elf" </dev/null \
+  -semihosting-config enable=on,target=native -icount shift=6,sleep=off -kernel "$elf" </dev/null \
   | "${DEFMT_PRINT:-defmt-print}" -e "$elf" --log-format '{s}'
 status=("${PIPESTATUS[@]}")
 if [[ ${status[0]} -ne 0 ]]; then

@@ -7,7 +7,8 @@ from typing import Any
 
 from . import _purcell
 
-#: sweep.csv's columns, in its order: target x (m), y (m), theta (rad); J (rad^2/s); terminal
+#: sweep.csv's columns without their units (x for x_m, cost for cost_rad2_per_s, ...), in its
+#: order: target x (m), y (m), theta (rad); J (rad^2/s); terminal
 #: defect (m / rad); largest |alpha_i| (rad); admissible; strict local minimum; KKT residual
 #: (rad/s); "ok" where the certificates vouch for the extremal, else which one does not, or
 #: why the target has no extremal (then the numbers are None).

@@ -27,7 +27,7 @@ pub struct Replay {
     alpha_error: f64,
     /// max |log(g_bar^-1 g_N)| over its components, metres / radians.
     g_error: f64,
-    /// Times t_k = k h, seconds, shape (N+1,).
+    /// Times t_k = k h, seconds, shape (N+1,) (the float nearest the decimal k h).
     t: Py<PyArray1<f64>>,
     /// Shapes alpha_k, radians, shape (N+1, 2).
     alpha: Py<PyArray2<f64>>,
@@ -127,7 +127,9 @@ fn fly<T: Stored>(
     };
     let path = record::<T>(gait, checkpoints).map_err(|e| input_error(e.to_string()))?;
     let h = gait.params().h;
-    let t: Vec<f64> = (0..path.alpha.len()).map(|k| h * k as f64).collect();
+    let t: Vec<f64> = (0..path.alpha.len())
+        .map(|k| purcell_sim::decimal::time_value(k as u64, h))
+        .collect();
     Ok(Replay {
         precision,
         checkpoints,

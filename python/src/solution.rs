@@ -49,11 +49,14 @@ impl Extremal {
     fn xi0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         array1(py, self.x.xi0.as_slice())
     }
-    /// Times t_k = k h, k = 0..N, seconds, shape (N+1,).
+    /// Times t_k = k h, k = 0..N, seconds, shape (N+1,): the float nearest the decimal k h,
+    /// as trajectory.csv prints it (9.9, not 9.900000000000002).
     #[getter]
     fn t<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let n = self.x.trajectory.states.len();
-        let t: Vec<f64> = (0..n).map(|k| self.h * k as f64).collect();
+        let t: Vec<f64> = (0..n)
+            .map(|k| purcell_sim::decimal::time_value(k as u64, self.h))
+            .collect();
         array1(py, &t)
     }
     /// Shapes alpha_k = (alpha1, alpha2), radians, shape (N+1, 2).
@@ -239,7 +242,7 @@ impl Solution {
         let mut files = vec![
             (
                 "trajectory.csv".to_string(),
-                output::trajectory_csv(&slf.problem, &x.trajectory).into_bytes(),
+                output::trajectory_csv(&slf.problem, x).into_bytes(),
             ),
             ("costate.json".to_string(), slf.file.to_json().into_bytes()),
             (

@@ -2,7 +2,7 @@
 //! thread of its own while the caller's thread, the GIL released, waits, calls `progress` and
 //! checks for Ctrl-C.
 
-use crate::{InputError, NoSolution, detach, input_error, solution};
+use crate::{InputError, NoSolution, detach, input_error, numbers, solution};
 use purcell_sim::cli::args::{ModelArgs, OutDirArgs, PrintArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
 use purcell_solver::problem::Problem;
@@ -58,12 +58,16 @@ pub fn solve(
 ) -> PyResult<Py<solution::Solution>> {
     let starts = crate::starts(starts)?;
     let args = SolveArgs {
-        target,
+        target: numbers("target", &target)?,
         problem: ProblemArgs {
             horizon,
             step,
-            alpha0,
-            model: ModelArgs { links, drag, ratio },
+            alpha0: numbers("alpha0", &alpha0)?,
+            model: ModelArgs {
+                links: numbers("links", &links)?,
+                drag,
+                ratio,
+            },
             search: SearchArgs { starts, seed },
             alpha_max,
         },

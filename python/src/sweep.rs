@@ -3,10 +3,11 @@
 //! ([`SweepPlan`], [`sweep_search`], [`sweep_refine`]): the searches and refinements as
 //! batches anywhere, the neighbour passes where the plan is.
 
-use crate::{detach, input_error};
+use crate::{detach, input_error, numbers};
 use purcell_sim::cli::MAX_SWEEP_TARGETS;
 use purcell_sim::cli::args::{ModelArgs, ProblemArgs, search_limits};
 use purcell_sim::cli::sweep::{SearchArgs, axis};
+use purcell_sim::cli::units::Quantity::{self, Angle, Length};
 use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::continuation::{self, Atlas, Lattice, refine_target, search_target};
 use purcell_solver::solver::search::Candidate;
@@ -36,9 +37,9 @@ impl ProblemKw {
         let args = ProblemArgs {
             horizon: self.horizon,
             step: self.step,
-            alpha0: self.alpha0.clone(),
+            alpha0: numbers("alpha0", &self.alpha0)?,
             model: ModelArgs {
-                links: self.links.clone(),
+                links: numbers("links", &self.links)?,
                 drag: self.drag,
                 ratio: self.ratio,
             },
@@ -46,7 +47,7 @@ impl ProblemKw {
             alpha_max: self.alpha_max,
         };
         let failed = |f: purcell_sim::cli::Failure| input_error(f.message);
-        let spec = args.spec([0.0; 3]).map_err(failed)?;
+        let spec = args.spec([0.0; 3]);
         let problem = Problem::new(&spec).map_err(input_error)?;
         search_limits(&problem, starts).map_err(failed)?;
         let options = SolveOptions {
@@ -59,9 +60,9 @@ impl ProblemKw {
 
 /// One axis of the lattice: `"FROM:TO:COUNT"` or a number as text (the command line's), a
 /// number, or a sequence of numbers.
-fn axis_of(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+fn axis_of(name: &str, kind: Quantity, v: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
     if let Ok(text) = v.cast::<PyString>() {
-        return axis(name, text.to_str()?).map_err(|f| input_error(f.message));
+        return axis(name, text.to_str()?, kind).map_err(|f| input_error(f.message));
     }
     let values = match v.extract::<f64>() {
         Ok(x) => vec![x],
@@ -87,9 +88,9 @@ fn lattice_of(
 ) -> PyResult<Lattice> {
     let lattice = Lattice {
         axes: [
-            axis_of("x", xs)?,
-            axis_of("y", ys)?,
-            axis_of("theta", thetas)?,
+            axis_of("x", Length, xs)?,
+            axis_of("y", Length, ys)?,
+            axis_of("theta", Angle, thetas)?,
         ],
     };
     if lattice.len() > MAX_SWEEP_TARGETS {

@@ -45,10 +45,12 @@ def test_solve_equals_the_command_line(name, cli, public, tmp_path):
     assert [x.cost for x in s.extremals] == [x["cost"] for x in report["extremals"]]
     assert s.uncertified is None
     assert s.costate() == (out / "costate.json").read_text()
-    # The trajectory as trajectory.csv has it (t, alpha, u with a last row of 0, g).
+    # The trajectory as trajectory.csv has it (k, t, alpha, u with a last row of 0, g, xi,
+    # the arc flags).
     csv = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
     u = np.vstack([s.u, np.zeros(2)])
-    np.testing.assert_array_equal(np.column_stack([s.t, s.alpha, u, s.g]), csv)
+    np.testing.assert_array_equal(csv[:, 0], np.arange(len(s.t)))
+    np.testing.assert_array_equal(np.column_stack([s.t, s.alpha, u, s.g, s.xi]), csv[:, 1:11])
     n = round(report["problem"]["steps"])
     assert s.alpha.shape == (n + 1, 2) and s.u.shape == (n, 2) and s.g.shape == (n + 1, 3)
     assert s.xi.shape == (n + 1, 2)

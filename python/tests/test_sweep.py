@@ -21,7 +21,10 @@ def cli_sweep(cli, tmp_path, axes, given, flags):
     steps = ["--horizon", repr(given["horizon"]), "--step", repr(given["step"])]
     cli("sweep", "--x", x, "--y", y, "--theta", theta, *steps, *flags, "--no-plots", "--out", out)
     with open(out / "sweep.csv", newline="") as f:
-        return list(csv.DictReader(f))
+        rows = list(csv.reader(f))
+    # The records' keys are sweep.csv's columns without their units, in its order.
+    assert [c.split("_rad")[0].removesuffix("_m") for c in rows[0]] == list(purcell.COLUMNS)
+    return [dict(zip(purcell.COLUMNS, row, strict=True)) for row in rows[1:]]
 
 
 def assert_equals_csv(records, rows):

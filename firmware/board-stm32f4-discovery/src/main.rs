@@ -3,20 +3,24 @@
 //! over RTT (defmt) the cycles per step, the trajectory digest and the final state's bits,
 //! which `purcell-mcu-check check` compares with the host's flight of the same gait.
 //!
-//! It runs on the 16 MHz HSI oscillator the chip starts on (no clock set-up: flash without
-//! wait states, so the cycle counts are the core's own); exits through semihosting, which
-//! `probe-rs run` turns into its exit status (0, or 1 on any failure).
+//! It runs at the chip's rated 168 MHz, set by the HAL (`stm32f4xx-hal`) from the board's 8 MHz
+//! crystal (HSE) through the PLL, with 5 flash wait states behind the ART accelerator
+//! (prefetch, instruction and data caches); exits through semihosting, which `probe-rs run`
+//! turns into its exit status (0, or 1 on any failure). `examples/control_loop.rs` flies the
+//! gait as a control loop, one step per SysTick tick at `1/h`.
 
 #![no_std]
 #![no_main]
 
-use core::sync::atomic::{Ordering, compiler_fence};
 use cortex_m::peripheral::DWT;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use defmt_rtt as _;
 use panic_probe as _;
 use purcell_core::{Error, Replay};
-use purcell_fly::Counter;
+use purcell_fly::{Counter, DwtCycles};
+use stm32f4xx_hal::pac;
+use stm32f4xx_hal::prelude::*;
+use stm32f4xx_hal::rcc::{Config, RccExt};
 
 /// The gait to fly, as `purcell-sim export` wrote it: the path comes from `PURCELL_GAIT`
 /// (`.cargo/config.toml`: the paper's gait). In your firmware, name the file directly:
@@ -26,27 +30,12 @@ static GAIT: &[u8] = include_bytes!(env!("PURCELL_GAIT"));
 /// The name in the log's header.
 const BOARD: &str = "stm32f4-discovery";
 
-/// Core clock cycles, from the DWT cycle counter.
-struct Cycles;
-
-impl Counter for Cycles {
-    const LINE: &'static str = purcell_fly::line::CYCLES;
-
-    #[inline(always)]
-    fn now() -> u32 {
-        compiler_fence(Ordering::SeqCst);
-        let t = DWT::cycle_count();
-        compiler_fence(Ordering::SeqCst);
-        t
-    }
-}
-
 /// Why the run fails (it then exits with status 1).
 #[derive(defmt::Format)]
 enum Failure {
     /// The core refused the gait or a step.
     Core(Error),
-    /// The core peripherals were already taken.
+    /// The core or device peripherals were already taken.
     Peripherals,
     /// The cycle counter did not advance.
     CounterStopped,
@@ -64,11 +53,11 @@ fn start_cycle_counter(cp: &mut cortex_m::Peripherals) -> Result<(), Failure> {
     DWT::unlock(); // Cortex-M7 parts (STM32F7, H7) lock the DWT; a no-op on this Cortex-M4.
     cp.DWT.set_cycle_count(0);
     cp.DWT.enable_cycle_counter();
-    let t0 = Cycles::now();
+    let t0 = DwtCycles::now();
     for i in 0..1000u32 {
         core::hint::black_box(i);
     }
-    let cycles = Cycles::elapsed(t0, Cycles::now());
+    let cycles = DwtCycles::elapsed(t0, DwtCycles::now());
     // A loop iteration takes at least one cycle: fewer means the counter is not running.
     if cycles < 1000 {
         return Err(Failure::CounterStopped);
@@ -82,11 +71,15 @@ fn start_cycle_counter(cp: &mut cortex_m::Peripherals) -> Result<(), Failure> {
 
 fn run() -> Result<(), Failure> {
     let mut cp = cortex_m::Peripherals::take().ok_or(Failure::Peripherals)?;
+    let dp = pac::Peripherals::take().ok_or(Failure::Peripherals)?;
+    let rcc = dp.RCC.freeze(Config::hse(8.MHz()).sysclk(168.MHz()));
+    defmt::println!("clock: sysclk={=u32} Hz", rcc.clocks.sysclk().raw());
     start_cycle_counter(&mut cp)?;
     let gait = purcell_fly::load(GAIT)?;
-    let overhead = purcell_fly::overhead::<Cycles>();
-    // Each step lends its sample: command the joints with `sample.u` in your own loop.
-    purcell_fly::fly::<f32, Cycles, _>(BOARD, &gait, overhead, Replay::step)?;
+    let overhead = purcell_fly::overhead::<DwtCycles>();
+    // Each step lends its sample: command the joints with `sample.u` in your own loop
+    // (examples/control_loop.rs).
+    purcell_fly::fly::<f32, DwtCycles, _>(BOARD, &gait, overhead, Replay::step)?;
     Ok(())
 }
 

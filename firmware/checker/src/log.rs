@@ -61,7 +61,7 @@ pub struct FirmwareLog {
 }
 
 /// What follows `<name>:` on line `l`, if `l` is that line.
-fn value<'a>(l: &'a str, name: &str) -> Option<&'a str> {
+pub(crate) fn value<'a>(l: &'a str, name: &str) -> Option<&'a str> {
     l.trim()
         .strip_prefix(name)
         .and_then(|rest| rest.strip_prefix(':'))
@@ -69,26 +69,42 @@ fn value<'a>(l: &'a str, name: &str) -> Option<&'a str> {
 }
 
 /// What follows `<name>:` on the first line of that name.
-fn find_line<'a>(text: &'a str, name: &str) -> Option<&'a str> {
+pub(crate) fn find_line<'a>(text: &'a str, name: &str) -> Option<&'a str> {
     text.lines().find_map(|l| value(l, name))
 }
 
-fn need_line<'a>(text: &'a str, name: &str) -> Result<&'a str, HostError> {
+pub(crate) fn need_line<'a>(text: &'a str, name: &str) -> Result<&'a str, HostError> {
     find_line(text, name).ok_or_else(|| HostError::Log(format!("no line starting with `{name}:`")))
 }
 
-fn key<'a>(rest: &'a str, name: &str) -> Result<&'a str, HostError> {
+/// `Ok` if the log has the `result: ok` line (the firmware finished).
+pub(crate) fn finished(text: &str) -> Result<(), HostError> {
+    if text
+        .lines()
+        .any(|l| value(l, line::RESULT) == Some(line::OK))
+    {
+        Ok(())
+    } else {
+        Err(HostError::Log(format!(
+            "no `{}: {}` line",
+            line::RESULT,
+            line::OK
+        )))
+    }
+}
+
+pub(crate) fn key<'a>(rest: &'a str, name: &str) -> Result<&'a str, HostError> {
     rest.split_whitespace()
         .find_map(|kv| kv.strip_prefix(name).and_then(|v| v.strip_prefix('=')))
         .ok_or_else(|| HostError::Log(format!("no `{name}=` in `{rest}`")))
 }
 
-fn parse_num<T: std::str::FromStr>(s: &str, what: &str) -> Result<T, HostError> {
+pub(crate) fn parse_num<T: std::str::FromStr>(s: &str, what: &str) -> Result<T, HostError> {
     s.parse()
         .map_err(|_| HostError::Log(format!("`{what}`: cannot parse `{s}`")))
 }
 
-fn parse_hex(s: &str) -> Result<u64, HostError> {
+pub(crate) fn parse_hex(s: &str) -> Result<u64, HostError> {
     let digits = s
         .strip_prefix("0x")
         .ok_or_else(|| HostError::Log(format!("`{s}` is not 0x-prefixed hex")))?;
@@ -129,16 +145,7 @@ impl FirmwareLog {
         let final_bits: [u64; 6] = bits
             .try_into()
             .map_err(|_| HostError::Log("final_state_bits needs 6 values".into()))?;
-        if !text
-            .lines()
-            .any(|l| value(l, line::RESULT) == Some(line::OK))
-        {
-            return Err(HostError::Log(format!(
-                "no `{}: {}` line",
-                line::RESULT,
-                line::OK
-            )));
-        }
+        finished(text)?;
         let crc = parse_hex(key(header, "gait")?)?;
         let arcs = need_line(text, line::ARCS)?;
         Ok(FirmwareLog {
@@ -187,7 +194,7 @@ pub fn check(log: &FirmwareLog, reference: &Reference, budget: &Budget) -> Resul
 }
 
 /// `Ok` if the firmware and the host say the same, else the mismatch `say(firmware, host)`.
-fn same<T: PartialEq>(
+pub(crate) fn same<T: PartialEq>(
     firmware: T,
     host: T,
     say: impl FnOnce(T, T) -> String,

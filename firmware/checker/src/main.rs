@@ -4,11 +4,13 @@
 //! flight, [`disasm`] scans the firmware's disassembly for what the step reaches. See
 //! `firmware/README.md`.
 
+mod control;
 mod disasm;
 mod error;
 mod log;
 mod reference;
 
+use control::{LoopLog, check_loop};
 use disasm::{CallGraph, CodeReport};
 use log::{Budget, FirmwareLog, Unit, check};
 use purcell_core::Gait;
@@ -34,6 +36,12 @@ usage:
       above S (default M), a mean or a largest step above C cycles (default: no limit), the
       steps on a joint-limit arc dearer than the free ones (mean or largest), or a step
       stack above B bytes (default 2048)
+  purcell-mcu-check loop LOG [--gait FILE]
+      compare a control loop's log (the gait flown cycle after cycle from a timer,
+      firmware/qemu/examples/control_loop.rs) with the host: each cycle's digest is the
+      host's flight of the gait, each cycle's pose the host's composition of the cycles in
+      the same precision; fail on a mismatch, a missing tick, an overrun or a tick longer
+      than the period
   purcell-mcu-check disasm LISTING [--root SYMBOL] [--soft-float]
       from `arm-none-eabi-objdump -d` output: code reachable from SYMBOL (default
       purcell_mcu_step), its size; fail if a soft-float helper or an indirect branch is
@@ -166,6 +174,29 @@ fn run(args: &[String]) -> Result<(), String> {
                 a.max,
                 a.free_mean,
                 a.free_max
+            );
+            Ok(())
+        }
+        Some("loop") => {
+            let text = read(pos.get(1).ok_or("loop needs a log file")?)?;
+            let log = LoopLog::parse(&text).map_err(|e| e.to_string())?;
+            let (path, bytes) = gait_bytes(args)?;
+            let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+            check_loop(&log, &gait).map_err(|e| e.to_string())?;
+            println!(
+                "loop: ok board={} scalar={} gait={:#010x} cycles={} each bit-identical to the \
+                 host (digest and composed pose); ticks={} mean={} max={} {unit} period={} \
+                 margin={} {unit} overruns=0",
+                log.board,
+                log.scalar,
+                log.gait_crc,
+                log.planned,
+                log.ticks,
+                log.mean,
+                log.max,
+                log.period,
+                log.period - log.max,
+                unit = log.unit
             );
             Ok(())
         }

@@ -87,7 +87,13 @@ mod tests {
         assert!(without.alpha > 1e3 * r32.error.alpha, "{without:?}");
         assert_ne!(r32.end, r64.end);
         assert_eq!((r32.steps, r64.steps), (10_000, 10_000));
-        assert_eq!(r64.error_without_checkpoints, Ok(r64.error));
+        // In f64 the law alone also lands on the target (the checkpoints, the converged
+        // trajectory's states, only take off its rounding drift).
+        let without64 = r64.error_without_checkpoints.unwrap();
+        assert!(
+            without64.g < 1e-9 && without64.alpha < 1e-9,
+            "{without64:?}"
+        );
         assert!(Reference::for_scalar(&gait, "f16").is_err());
     }
 }

@@ -54,6 +54,28 @@ pub mod line {
     pub const RESULT: &str = "result";
     /// The value of [`RESULT`] on success.
     pub const OK: &str = "ok";
+    /// `purcell-loop: board=<name> scalar=<f32|f64> steps=<N> h=<s> period=<P> unit=<insn|cycles>
+    /// cycles=<C> gait=<crc32>`, a control loop's header ([`pilot`](crate::pilot)).
+    pub const LOOP: &str = "purcell-loop";
+    /// `cycle: n=<c> digest=<0x…> pose_bits=<0x…> ×4 x=<m> y=<m> theta=<rad>`, the end of a cycle
+    /// (`pose_bits`: `x y cos θ sin θ` of the body's pose as raw bits).
+    pub const CYCLE: &str = "cycle";
+    /// `ticks: unit=<insn|cycles> count=<n> mean=<M> max=<X> period=<P> margin=<P−X>
+    /// overruns=<o>`, each tick from the timer's expiry to the end of its handler.
+    pub const TICKS: &str = "ticks";
+    /// `joints: commands=<n> rates=<u1> <u2> angles=<α1> <α2>`, the joints' last commands.
+    pub const JOINTS: &str = "joints";
+}
+
+pub mod pilot;
+
+/// `f32` or `f64`: the name of `S` in the log lines.
+pub fn scalar_name<S: Stored>() -> &'static str {
+    if core::mem::size_of::<S>() == 4 {
+        "f32"
+    } else {
+        "f64"
+    }
 }
 
 /// A free-running counter that times each step.
@@ -67,6 +89,22 @@ pub trait Counter {
     /// Raw counts from `start` to `end` (an up-counter that wraps at `2³²` by default).
     fn elapsed(start: u32, end: u32) -> u32 {
         end.wrapping_sub(start)
+    }
+}
+
+/// Core clock cycles from the DWT cycle counter (a board's [`Counter`]; QEMU's DWT reads 0).
+/// Start it first: `DCB::enable_trace`, `DWT::unlock` (Cortex-M7), `DWT::enable_cycle_counter`.
+pub struct DwtCycles;
+
+impl Counter for DwtCycles {
+    const LINE: &'static str = line::CYCLES;
+
+    #[inline(always)]
+    fn now() -> u32 {
+        core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
+        let t = cortex_m::peripheral::DWT::cycle_count();
+        core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
+        t
     }
 }
 
@@ -160,16 +198,11 @@ where
     F: for<'r> FnMut(&'r mut Replay<'a, S>) -> Result<Option<&'r Sample<S>>, Error>,
 {
     let replay = gait.replay::<S>()?;
-    let scalar = if core::mem::size_of::<S>() == 4 {
-        "f32"
-    } else {
-        "f64"
-    };
     defmt::println!(
         "{=str}: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} arcs={=usize} gait={=u32:#010x}",
         line::HEADER,
         board,
-        scalar,
+        scalar_name::<S>(),
         gait.params().steps,
         S::PASSES.count,
         gait.checkpoint_count(),

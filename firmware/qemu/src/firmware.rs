@@ -16,11 +16,11 @@
 //! counter (its DWT reads 0): real hardware counts cycles, see `board-stm32f4-discovery/`.
 
 use core::hint::black_box;
-use core::sync::atomic::{AtomicBool, Ordering, compiler_fence};
-use cortex_m_rt::{ExceptionFrame, entry, exception};
+use cortex_m_rt::entry;
 use defmt_semihosting as _;
 use purcell_core::{Error, Gait, Replay, Sample};
 use purcell_fly::Counter;
+use purcell_mcu::Systick;
 
 /// The gait flown: `$PURCELL_GAIT`, or the committed paper's gait (see `build.rs`).
 static GAIT: &[u8] = include_bytes!(env!("PURCELL_GAIT_FILE"));
@@ -75,31 +75,6 @@ enum Failure {
 impl From<Error> for Failure {
     fn from(e: Error) -> Self {
         Failure::Core(e)
-    }
-}
-
-/// Instructions, counted by the SysTick under `-icount shift=6`.
-struct Systick;
-
-impl Counter for Systick {
-    const LINE: &'static str = purcell_fly::line::INSN;
-    /// Instructions per tick: 5/8.
-    const SCALE: (u64, u64) = (
-        purcell_mcu::TICKS_PER_INSN_DEN,
-        purcell_mcu::TICKS_PER_INSN_NUM,
-    );
-
-    #[inline(always)]
-    fn now() -> u32 {
-        compiler_fence(Ordering::SeqCst);
-        let t = cortex_m::peripheral::SYST::get_current();
-        compiler_fence(Ordering::SeqCst);
-        t
-    }
-
-    #[inline(always)]
-    fn elapsed(start: u32, end: u32) -> u32 {
-        purcell_mcu::systick_elapsed(start, end)
     }
 }
 
@@ -205,34 +180,4 @@ fn run() -> Result<(), Failure> {
 #[entry]
 fn main() -> ! {
     semihosting::process::exit(purcell_fly::finish(run()))
-}
-
-/// Set by the first fault or panic: a second one exits at once without logging (the logger
-/// may be what failed).
-static FAILING: AtomicBool = AtomicBool::new(false);
-
-fn fail_once(log: impl FnOnce()) -> ! {
-    compiler_fence(Ordering::SeqCst);
-    if !FAILING.swap(true, Ordering::Relaxed) {
-        log();
-    }
-    semihosting::process::exit(1)
-}
-
-#[exception]
-unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
-    fail_once(|| defmt::error!("HardFault at pc={=u32:#x}", ef.pc()))
-}
-
-#[exception]
-unsafe fn DefaultHandler(irqn: i16) {
-    fail_once(|| defmt::error!("unexpected exception {=i16}", irqn))
-}
-
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo) -> ! {
-    fail_once(|| match info.location() {
-        Some(l) => defmt::error!("panic at {=str}:{=u32}", l.file(), l.line()),
-        None => defmt::error!("panic"),
-    })
 }

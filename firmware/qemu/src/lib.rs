@@ -1,7 +1,14 @@
-//! Counting instructions with the SysTick under QEMU's `-icount shift=6`: the arithmetic of
-//! the QEMU firmware (`src/main.rs`), kept apart so that it is tested on the host.
+//! What the QEMU firmware (`src/firmware.rs`) and the control-loop example
+//! (`examples/control_loop.rs`) share: counting instructions with the SysTick under QEMU's
+//! `-icount shift=6` (the arithmetic here, tested on the host) and, on the MCU, the counter
+//! itself (`Systick`) and the fault and panic handlers (exit status 1).
 
 #![no_std]
+
+#[cfg(target_os = "none")]
+mod mcu;
+#[cfg(target_os = "none")]
+pub use mcu::Systick;
 
 /// `-icount shift=6`: one instruction is `2⁶ ns` of virtual time, the MPS2 SysTick counts at
 /// 25 MHz (40 ns), so it advances `64/40 = 8/5` ticks per instruction.

@@ -3,6 +3,7 @@
 //!
 //! [`cli`] is the command line; [`costate_file`] the file format the firmware flies (and its
 //! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
+//! [`decimal`] writes times and grid values as exact decimals;
 //! [`replay`] replays a costate file through the core in `f64`/`f32`; [`input`] reads input
 //! files (bounded, JSON without repeated keys); [`suite`] the problems file of the public
 //! solver suite.
@@ -10,6 +11,7 @@
 
 pub mod cli;
 pub mod costate_file;
+pub mod decimal;
 pub mod input;
 pub mod output;
 pub mod plots;

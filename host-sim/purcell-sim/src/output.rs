@@ -1,33 +1,32 @@
-//! Results: `trajectory.csv`, the costate file, and ([`target`]) where every output goes:
-//! never over anything the tool did not write, checked before the work, atomically.
+//! Results: `trajectory.csv` ([`path`]), the costate file, `sweep.csv`, a gait as C source
+//! ([`c_array`]), and ([`target`]) where every output goes: never over anything the tool did
+//! not write, checked before the work, atomically.
 
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::{Extremal, Trajectory};
+use purcell_solver::solver::Extremal;
 use std::fmt::Write as _;
 
+pub mod c_array;
+pub mod path;
 pub mod target;
 pub use target::{MANIFEST, OutputDir, OutputError, OutputFile};
 
-/// `trajectory.csv`: `t,alpha1,alpha2,u1,u2,x,y,theta`, rows `k = 0..=N` (last `u` is 0).
-pub fn trajectory_csv(problem: &Problem, t: &Trajectory) -> String {
-    let mut s = String::from("t,alpha1,alpha2,u1,u2,x,y,theta\n");
+/// `trajectory.csv` of the extremal `x` of `problem`: its path, rows `k = 0..=N`, columns
+/// [`path::HEADER`] (see [`path`]).
+pub fn trajectory_csv(problem: &Problem, x: &Extremal) -> String {
+    let t = &x.trajectory;
+    let mut csv = path::PathCsv::new(problem.h, problem.steps, x.arcs.iter().copied());
     for (k, st) in t.states.iter().enumerate() {
-        let u = t.controls.get(k).copied().unwrap_or_default();
         let g = st.g.to_xytheta();
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{}",
-            problem.h * k as f64,
-            st.alpha.x,
-            st.alpha.y,
-            u.x,
-            u.y,
-            g.x,
-            g.y,
-            g.z
-        );
+        let xi = t.xis.get(k).copied().unwrap_or_default();
+        csv.push(&path::Row {
+            alpha: [st.alpha.x, st.alpha.y],
+            u: t.controls.get(k).map(|u| [u.x, u.y]),
+            g: [g.x, g.y, g.z],
+            xi: [xi.x, xi.y],
+        });
     }
-    s
+    csv.finish()
 }
 
 /// The costate file for an extremal, with checkpoints every `every` steps and at each
@@ -84,17 +83,25 @@ pub fn costate_file(
     )
 }
 
-/// `sweep.csv`: `x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status`
-/// (m, m, rad, –, m/rad, rad, bool, bool, rad/s, text), one row per target. `status` is `ok`
-/// where the extremal's certificates vouch for it ([`Extremal::uncertified`]), else which
-/// one does not; for a target without an extremal the numbers are empty and `status` says
-/// why.
+/// `sweep.csv`'s columns, units in their names: the target `x_m`, `y_m`, `theta_rad`, each
+/// printed as the decimal typed where it is one ([`crate::cli::sweep::axis`]); `J`
+/// (rad²/s); the terminal defect (largest component, m or rad); the largest `|α_i|` (rad);
+/// admissible and strict local minimum (`true`/`false`); the KKT residual (rad/s); `status`.
+pub const SWEEP_HEADER: &str = "x_m,y_m,theta_rad,cost_rad2_per_s,residual,max_abs_alpha_rad,\
+                                admissible,local_min,kkt_residual_rad_per_s,status";
+
+/// `sweep.csv` ([`SWEEP_HEADER`]), one row per target. `status` is `ok` where the
+/// extremal's certificates vouch for it ([`Extremal::uncertified`]), else the first that
+/// does not (`not admissible`, `not a strict local minimum`, `terminal residual above 1e-10`,
+/// `KKT residual above 1e-8`, `law residual above 1e-9`); for a target without an extremal
+/// the numbers are empty and `status` is why, quoted (the solver's
+/// [`SolveError`](purcell_solver::solver::SolveError): `no start reached the target: …`,
+/// `N extremal(s) of the coarse search, none carried to the problem's grid: …`, `N
+/// extremal(s) found, none admissible: …`).
 ///
 /// [`Extremal::uncertified`]: purcell_solver::solver::Extremal::uncertified
 pub fn sweep_csv(points: &[purcell_solver::solver::continuation::SweepPoint]) -> String {
-    let mut s = String::from(
-        "x,y,theta,cost,residual,max_abs_alpha,admissible,local_min,kkt_residual,status\n",
-    );
+    let mut s = format!("{SWEEP_HEADER}\n");
     for p in points {
         let t = p.target;
         let _ = match &p.result {

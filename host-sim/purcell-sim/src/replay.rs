@@ -1,13 +1,17 @@
 //! Replaying a gait through the core exactly as a firmware does (`purcell_core::Gait`, its
 //! stored checkpoint table, `Replay::fly`), in `f64` and `f32`: the trajectory digest, the
-//! final state's bits and the terminal error (`purcell_core::TerminalError`).
+//! final state's bits and the terminal error (`purcell_core::TerminalError`); and the
+//! per-step path of a replay (`replay --trace`).
 
 use crate::costate_file::CostateFile;
+use crate::output::path::{PathCsv, Row};
+use nalgebra::Vector2;
 use purcell_core::gait::Stored;
-use purcell_core::{Flight, Gait};
+use purcell_core::{Flight, Gait, State};
 use purcell_solver::solver::Trajectory;
 use serde::Serialize;
-use std::fmt::Write as _;
+use std::collections::BTreeMap;
+use std::fmt::{Display, Write as _};
 
 /// One replay of a gait.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -65,6 +69,56 @@ pub fn replay_gait<T: Stored>(
             failed_at_step: Some(at),
             ..failed(precision, checkpoints, Some(e))
         },
+    }
+}
+
+/// The path of a replay of `gait` in `T`, with or without its checkpoints, as CSV
+/// ([`crate::output::path`]: `trajectory.csv`'s columns, numbers in `T`); up to the
+/// failing step if the replay fails.
+pub fn trace<T: Stored + Display + Default>(gait: &Gait<'_>, checkpoints: bool) -> String {
+    let p = gait.params();
+    let mut csv = PathCsv::new(p.h, p.steps, gait.arcs());
+    let replay = if checkpoints {
+        gait.replay::<T>()
+    } else {
+        gait.replay_without_checkpoints::<T>()
+    };
+    let Ok(mut replay) = replay else {
+        return csv.finish();
+    };
+    // The steps where the replay restores a checkpoint's `(α_k, g_k, ξ̃^{k−1})`: each one
+    // with its checkpoints, the arcs' exits without.
+    let restores: BTreeMap<u32, [f64; 2]> = gait
+        .checkpoints()
+        .filter(|c| checkpoints || gait.arcs().any(|a| a.last == c.k))
+        .map(|c| (c.k, c.xi))
+        .collect();
+    let row = |s: &State<T>, u: Option<[T; 2]>, xi: &Vector2<T>| {
+        let g = s.g.to_xytheta();
+        Row {
+            alpha: [s.alpha.x, s.alpha.y],
+            u,
+            g: [g.x, g.y, g.z],
+            xi: [xi.x, xi.y],
+        }
+    };
+    // `ξ^{k−1}`, the law's input at step `k`.
+    let mut xi = *replay.xi();
+    loop {
+        if let Some(c) = restores.get(&replay.steps_done()) {
+            xi = Vector2::new(T::from_f64(c[0]), T::from_f64(c[1]));
+        }
+        match replay.step() {
+            Ok(Some(sample)) => {
+                csv.push(&row(&sample.state, Some([sample.u.x, sample.u.y]), &xi));
+                xi = sample.xi;
+            }
+            Ok(None) => {
+                csv.push(&row(replay.state(), None, &xi));
+                return csv.finish();
+            }
+            Err(_) => return csv.finish(),
+        }
     }
 }
 

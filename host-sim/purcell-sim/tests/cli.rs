@@ -360,16 +360,30 @@ fn an_explicit_checkpoint_spacing_is_below_the_horizon() {
 }
 
 /// Issue 21 (lower): a flag given twice was concatenated (`--alpha 0.1 --alpha 0.2` was
-/// the shape `0.1,0.2`). It is a usage error now, lists and numbers alike.
+/// the shape `0.1,0.2`). It is a usage error now, lists and numbers alike (a list is
+/// parsed whole as given, so one of the wrong length says that first).
 #[test]
 fn a_flag_given_twice_is_refused() {
-    for flags in [
-        &["--alpha", "0.1", "--alpha", "0.2"][..],
-        &["--alpha", "0.1,0.2", "--links", "1,1", "--links", "1"],
-        &["--alpha", "0.1,0.2", "--drag", "1", "--drag", "2"],
+    for (flags, needle) in [
+        (
+            &["--alpha", "0.1", "--alpha", "0.2"][..],
+            "takes 2 comma-separated numbers (got 1)",
+        ),
+        (
+            &["--alpha", "0.1,0.2", "--alpha", "0.3,0.4"],
+            "cannot be used multiple times",
+        ),
+        (
+            &["--alpha", "0.1,0.2", "--links", "1,1,1", "--links", "1,1,1"],
+            "cannot be used multiple times",
+        ),
+        (
+            &["--alpha", "0.1,0.2", "--drag", "1", "--drag", "2"],
+            "cannot be used multiple times",
+        ),
     ] {
         let args = [&["connection"][..], flags].concat();
-        assert_exit(&sim(&args), 2, "cannot be used multiple times");
+        assert_exit(&sim(&args), 2, needle);
     }
 }
 

@@ -227,7 +227,7 @@ fn costate_and_gait_mean_the_same_files_everywhere() {
             "export",
             "--costate",
             &gait,
-            "replay and field take it as --gait",
+            "replay, field and export take it as --gait",
         ),
         (
             "replay",
@@ -257,4 +257,69 @@ fn costate_and_gait_mean_the_same_files_everywhere() {
     for name in ["field.csv", "field.svg"] {
         assert!(from_gait[name] == from_json[name], "{name}");
     }
+}
+
+/// The bytes of the array a `--format c` source defines.
+fn c_array_bytes(c: &str) -> Vec<u8> {
+    let (_, body) = c.split_once("] = {").unwrap();
+    body.split("0x")
+        .skip(1)
+        .map(|t| u8::from_str_radix(&t[..2], 16).unwrap())
+        .collect()
+}
+
+/// `export --format c` writes the gait file's bytes as a C array (`.c`) and its declaration
+/// (`.h` beside it), from a costate file or a gait file; its own files are replaced, anything
+/// else only with --force; --out must name the `.c` file.
+#[test]
+fn export_format_c_writes_the_gait_files_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = data("tiny-limit.costate.json");
+    let gait = dir.path().join("tiny.gait");
+    let c = dir.path().join("tiny-limit.c");
+    let h = dir.path().join("tiny-limit.h");
+    let o = sim(&["export", "--costate", arg(&json), "--out", arg(&gait)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let bytes = std::fs::read(&gait).unwrap();
+    for (flag, input) in [("--costate", &json), ("--gait", &gait)] {
+        let o = sim(&[
+            "export",
+            flag,
+            arg(input),
+            "--format",
+            "c",
+            "--out",
+            arg(&c),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert!(stdout(&o).contains("684 bytes"), "{}", stdout(&o));
+        let source = std::fs::read_to_string(&c).unwrap();
+        assert!(source.contains(
+            "#include \"tiny-limit.h\"\n\n_Alignas(8) const uint8_t tiny_limit[TINY_LIMIT_LEN] = {"
+        ));
+        assert_eq!(c_array_bytes(&source), bytes);
+        let header = std::fs::read_to_string(&h).unwrap();
+        assert!(header.contains("#define TINY_LIMIT_LEN 684u\n"), "{header}");
+        assert!(header.contains("extern const uint8_t tiny_limit[TINY_LIMIT_LEN];"));
+    }
+    let to_c = |out: &Path, extra: &[&str]| {
+        let args = [
+            "export",
+            "--gait",
+            arg(&gait),
+            "--format",
+            "c",
+            "--out",
+            arg(out),
+        ];
+        sim(&[&args[..], extra].concat())
+    };
+    std::fs::write(&h, "/* mine */\n").unwrap();
+    assert_exit(&to_c(&c, &[]), 2, "--force");
+    assert_eq!(std::fs::read(&h).unwrap(), b"/* mine */\n");
+    assert_eq!(to_c(&c, &["--force"]).status.code(), Some(0));
+    let header = std::fs::read_to_string(&h).unwrap();
+    assert!(header.contains("TINY_LIMIT_LEN"));
+    let o = to_c(&h, &[]);
+    assert_exit(&o, 2, "--out must end in .c");
 }

@@ -1,9 +1,10 @@
 //! What the subcommands share: the swimmer's and the problem's flags, the limits of a
 //! search, reading input files, the progress bar, and the failure with its exit code.
 
+use super::units;
 use crate::costate_file::CostateFile;
 use crate::{input, output};
-use clap::{ArgAction, Args};
+use clap::Args;
 use purcell_core::Gait;
 use purcell_solver::problem::{Problem, Spec};
 use std::io::IsTerminal;
@@ -24,22 +25,18 @@ pub const MAX_STARTS: usize = 4096;
 /// start); `replay` accepts up to [`purcell_solver::problem::MAX_STEPS`].
 pub const MAX_SOLVE_STEPS: u32 = 1_000_000;
 
-// Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), and list
-// their defaults as they can be typed back (`0.1,0.1,0`). A flag given twice is refused
-// (clap's usage error), lists included: `--target 1,2 --target 3` is not `1,2,3`.
+// Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), angles in
+// radians or degrees (`30deg`, [`units`]), and list their defaults as they can be typed back
+// (`0.1,0.1,0`). A flag given twice is refused (clap's usage error), lists included:
+// `--target 1,2 --target 3` is not `1,2,3`.
 
 /// Swimmer parameters shared by the subcommands.
 #[derive(Debug, Args)]
 pub struct ModelArgs {
-    /// Link lengths L0 (middle), L1 (front), L2 (rear), in metres.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        action = ArgAction::Set,
-        default_value = "1,1,1",
-        allow_hyphen_values = true
-    )]
-    pub links: Vec<f64>,
+    /// Link lengths L0 (middle), L1 (front), L2 (rear), in metres (no unit suffix).
+    #[arg(long, value_parser = units::lengths::<3>(), default_value = "1,1,1",
+          allow_hyphen_values = true)]
+    pub links: [f64; 3],
     /// Drag coefficient k (force per unit length per unit speed; scales forces only).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub drag: f64,
@@ -59,41 +56,37 @@ pub struct ProblemArgs<S: Args> {
     /// Time step h in seconds.
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub step: f64,
-    /// Start and end shape alpha_bar = A1,A2 in radians (each |A_i| < pi).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        action = ArgAction::Set,
-        default_value = "0,0",
-        allow_hyphen_values = true
-    )]
-    pub alpha0: Vec<f64>,
+    /// Start and end shape alpha_bar = A1,A2, each |A_i| < pi: radians, or degrees with deg
+    /// (10deg,-5deg).
+    #[arg(long, value_parser = units::angles::<2>(), default_value = "0,0",
+          allow_hyphen_values = true)]
+    pub alpha0: [f64; 2],
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
     /// The search's flags.
     #[command(flatten)]
     pub search: S,
-    /// Joint limit |alpha_i| <= alpha-max along the path, radians, below pi (default: only
-    /// the links' overlap at pi). The solver returns the cheapest gait within it, with the
-    /// limit active on arcs where that is cheaper.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Joint limit |alpha_i| <= alpha-max along the path, below pi: radians, or degrees
+    /// with deg (85deg) (default: only the links' overlap at pi). The solver returns the
+    /// cheapest gait within it, with the limit active on arcs where that is cheaper.
+    #[arg(long, value_parser = units::angle(), allow_hyphen_values = true)]
     pub alpha_max: Option<f64>,
 }
 
 impl<S: Args> ProblemArgs<S> {
-    /// The problem's [`Spec`] for `target` (exit 2 for a list of the wrong length).
-    pub fn spec(&self, target: [f64; 3]) -> Result<Spec, Failure> {
-        Ok(Spec {
+    /// The problem's [`Spec`] for `target`.
+    pub fn spec(&self, target: [f64; 3]) -> Spec {
+        Spec {
             target,
             horizon: self.horizon,
             step: self.step,
-            alpha0: arr("alpha0", &self.alpha0)?,
-            links: arr("links", &self.model.links)?,
+            alpha0: self.alpha0,
+            links: self.model.links,
             drag: self.model.drag,
             ratio: self.model.ratio,
             alpha_max: self.alpha_max,
-        })
+        }
     }
 }
 
@@ -165,19 +158,6 @@ pub(super) fn output_failure(before_work: bool) -> impl FnOnce(output::OutputErr
     move |e| fail(if before_work { 2 } else { 1 }, e)
 }
 
-/// `N` comma-separated numbers of flag `name`.
-pub(super) fn arr<const N: usize>(name: &str, v: &[f64]) -> Result<[f64; N], Failure> {
-    <[f64; N]>::try_from(v).map_err(|_| {
-        fail(
-            2,
-            format!(
-                "--{name} takes {N} comma-separated numbers (got {})",
-                v.len()
-            ),
-        )
-    })
-}
-
 /// The bounds of a search (`solve`, `sweep`): `1 ≤ starts ≤ MAX_STARTS`, at most
 /// `MAX_SOLVE_STEPS` steps (exit 2).
 pub fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
@@ -244,7 +224,7 @@ pub(super) fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
             2,
             format!(
                 "{}: a binary gait file (export's output), not a costate file \
-                 (DIR/costate.json); replay and field take it as --gait",
+                 (DIR/costate.json); replay, field and export take it as --gait",
                 path.display()
             ),
         ));

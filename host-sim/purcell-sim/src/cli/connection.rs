@@ -1,22 +1,18 @@
 //! `connection`: the local connection `A(α)` and its derivatives as JSON (MODEL.md §7).
 
-use super::args::{Failure, ModelArgs, arr, fail};
-use clap::{ArgAction, Args};
+use super::args::{Failure, ModelArgs, fail};
+use super::units;
+use clap::Args;
 use purcell_solver::problem::{Problem, Spec};
 use serde_json::json;
 
 /// `connection` flags.
 #[derive(Debug, Args)]
 pub struct ConnectionArgs {
-    /// Shape A1,A2 in radians (each |A_i| < pi).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        action = ArgAction::Set,
-        allow_hyphen_values = true,
-        required = true
-    )]
-    pub alpha: Vec<f64>,
+    /// Shape A1,A2, each |A_i| < pi: radians, or degrees with deg (30deg,-20deg).
+    #[arg(long, value_parser = units::angles::<2>(), allow_hyphen_values = true,
+          required = true)]
+    pub alpha: [f64; 2],
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -24,9 +20,9 @@ pub struct ConnectionArgs {
 
 /// `connection`: `A`, `∂A/∂α_1`, `∂A/∂α_2` at `--alpha`, rows `x, y, θ`, as printed.
 pub(super) fn run_connection(a: ConnectionArgs) -> Result<String, Failure> {
-    let alpha: [f64; 2] = arr("alpha", &a.alpha)?;
+    let alpha = a.alpha;
     let spec = Spec {
-        links: arr("links", &a.model.links)?,
+        links: a.model.links,
         drag: a.model.drag,
         ratio: a.model.ratio,
         alpha0: alpha,

@@ -1,23 +1,42 @@
-//! `export`: the binary gait file of a costate file, for `include_bytes!` in firmware.
+//! `export`: the binary gait file of a costate file (or of a gait file), for `include_bytes!`
+//! in firmware, or the same bytes as C source (`--format c`) for `purcell_flight_open`.
 
-use super::args::{Failure, fail, output_failure, read_costate};
+use super::args::{Failure, fail, output_failure, read_costate, read_gait};
 use super::replay::check_stored;
-use crate::output;
-use clap::Args;
+use crate::output::{self, OutputFile, c_array};
+use clap::{Args, ValueEnum};
 use purcell_core::Gait;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// What `export` writes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// The binary gait file (docs/GAIT.md).
+    #[default]
+    Gait,
+    /// The gait file's bytes as a C array: --out NAME.c and NAME.h beside it.
+    C,
+}
 
 /// `export` flags.
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["costate", "gait"])))]
 pub struct ExportArgs {
     /// The costate file written by `solve` (DIR/costate.json).
     #[arg(long)]
-    pub costate: PathBuf,
-    /// The binary gait file to write (atomically; an existing file is replaced only if it is
-    /// a gait file, never the costate file).
+    pub costate: Option<PathBuf>,
+    /// A binary gait file (with --format c: its bytes as C source).
+    #[arg(long)]
+    pub gait: Option<PathBuf>,
+    /// The file to write (atomically; an existing file is replaced only if it is one `export`
+    /// wrote in that format, never an input). With --format c, the `.c` file; the header
+    /// goes beside it with the extension `.h`, and the array is named after the file stem.
     #[arg(short, long)]
     pub out: PathBuf,
-    /// Replace --out even if it holds something else (never the costate file).
+    /// What to write.
+    #[arg(long, value_enum, default_value_t)]
+    pub format: Format,
+    /// Replace --out (and its .h) even if it holds something else (never an input).
     #[arg(long)]
     pub force: bool,
 }
@@ -27,25 +46,71 @@ fn is_gait_file(bytes: &[u8]) -> bool {
     bytes.starts_with(&purcell_core::gait::MAGIC)
 }
 
-/// `export`: reads and checks the costate file, writes its gait; a line naming what it wrote.
+/// The files to write for `bytes`: `(path, contents, recogniser)`.
+type Outputs = Vec<(PathBuf, Vec<u8>, fn(&[u8]) -> bool)>;
+
+/// The `.c` and `.h` files of `--format c` (exit 2 unless `out` ends in `.c`).
+fn c_outputs(out: &Path, about: &str, bytes: &[u8]) -> Result<Outputs, Failure> {
+    let stem = match (out.extension(), out.file_stem()) {
+        (Some(e), Some(stem)) if e == "c" => stem.to_string_lossy(),
+        _ => {
+            return Err(fail(
+                2,
+                format!(
+                    "{}: --format c writes NAME.c (and NAME.h beside it): --out must end in .c",
+                    out.display()
+                ),
+            ));
+        }
+    };
+    let header = out.with_extension("h");
+    let header_name = header.file_name().unwrap_or_default().to_string_lossy();
+    let (c, h) = c_array::source(&c_array::identifier(&stem), &header_name, about, bytes);
+    Ok(vec![
+        (header, h.into_bytes(), c_array::is_ours),
+        (out.to_path_buf(), c.into_bytes(), c_array::is_ours),
+    ])
+}
+
+/// `export`: reads and checks the costate file (or gait file), writes its gait; a line naming
+/// what it wrote.
 pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
-    let file = read_costate(&a.costate)?;
-    let bytes = file
-        .to_gait()
-        .map_err(|e| fail(2, format!("{}: {e}", a.costate.display())))?;
-    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(1, e))?;
+    let (input, bytes) = match (&a.costate, &a.gait) {
+        (Some(path), _) => {
+            let bytes = read_costate(path)?
+                .to_gait()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            (path, bytes)
+        }
+        (None, Some(path)) => (path, read_gait(path)?),
+        (None, None) => return Err(fail(2, "export needs --costate or --gait")),
+    };
+    let gait =
+        Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", input.display())))?;
     // The gait is for the f32 firmware.
-    check_stored(&a.costate, &gait, true)?;
-    let out = output::OutputFile::prepare(&a.out, is_gait_file, a.force, &[a.costate.as_path()])
-        .map_err(output_failure(true))?;
-    out.commit(&bytes).map_err(output_failure(false))?;
-    Ok(format!(
-        "gait: wrote {} ({} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={})\n",
-        a.out.display(),
+    check_stored(input, &gait, true)?;
+    let about = format!(
+        "{} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={}",
         bytes.len(),
         gait.crc(),
         gait.params().steps,
         gait.checkpoint_count(),
         gait.arc_count()
-    ))
+    );
+    let outputs = match a.format {
+        Format::Gait => vec![(a.out.clone(), bytes, is_gait_file as fn(&[u8]) -> bool)],
+        Format::C => c_outputs(&a.out, &about, &bytes)?,
+    };
+    // Every output checked and staged before any is written.
+    let staged = outputs
+        .into_iter()
+        .map(|(path, contents, ours)| {
+            OutputFile::prepare(&path, ours, a.force, &[input.as_path()]).map(|f| (f, contents))
+        })
+        .collect::<Result<Vec<_>, output::OutputError>>()
+        .map_err(output_failure(true))?;
+    for (file, contents) in staged {
+        file.commit(&contents).map_err(output_failure(false))?;
+    }
+    Ok(format!("gait: wrote {} ({about})\n", a.out.display()))
 }

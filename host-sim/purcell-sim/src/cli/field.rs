@@ -2,7 +2,7 @@
 //! swimmer or under a stored gait (a costate file or a binary gait file).
 
 use super::args::{
-    Failure, ModelArgs, OutDirArgs, arr, costate_of_gait, fail, output_failure, read_costate,
+    Failure, ModelArgs, OutDirArgs, costate_of_gait, fail, output_failure, read_costate,
 };
 use crate::{plots, replay};
 use clap::{Args, ValueEnum};
@@ -37,7 +37,8 @@ pub struct FieldArgs {
     /// Draw only this row (default: all three). field.csv always has all three.
     #[arg(long, value_enum)]
     pub component: Option<FieldComponent>,
-    /// Shape axes in degrees (the curvature stays per rad^2, the CSV in radians).
+    /// Shape axes of the figures in degrees (the curvature stays per rad^2, the CSV in
+    /// radians; angle flags take degrees with their own deg suffix).
     #[arg(long)]
     pub degrees: bool,
     /// The output directory.
@@ -77,7 +78,7 @@ pub(super) fn run_field(a: FieldArgs) -> Result<String, Failure> {
         }
         None => {
             let spec = Spec {
-                links: arr("links", &a.model.links)?,
+                links: a.model.links,
                 drag: a.model.drag,
                 ratio: a.model.ratio,
                 ..Spec::default()

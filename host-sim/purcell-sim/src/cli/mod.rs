@@ -1,7 +1,7 @@
 //! The `purcell-sim` command line (clap), one module per subcommand: [`solve`] (the optimal
 //! gait of one target), [`replay`] (a gait through the core, as firmware flies it),
 //! [`robustness`] (a gait through a mismatched plant, open and closed loop), [`export`] (the
-//! binary gait file), [`connection`] (the local connection as JSON),
+//! binary gait file, or its bytes as C source), [`connection`] (the local connection as JSON),
 //! [`sweep`] (a lattice of targets by continuation), [`field`] (the connection's curvature)
 //! and [`docs`] (shell completions and the manual page); [`args`] holds the flags, checks and
 //! errors they share, `summary` what `solve` and `sweep` print.
@@ -16,6 +16,7 @@ pub mod robustness;
 pub mod solve;
 mod summary;
 pub mod sweep;
+pub mod units;
 
 pub use args::{EXIT_CODES, Failure, MAX_SOLVE_STEPS, MAX_STARTS};
 pub use solve::MAX_CHECKPOINTS;
@@ -64,7 +65,8 @@ pub enum Command {
     /// flight (the law's controls) and of the closed-loop one (the tracking law).
     #[command(after_help = args::EXIT_CODES)]
     Robustness(robustness::RobustnessArgs),
-    /// Write the binary gait file of a costate file, for `include_bytes!` in firmware.
+    /// Write the binary gait file of a costate file, for `include_bytes!` in firmware, or
+    /// (--format c) its bytes as a C array for the C API's purcell_flight_open.
     #[command(after_help = args::EXIT_CODES)]
     Export(export::ExportArgs),
     /// Print the local connection A(alpha) and its derivatives as JSON (rows x, y, theta;
@@ -72,8 +74,15 @@ pub enum Command {
     #[command(after_help = args::EXIT_CODES)]
     Connection(connection::ConnectionArgs),
     /// Solve a lattice of targets by continuation from neighbours and write DIR/sweep.csv
-    /// (target, cost, residual, largest |alpha_i|, local minimum) and a map of the cost over
-    /// the target plane; print a summary (--json: the report).
+    /// (target, cost, residual, largest |alpha_i|, local minimum, status) and a map of the
+    /// cost over the target plane; print a summary (--json: the report).
+    ///
+    /// sweep.csv's status: "ok" (the certificates vouch for the extremal); else the first
+    /// that does not: "not admissible", "not a strict local minimum", "terminal residual
+    /// above 1e-10", "KKT residual above 1e-8", "law residual above 1e-9"; or, for a target
+    /// without an extremal (its numbers empty), why: "no start reached the target: ...", "N
+    /// extremal(s) of the coarse search, none carried to the problem's grid: ...", "N
+    /// extremal(s) found, none admissible: ...".
     #[command(after_help = args::EXIT_CODES)]
     Sweep(sweep::SweepArgs),
     /// Draw the curvature of the connection over the shape plane (rows x, y, theta), with a

@@ -40,7 +40,14 @@ pub struct ReplayArgs {
     /// only if it is a previous replay report, never the costate file).
     #[arg(short, long)]
     pub out: Option<PathBuf>,
-    /// Replace --out even if it holds something else (never the costate file).
+    /// Also write the per-step path of one replay to this CSV file: trajectory.csv's
+    /// columns (k, t_s, shape, controls, position, costate, arcs), numbers as replayed (f32
+    /// or f64), of the replay --precision selects (default f64), with its checkpoints
+    /// unless --no-checkpoints; rows up to the failing step if it fails. Written
+    /// atomically; an existing file is replaced only with --force, an input never.
+    #[arg(long, value_name = "CSV")]
+    pub trace: Option<PathBuf>,
+    /// Replace --out or --trace even if they hold something else (never an input file).
     #[arg(long)]
     pub force: bool,
 }
@@ -83,13 +90,22 @@ pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
     };
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
     check_stored(path, &gait, !matches!(a.precision, Some(Precision::F64)))?;
-    let out = match &a.out {
-        Some(out) => Some(
-            output::OutputFile::prepare(out, is_replay_report, a.force, &[path.as_path()])
-                .map_err(output_failure(true))?,
-        ),
-        None => None,
+    if let (Some(o), Some(t)) = (&a.out, &a.trace)
+        && std::path::absolute(o).ok() == std::path::absolute(t).ok()
+    {
+        return Err(fail(2, "--out and --trace name the same file"));
+    }
+    let prepare = |out: &Option<PathBuf>, recognise, inputs: &[&Path]| {
+        out.as_deref()
+            .map(|p| output::OutputFile::prepare(p, recognise, a.force, inputs))
+            .transpose()
+            .map_err(output_failure(true))
     };
+    let out = prepare(&a.out, is_replay_report, &[path.as_path()])?;
+    // The trace is never the costate or gait file, nor --out.
+    let mut inputs = vec![path.as_path()];
+    inputs.extend(a.out.as_deref());
+    let trace = prepare(&a.trace, |_| false, &inputs)?;
     let checkpoints = !a.no_checkpoints;
     let results = match a.precision {
         None => replay::standard_replays(&gait),
@@ -103,6 +119,15 @@ pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
                              "alpha0": p.alpha0, "replays": results });
         let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
         out.commit(json.as_bytes()).map_err(output_failure(false))?;
+    }
+    if let Some(trace) = trace {
+        let csv = match a.precision {
+            Some(Precision::F32) => replay::trace::<f32>(&gait, checkpoints),
+            _ => replay::trace::<f64>(&gait, checkpoints),
+        };
+        trace
+            .commit(csv.as_bytes())
+            .map_err(output_failure(false))?;
     }
     let text = replay::text(&gait, &results);
     let p = gait.params();

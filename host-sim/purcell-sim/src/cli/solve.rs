@@ -2,13 +2,17 @@
 //! (`--from`), written with its costate file, report and figures.
 
 use super::args::{
-    Failure, MAX_STARTS, OutDirArgs, PrintArgs, ProblemArgs, Progress, arr, fail, output_failure,
+    Failure, MAX_STARTS, OutDirArgs, PrintArgs, ProblemArgs, Progress, fail, output_failure,
     read_costate, search_limits, warn,
 };
 use super::summary;
+use super::units::{
+    self,
+    Quantity::{Angle, Length},
+};
 use crate::costate_file::CostateFile;
 use crate::{output, plots, replay};
-use clap::{ArgAction, Args};
+use clap::Args;
 use purcell_core::{Arc, Gait};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation;
@@ -44,16 +48,11 @@ pub struct SearchArgs {
 /// `solve` flags.
 #[derive(Debug, Args)]
 pub struct SolveArgs {
-    /// Target position g_bar = X,Y,THETA (metres, metres, radians), reached from the origin;
-    /// THETA is taken modulo 2 pi into ]-pi, pi].
-    #[arg(
-        long,
-        value_delimiter = ',',
-        action = ArgAction::Set,
-        default_value = "0.1,0.1,0",
-        allow_hyphen_values = true
-    )]
-    pub target: Vec<f64>,
+    /// Target position g_bar = X,Y,THETA reached from the origin: X, Y in metres, THETA in
+    /// radians or degrees with deg (0.1,0.1,30deg), taken modulo 2 pi into ]-pi, pi].
+    #[arg(long, value_parser = units::List([Length, Length, Angle]), default_value = "0.1,0.1,0",
+          allow_hyphen_values = true)]
+    pub target: [f64; 3],
     /// The problem and the search.
     #[command(flatten)]
     pub problem: ProblemArgs<SearchArgs>,
@@ -65,7 +64,8 @@ pub struct SolveArgs {
     /// Skip the figures (SVG and PNG) and field.csv.
     #[arg(long)]
     pub no_plots: bool,
-    /// Angles in the figures in degrees and deg/s (the CSV files stay in radians).
+    /// Angles in the figures in degrees and deg/s (the CSV files stay in radians; angle
+    /// flags take degrees with their own deg suffix, e.g. --alpha-max 85deg).
     #[arg(long)]
     pub degrees: bool,
     /// Start from a stored extremal (a costate file of the same swimmer, for a nearby target,
@@ -147,7 +147,7 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
     let mut files = vec![
         (
             "trajectory.csv".to_string(),
-            output::trajectory_csv(&problem, &best.trajectory).into_bytes(),
+            output::trajectory_csv(&problem, best).into_bytes(),
         ),
         ("costate.json".to_string(), file.to_json().into_bytes()),
         ("report.json".to_string(), report_text.clone().into_bytes()),
@@ -178,8 +178,8 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
 /// model ([`Problem::new`]), every number within `f32` (the costate file is for the `f32`
 /// firmware, and the report replays it in `f32`), the search's limits.
 pub fn checked_problem(a: &SolveArgs) -> Result<(Problem, u32), Failure> {
-    let [x, y, theta] = arr("target", &a.target)?;
-    let spec = a.problem.spec([x, y, wrap_angle(theta)])?;
+    let [x, y, theta] = a.target;
+    let spec = a.problem.spec([x, y, wrap_angle(theta)]);
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
     problem
         .check_precision::<f32>("f32")
@@ -282,6 +282,11 @@ pub fn warm_start(path: &Path, problem: &Problem) -> Result<continuation::Warm, 
         .ok_or_else(|| fail(2, format!("{}: empty trajectory", path.display())))
 }
 
+/// `report.json`'s `format` tag (schema: `docs/schemas/solve-report.schema.json`).
+pub const REPORT_FORMAT: &str = "purcell-solve-report";
+/// `report.json`'s version: 1 is the first tagged one.
+pub const REPORT_VERSION: u64 = 1;
+
 /// `report.json`: the returned extremal of `solution` (whose costate `file` and `gait` are
 /// written), found in `seconds`, then every extremal, the search's evidence and the
 /// standard replays of the gait.
@@ -295,6 +300,7 @@ pub fn report_json(
     let best = &solution.extremals[solution.best];
     let extremals: Vec<_> = solution.extremals.iter().map(extremal_json).collect();
     json!({
+        "format": REPORT_FORMAT, "version": REPORT_VERSION,
         "cost": best.cost,
         "residual": best.residual,
         "terminal_residual": best.terminal_residual,

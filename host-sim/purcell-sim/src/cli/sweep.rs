@@ -5,6 +5,8 @@ use super::args::{
     Failure, OutDirArgs, PrintArgs, ProblemArgs, Progress, fail, output_failure, search_limits,
 };
 use super::summary;
+use super::units::{self, Quantity, Quantity::Angle, Quantity::Length};
+use crate::decimal::Decimal;
 use crate::{output, plots};
 use clap::Args;
 use purcell_solver::problem::Problem;
@@ -12,6 +14,11 @@ use purcell_solver::solver::SolveOptions;
 use purcell_solver::solver::continuation::{self, Lattice};
 use serde_json::json;
 use std::time::Instant;
+
+/// `report.json`'s `format` tag (schema: `docs/schemas/sweep-report.schema.json`).
+pub const REPORT_FORMAT: &str = "purcell-sweep-report";
+/// `report.json`'s version: 1 is the first tagged one.
+pub const REPORT_VERSION: u64 = 1;
 
 /// Largest number of targets a sweep accepts.
 pub const MAX_SWEEP_TARGETS: usize = 10_000;
@@ -29,17 +36,20 @@ pub struct SearchArgs {
 #[command(
     mut_arg("horizon", |a| a.help("Horizon T in seconds; must be a whole number of steps")),
     mut_arg("alpha_max", |a| a.help(
-        "Joint limit |alpha_i| <= alpha-max, radians, below pi (see `solve --help`)"
+        "Joint limit |alpha_i| <= alpha-max, below pi: radians, or degrees with deg (see `solve \
+         --help`)"
     )),
 )]
 pub struct SweepArgs {
-    /// Target x in metres: a value, or FROM:TO:COUNT for COUNT evenly spaced values.
+    /// Target x in metres: a value, or FROM:TO:COUNT for COUNT evenly spaced values (the
+    /// decimals meant: -0.3:0.3:13 gives 0.05, not 0.050000000000000044).
     #[arg(long, default_value = "-0.3:0.3:13", allow_hyphen_values = true)]
     pub x: String,
     /// Target y in metres: a value or FROM:TO:COUNT.
     #[arg(long, default_value = "-0.3:0.3:13", allow_hyphen_values = true)]
     pub y: String,
-    /// Target theta in radians: a value or FROM:TO:COUNT.
+    /// Target theta: a value or FROM:TO:COUNT, each end in radians or degrees with deg
+    /// (-30deg:30deg:5; sweep.csv and report.json hold radians).
     #[arg(long, default_value = "0", allow_hyphen_values = true)]
     pub theta: String,
     /// The problem and the searches.
@@ -56,27 +66,51 @@ pub struct SweepArgs {
     pub print: PrintArgs,
 }
 
-/// `FROM:TO:COUNT` or a single value.
-pub fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
-    let bad = || {
+/// Axis `name` of the lattice: `FROM:TO:COUNT` or a single value, of kind `q` (an angle's
+/// degrees converted to radians). A range's values are the decimals
+/// `FROM + i·(TO − FROM)/(COUNT − 1)` computed exactly from the numbers as typed where they
+/// are decimals in the same unit (`0.05`, not `0.050000000000000044`), so that `sweep.csv`
+/// shows, and the solver uses, the value meant; evenly spaced floats ([`Lattice::spaced`])
+/// otherwise (e.g. thirds).
+pub fn axis(name: &str, text: &str, q: Quantity) -> Result<Vec<f64>, Failure> {
+    let bad = |why: String| {
         fail(
             2,
-            format!("--{name} takes a number or FROM:TO:COUNT (got {text:?})"),
+            format!("--{name} takes a number or FROM:TO:COUNT{why} (got {text:?})"),
         )
     };
-    let parts: Vec<&str> = text.split(':').collect();
-    let num = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
-    match parts.as_slice() {
-        [v] => Ok(vec![num(v).ok_or_else(bad)?]),
-        [a, b, n] => {
-            let (a, b) = (num(a).ok_or_else(bad)?, num(b).ok_or_else(bad)?);
-            let n: usize = n.trim().parse().map_err(|_| bad())?;
-            if n == 0 || n > MAX_SWEEP_TARGETS {
-                return Err(bad());
-            }
-            Ok(Lattice::spaced(a, b, n))
+    // An end: its value, as a decimal if it is one, and whether it is in degrees.
+    let end = |s: &str| -> Result<(f64, Option<Decimal>, bool), Failure> {
+        let (number, degrees) = units::split_unit(s, q).map_err(|e| bad(format!(": {e}")))?;
+        let v = number.parse::<f64>().ok().filter(|v| v.is_finite());
+        Ok((
+            v.ok_or_else(|| bad(String::new()))?,
+            Decimal::parse(number),
+            degrees,
+        ))
+    };
+    match text.split(':').collect::<Vec<_>>().as_slice() {
+        [v] => {
+            let (v, _, degrees) = end(v)?;
+            Ok(vec![units::radians(v, degrees)])
         }
-        _ => Err(bad()),
+        [a, b, n] => {
+            let ((a, da, deg_a), (b, db, deg_b)) = (end(a)?, end(b)?);
+            let n: usize = n.trim().parse().map_err(|_| bad(String::new()))?;
+            if n == 0 || n > MAX_SWEEP_TARGETS {
+                return Err(bad(String::new()));
+            }
+            let exact = match (da, db) {
+                (Some(da), Some(db)) if deg_a == deg_b => (0..n)
+                    .map(|i| Decimal::lerp(da, db, i, n).map(|d| units::radians(d.to_f64(), deg_a)))
+                    .collect::<Option<Vec<f64>>>(),
+                _ => None,
+            };
+            Ok(exact.unwrap_or_else(|| {
+                Lattice::spaced(units::radians(a, deg_a), units::radians(b, deg_b), n)
+            }))
+        }
+        _ => Err(bad(String::new())),
     }
 }
 
@@ -84,7 +118,11 @@ pub fn axis(name: &str, text: &str) -> Result<Vec<f64>, Failure> {
 /// the summary (or with `--json` the report) as printed; no progress bar if `quiet`.
 pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
     let lattice = Lattice {
-        axes: [axis("x", &a.x)?, axis("y", &a.y)?, axis("theta", &a.theta)?],
+        axes: [
+            axis("x", &a.x, Length)?,
+            axis("y", &a.y, Length)?,
+            axis("theta", &a.theta, Angle)?,
+        ],
     };
     if lattice.len() > MAX_SWEEP_TARGETS {
         return Err(fail(
@@ -95,7 +133,7 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
             ),
         ));
     }
-    let spec = a.problem.spec([0.0; 3])?;
+    let spec = a.problem.spec([0.0; 3]);
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
     search_limits(&problem, a.problem.search.starts)?;
     let out = a.output.prepare("sweep", &[])?;
@@ -120,6 +158,7 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
         .filter(|p| p.result.as_ref().is_ok_and(|x| x.admissible))
         .count();
     let summary = json!({
+        "format": REPORT_FORMAT, "version": REPORT_VERSION,
         "targets": points.len(), "solved": solved, "sweep_seconds": seconds,
         "axes": {"x": lattice.axes[0], "y": lattice.axes[1], "theta": lattice.axes[2]},
         "problem": {"horizon": a.problem.horizon, "step": a.problem.step, "alpha0": spec.alpha0,
