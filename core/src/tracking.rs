@@ -23,8 +23,58 @@
 //! for `e`, 12 multiply-adds for `u`, two clamps; 6 more at a record step.
 
 use crate::kinematics::State;
-use crate::{Error, Real};
+use crate::{Error, Kinematics, Real, Se2, Swimmer};
 use nalgebra::Vector2;
+
+/// How far inside the links' overlap `|α_i| = π` the tracking law holds a gait without a joint
+/// limit, radians.
+pub const OVERLAP_MARGIN: f64 = 0.02;
+
+/// The bound the tracking law holds the joints within: the gait's joint limit `α_max`, or
+/// [`OVERLAP_MARGIN`] inside the overlap.
+pub fn joint_bound(alpha_max: Option<f64>) -> f64 {
+    alpha_max.unwrap_or(core::f64::consts::PI - OVERLAP_MARGIN)
+}
+
+/// Relative errors of a plant's parameters against the model's (`0.1`: 10 % larger).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Mismatch {
+    /// Of the drag ratio `r`.
+    pub ratio: f64,
+    /// Of the drag coefficient `k` (which cancels from `A`: no effect on the motion).
+    pub drag: f64,
+    /// Of the link lengths, as `(L0·(1 + E), L1·(1 − E), L2·(1 + E))`: middle and rear link
+    /// longer, front link shorter (a common scale of all three only scales the displacement).
+    pub length: f64,
+}
+
+impl Mismatch {
+    /// The plant: `model`'s swimmer with these errors, same `h`.
+    ///
+    /// Errors: [`Error::InvalidParameters`] if a parameter is no longer positive.
+    pub fn plant(&self, model: &Kinematics<f64>) -> Result<Kinematics<f64>, Error> {
+        let sw = model.swimmer();
+        let [l0, l1, l2] = sw.lengths();
+        let e = self.length;
+        let swimmer = Swimmer::new(
+            [l0 * (1.0 + e), l1 * (1.0 - e), l2 * (1.0 + e)],
+            sw.drag() * (1.0 + self.drag),
+            sw.ratio() * (1.0 + self.ratio),
+        )?;
+        Kinematics::new(swimmer, model.h())
+    }
+}
+
+/// `state` in `T`, as a sensor in `T` reads the plant's `f64` state: each number rounded to
+/// nearest, the rotation as stored.
+pub fn rounded<T: Real>(state: &State<f64>) -> State<T> {
+    let (a, g) = (&state.alpha, &state.g);
+    let c = T::from_f64;
+    State {
+        alpha: Vector2::new(c(a.x), c(a.y)),
+        g: Se2::from_rotation(c(g.x()), c(g.y()), c(g.cos()), c(g.sin())),
+    }
+}
 
 /// Values of one [`Record`]: `K` (10), `κ` (2), `ψ` (5), `β` (1).
 pub const RECORD_VALUES: usize = 18;
@@ -127,7 +177,6 @@ impl<T: Real> Tracker<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Se2;
 
     #[test]
     fn error_is_first_order_log_and_clamp_holds_the_limit() {

@@ -3,7 +3,9 @@
 //! LQR gains along the extremal); the terminal errors, costs and joint excursions of both
 //! (docs/ROBUSTNESS.md).
 
-use super::args::{Failure, PrintArgs, costate_of_gait, fail, output_failure, read_costate};
+use super::args::{
+    Failure, PrintArgs, costate_of_gait, fail, output_failure, read_costate, read_gait,
+};
 use crate::costate_file::CostateFile;
 use crate::{output, plots, replay};
 use clap::Args;
@@ -83,6 +85,11 @@ pub struct RobustnessArgs {
     /// the plant stays f64.
     #[arg(long)]
     pub f32: bool,
+    /// Fly the one case closed loop in f32 with the tracking table stored in --gait (export
+    /// --tracking), as the M4F firmware does (firmware/qemu/examples/closed_loop.rs), and
+    /// print its digest and terminal error.
+    #[arg(long, requires = "gait", conflicts_with_all = ["table", "out", "json"])]
+    pub digest: bool,
     /// Print the JSON report instead of the summary.
     #[command(flatten)]
     pub print: PrintArgs,
@@ -261,6 +268,9 @@ fn cases(a: &RobustnessArgs) -> Vec<(Mismatch, Noise)> {
 /// `robustness`: reads the gait, computes its gains, flies the cases; the summary (or the
 /// JSON report) as printed.
 pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
+    if a.digest {
+        return stored_flight(&a);
+    }
     let (path, file) = input(&a)?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
     let design = Design {
@@ -344,6 +354,36 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     } else {
         text(&file, nominal_cost, &reports)
     })
+}
+
+/// `--digest`: the closed-loop `f32` flight of `--gait` with its stored tracking table through
+/// the plant of the flags; its digest ([`Outcome::digest`]) and terminal error.
+fn stored_flight(a: &RobustnessArgs) -> Result<String, Failure> {
+    let path = a.gait.as_deref().ok_or(fail(2, "--digest needs --gait"))?;
+    let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
+    let bytes = read_gait(path)?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
+    let stored = gait.tracking().ok_or_else(|| {
+        refused(&"no tracking table (write one with `purcell-sim export --gait FILE --tracking`)")
+    })?;
+    let table = Table::stored(&stored);
+    let p = gait.params();
+    let (mismatch, noise) = cases(a).into_iter().next().ok_or(fail(2, "no case"))?;
+    let plant = p
+        .kinematics()
+        .and_then(|model| mismatch.plant(&model))
+        .map_err(|e| fail(2, format!("the plant: {e}")))?;
+    let closed = Control::Closed {
+        table: &table,
+        limit: joint_bound(p.alpha_max),
+    };
+    let replay = gait.replay::<f32>().map_err(|e| refused(&e))?;
+    let o = fly(replay, &plant, p.start(), closed, &noise).map_err(|e| fail(1, e))?;
+    let e = p.terminal_error(&o.end);
+    Ok(format!(
+        "closed_digest: {:#018x}\nclosed_error: alpha={:.3e} g={:.3e} estimate={:.6}\n",
+        o.digest, e.alpha, e.g, o.estimate
+    ))
 }
 
 /// `+10 %` for `0.1`.

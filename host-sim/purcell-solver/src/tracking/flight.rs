@@ -13,37 +13,8 @@
 use super::gains::Table;
 use crate::solver::starts::{GOLDEN_GAMMA, splitmix64};
 use nalgebra::Vector2;
-use purcell_core::tracking::{Tracker, tracking_error};
-use purcell_core::{Error, Kinematics, Real, Sample, Se2, State, Swimmer, TerminalError};
-
-/// Relative errors of the plant's parameters against the model's (`0.1`: 10 % larger).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Mismatch {
-    /// Of the drag ratio `r`.
-    pub ratio: f64,
-    /// Of the drag coefficient `k` (which cancels from `A`: no effect on the motion).
-    pub drag: f64,
-    /// Of the link lengths, as `(L0·(1 + E), L1·(1 − E), L2·(1 + E))`: middle and rear link
-    /// longer, front link shorter (a common scale of all three only scales the displacement).
-    pub length: f64,
-}
-
-impl Mismatch {
-    /// The plant: `model`'s swimmer with these errors, same `h`.
-    ///
-    /// Errors: [`Error::InvalidParameters`] if a parameter is no longer positive.
-    pub fn plant(&self, model: &Kinematics<f64>) -> Result<Kinematics<f64>, Error> {
-        let sw = model.swimmer();
-        let [l0, l1, l2] = sw.lengths();
-        let e = self.length;
-        let swimmer = Swimmer::new(
-            [l0 * (1.0 + e), l1 * (1.0 - e), l2 * (1.0 + e)],
-            sw.drag() * (1.0 + self.drag),
-            sw.ratio() * (1.0 + self.ratio),
-        )?;
-        Kinematics::new(swimmer, model.h())
-    }
-}
+use purcell_core::tracking::{Tracker, rounded, tracking_error};
+use purcell_core::{Error, Kinematics, Real, Sample, Se2, State, TerminalError, TrajectoryDigest};
 
 /// Gaussian measurement noise: standard deviations of the pose `(x, y, θ)` (m, rad) and of
 /// the joint angles (rad), from a seeded generator.
@@ -89,22 +60,13 @@ impl Noise {
     }
 }
 
-/// How far inside the links' overlap `|α_i| = π` the tracking law holds a gait without a joint
-/// limit, radians.
-pub const OVERLAP_MARGIN: f64 = 0.02;
-
-/// The bound the tracking law holds the joints within: the gait's joint limit `α_max`, or
-/// [`OVERLAP_MARGIN`] inside the overlap.
-pub fn joint_bound(alpha_max: Option<f64>) -> f64 {
-    alpha_max.unwrap_or(core::f64::consts::PI - OVERLAP_MARGIN)
-}
-
 /// How the plant is controlled.
 #[derive(Clone, Copy, Debug)]
 pub enum Control<'a> {
     /// The nominal controls.
     Open,
-    /// The tracking law with its table, the joints clamped to `|α_i| ≤ limit` ([`joint_bound`]).
+    /// The tracking law with its table, the joints clamped to `|α_i| ≤ limit`
+    /// ([`purcell_core::tracking::joint_bound`]).
     Closed {
         /// The records.
         table: &'a Table,
@@ -127,6 +89,9 @@ pub struct Outcome {
     /// Per step `k = 0 … N−1`, the plant's pose error against the nominal pose before the
     /// step (the larger pose component of [`TerminalError`] against the nominal state).
     pub deviation: Vec<f64>,
+    /// [`TrajectoryDigest`] of the flight: per step the control flown and the plant's state
+    /// before it, then its final state (what firmware's closed-loop flight prints).
+    pub digest: u64,
 }
 
 /// A flight that stopped: the step and why.
@@ -137,16 +102,6 @@ pub struct FlightFailure {
     pub step: u32,
     /// Why.
     pub error: Error,
-}
-
-/// `state` in `T` (each number rounded to nearest; the rotation as stored).
-fn to_real<T: Real>(state: &State<f64>) -> State<T> {
-    let (a, g) = (&state.alpha, &state.g);
-    let c = T::from_f64;
-    State {
-        alpha: Vector2::new(c(a.x), c(a.y)),
-        g: Se2::from_rotation(c(g.x()), c(g.y()), c(g.cos()), c(g.sin())),
-    }
 }
 
 /// Flies the nominal samples `nominal` (a model replay in `T`, e.g. `f32` as on the M4F)
@@ -173,7 +128,7 @@ where
         Control::Open => (T::zero(), T::from_f64(plant.h())),
     };
     let (mut state, mut cost, mut max_abs_alpha) = (start, 0.0, 0.0f64);
-    let mut deviation = Vec::new();
+    let (mut deviation, mut digest) = (Vec::new(), TrajectoryDigest::new());
     let h = plant.h();
     for (k, sample) in nominal.enumerate() {
         let step = k as u32;
@@ -197,12 +152,12 @@ where
             Control::Closed { table, .. } => {
                 let (record, first) = table.at(k).ok_or(fail(Error::CapacityExceeded))?;
                 let record = record.map(T::from_f64);
-                let measured = to_real::<T>(&noise.measure(&mut rng, &state));
+                let measured = rounded::<T>(&noise.measure(&mut rng, &state));
                 let e = tracking_error(&sample.state, &measured);
                 if first {
                     tracker.update(&record, &e);
                 }
-                let joints = to_real::<T>(&state).alpha;
+                let joints = rounded::<T>(&state).alpha;
                 tracker
                     .control(&record, &sample.u, &e, &joints, Some(limit_t), h_t)
                     .map_err(fail)?
@@ -210,17 +165,22 @@ where
         }
         .map(T::to_f64);
         cost += 0.5 * h * u.norm_squared();
+        digest.push(u.x);
+        digest.push(u.y);
+        digest.push_state(&state);
         state = plant.step(&state, &u).map_err(fail)?;
     }
     max_abs_alpha = max_abs_alpha
         .max(state.alpha.x.abs())
         .max(state.alpha.y.abs());
+    digest.push_state(&state);
     Ok(Outcome {
         end: state,
         cost,
         max_abs_alpha,
         estimate: tracker.estimate().to_f64(),
         deviation,
+        digest: digest.value(),
     })
 }
 

@@ -75,20 +75,21 @@ impl Default for Design {
     }
 }
 
-/// The tracking table: record `j` holds for steps `jD … jD + D − 1` up to step `tail_from`
-/// (a multiple of `D`), then one record per step.
+/// The tracking table: record `j` holds from step `starts[j]` to the next record's start
+/// (the last one to the end); [`table`] puts one every `D` steps up to the tail, then one per
+/// step ([`Table::index`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {
-    /// `D`.
-    pub every: u32,
-    /// The first step with a record of its own.
-    pub tail_from: u32,
+    /// The first step of each record: `0`, then increasing.
+    pub starts: Vec<u32>,
     /// The records.
     pub records: Vec<Record<f64>>,
 }
 
 impl Table {
-    /// The index of the record of step `k`, and whether `k` is its first step.
+    /// The index of the record of step `k` in a table with a record every `every` steps up
+    /// to step `tail_from` (a multiple of it) and one per step from there, and whether `k` is
+    /// its first step.
     pub fn index(every: u32, tail_from: u32, k: usize) -> (usize, bool) {
         let (d, t) = (every.max(1) as usize, tail_from as usize);
         if k < t {
@@ -100,8 +101,28 @@ impl Table {
 
     /// The record of step `k`, and whether `k` is its first step.
     pub fn at(&self, k: usize) -> Option<(&Record<f64>, bool)> {
-        let (j, first) = Self::index(self.every, self.tail_from, k);
+        let j = self
+            .starts
+            .partition_point(|&s| s as usize <= k)
+            .checked_sub(1)?;
+        let first = self.starts.get(j).is_some_and(|&s| s as usize == k);
         self.records.get(j).map(|r| (r, first))
+    }
+
+    /// The table a gait file stores ([`purcell_core::gait::TrackingTable`]), in `f64`.
+    pub fn stored(table: &purcell_core::gait::TrackingTable<'_>) -> Self {
+        let (starts, records) = table.iter().map(|(k, r)| (k, r.map(f64::from))).unzip();
+        Table { starts, records }
+    }
+
+    /// The records rounded to `f32` with their first steps, as a gait file stores them
+    /// ([`purcell_core::gait::encode_with_tracking`]).
+    pub fn to_f32(&self) -> Vec<(u32, Record<f32>)> {
+        self.starts
+            .iter()
+            .zip(&self.records)
+            .map(|(&k, r)| (k, r.map(|v| v as f32)))
+            .collect()
     }
 }
 
@@ -216,7 +237,7 @@ pub fn table(
     let n = stages.len();
     let tail_from = (n.saturating_sub(design.tail as usize) / d * d) as u32;
     let (mut psi, mut sum, mut estimate) = (Vector5::zeros(), 0.0, 0.0);
-    let mut records = Vec::new();
+    let (mut starts, mut records) = (Vec::new(), Vec::new());
     let mut held = nalgebra::Matrix2x6::zeros();
     for (k, (st, gain)) in stages.iter().zip(&gains).enumerate() {
         if Table::index(design.every, tail_from, k).1 {
@@ -237,14 +258,11 @@ pub fn table(
             }
             r[12..17].copy_from_slice(psi.as_slice());
             r[17] = beta;
+            starts.push(k as u32);
             records.push(r);
         }
         let du = held.fixed_view::<2, 5>(0, 0) * psi + held.column(5) * estimate;
         psi = st.a * psi + st.b * du + st.g;
     }
-    Ok(Table {
-        every: design.every,
-        tail_from,
-        records,
-    })
+    Ok(Table { starts, records })
 }

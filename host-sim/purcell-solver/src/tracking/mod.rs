@@ -9,8 +9,9 @@
 pub mod flight;
 pub mod gains;
 
-pub use flight::{Control, FlightFailure, Mismatch, Noise, Outcome, fly, joint_bound};
+pub use flight::{Control, FlightFailure, Noise, Outcome, fly};
 pub use gains::{Design, Table, table};
+pub use purcell_core::tracking::{Mismatch, joint_bound};
 
 use crate::solver::Trajectory;
 use purcell_core::{Error, Gait};
