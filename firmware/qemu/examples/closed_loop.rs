@@ -11,7 +11,7 @@
 //! (`-icount`, as `src/firmware.rs`); then the plant steps. It prints (defmt):
 //!
 //! ```text
-//! purcell-closed: board=mps2-an386 steps=<N> records=<R> ratio_error=<ε> gait=<crc32>
+//! purcell-closed: board=mps2-an386 steps=<N> records=<R> gain_bytes=<B> ratio_error=<ε> gait=<crc32>
 //! law_insn: mean=<M.m> max=<X>            the open-loop step
 //! track_insn: mean=<M.m> max=<X>          the extra of the closed-loop step
 //! closed_digest: 0x<16 hex digits>        u_k and the plant's state per step, its final state
@@ -31,7 +31,7 @@
 mod flight {
     use cortex_m_rt::entry;
     use defmt_semihosting as _;
-    use purcell_core::gait::TrackingCursor;
+    use purcell_core::gait::{TRACKING_RECORD_LEN, TrackingCursor};
     use purcell_core::nalgebra::Vector2;
     use purcell_core::tracking::{Mismatch, Tracker, joint_bound, rounded, tracking_error};
     use purcell_core::{Error, Replay, Sample, State, TrajectoryDigest};
@@ -63,7 +63,9 @@ mod flight {
     /// The open-loop step: the law's.
     #[inline(never)]
     #[unsafe(no_mangle)]
-    fn purcell_mcu_law<'r>(replay: &'r mut Replay<'_, f32>) -> Result<Option<&'r Sample<f32>>, Error> {
+    fn purcell_mcu_law<'r>(
+        replay: &'r mut Replay<'_, f32>,
+    ) -> Result<Option<&'r Sample<f32>>, Error> {
         replay.step()
     }
 
@@ -121,9 +123,10 @@ mod flight {
         };
         let plant = mismatch.plant(&p.kinematics()?)?;
         defmt::println!(
-            "purcell-closed: board=mps2-an386 steps={=u32} records={=usize} ratio_error={=f64} gait={=u32:#010x}",
+            "purcell-closed: board=mps2-an386 steps={=u32} records={=usize} gain_bytes={=usize} ratio_error={=f64} gait={=u32:#010x}",
             p.steps,
             table.len(),
+            table.len() * TRACKING_RECORD_LEN,
             ratio,
             gait.crc()
         );
@@ -156,7 +159,13 @@ mod flight {
         for (name, stats) in [("law_insn", &law), ("track_insn", &track)] {
             let (mean, tenths) = scaled_mean::<Systick>(stats);
             let max = scaled::<Systick>(u64::from(stats.max));
-            defmt::println!("{=str}: mean={=u64}.{=u64} max={=u64}", name, mean, tenths, max);
+            defmt::println!(
+                "{=str}: mean={=u64}.{=u64} max={=u64}",
+                name,
+                mean,
+                tenths,
+                max
+            );
         }
         let e = p.terminal_error(&state);
         defmt::println!("closed_digest: {=u64:#018x}", digest.value());
