@@ -53,3 +53,63 @@ fn bad_input_is_refused_before_any_work() {
     let o = sim(&["robustness", "--ratio-error", "0.1"]);
     assert_exit(&o, 2, "");
 }
+
+/// `export --tracking` adds the tracking table (a version-3 gait of 64 KiB of gains at most);
+/// `robustness --digest` flies it closed loop in f32 and lands where `--f32` does; a gait
+/// without a table is refused with the command that makes one.
+#[test]
+fn export_tracking_then_digest_flies_the_stored_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let gait = tmp.path().join("limit-tracking.gait");
+    let o = sim(&["export", "--gait", LIMIT, "--tracking", "--out", arg(&gait)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("tracking records=595"),
+        "{}",
+        stdout(&o)
+    );
+    let bytes = std::fs::read(&gait).unwrap();
+    let table = purcell_core::Gait::from_bytes(&bytes)
+        .unwrap()
+        .tracking()
+        .unwrap();
+    assert!(table.len() * purcell_core::gait::TRACKING_RECORD_LEN <= 65536);
+    let o = sim(&[
+        "robustness",
+        "--gait",
+        arg(&gait),
+        "--ratio-error",
+        "0.1",
+        "--digest",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = stdout(&o);
+    let field = |name: &str| -> f64 {
+        let at = out.find(name).unwrap() + name.len();
+        out[at..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(out.starts_with("closed_digest: 0x"), "{out}");
+    let r = json(&["--ratio-error", "0.1", "--f32"]);
+    let closed = &r["cases"][0]["closed"];
+    for (name, key) in [(" g=", "g_error"), ("alpha=", "alpha_error")] {
+        let expected = closed[key].as_f64().unwrap();
+        assert!(
+            (field(name) - expected).abs() <= 1e-3 * expected,
+            "{out} vs {closed}"
+        );
+    }
+    let o = sim(&[
+        "robustness",
+        "--gait",
+        LIMIT,
+        "--ratio-error",
+        "0.1",
+        "--digest",
+    ]);
+    assert_exit(&o, 2, "export --gait FILE --tracking");
+}

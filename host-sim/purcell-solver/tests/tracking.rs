@@ -2,6 +2,7 @@
 //! stored gaits of `core/examples` (the paper's, and the paper's under `|α_i| ≤ 1.5`).
 
 use purcell_core::Gait;
+use purcell_core::gait::{encode_with_tracking, encoded_len_with_tracking};
 use purcell_solver::tracking::{
     Control, Design, Mismatch, Noise, Outcome, Table, fly, joint_bound, nominal, table,
 };
@@ -142,4 +143,40 @@ fn without_error_both_fly_the_nominal_and_drag_cancels() {
     assert_eq!(noisy.end, again.end);
     // The joints end within a few standard deviations of their noise.
     assert!(noisy.end != closed.end && terminal(&gait, &noisy) < 5e-3);
+}
+
+/// The table stored in a gait file (`f32`, with each record's first step) flies the `f32`
+/// closed loop exactly as the table computed in `f64`: the same digest, bit for bit.
+#[test]
+fn the_stored_table_flies_like_the_computed_one_in_f32() {
+    let gait = Gait::from_bytes(LIMIT).unwrap();
+    let (computed, _) = setup(&gait);
+    let records = computed.to_f32();
+    let (checkpoints, arcs): (Vec<_>, Vec<_>) =
+        (gait.checkpoints().collect(), gait.arcs().collect());
+    let mut bytes =
+        vec![0; encoded_len_with_tracking(checkpoints.len(), arcs.len(), records.len())];
+    encode_with_tracking(gait.params(), &checkpoints, &arcs, &records, &mut bytes).unwrap();
+    let with_table = Gait::from_bytes(&bytes).unwrap();
+    let stored = Table::stored(&with_table.tracking().unwrap());
+    assert_eq!(stored.starts, computed.starts);
+    let p = gait.params();
+    let mismatch = Mismatch {
+        ratio: 0.1,
+        ..Mismatch::default()
+    };
+    let plant = mismatch.plant(&p.kinematics().unwrap()).unwrap();
+    let [a, b] = [&computed, &stored].map(|table| {
+        let control = Control::Closed {
+            table,
+            limit: joint_bound(p.alpha_max),
+        };
+        let replay = with_table.replay::<f32>().unwrap();
+        fly(replay, &plant, p.start(), control, &Noise::default()).unwrap()
+    });
+    assert_eq!(a.digest, b.digest);
+    assert_eq!(a, b);
+    // The table's record steps: one every `D` from 0, then one per step over the tail.
+    assert_eq!(&computed.starts[..2], &[0, Design::default().every]);
+    assert_eq!(computed.starts.last(), Some(&(p.steps - 1)));
 }
