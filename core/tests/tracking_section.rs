@@ -3,25 +3,17 @@
 //! are wrong; without one, the file is the version-2 file as before.
 
 use purcell_core::Error;
-use purcell_core::gait::{self, Gait, GaitParams, Model, TRACKING_RECORD_LEN};
+mod common;
+
+use common::paper_gait;
+use purcell_core::gait::{self, Gait, GaitParams, TRACKING_RECORD_LEN};
 use purcell_core::tracking::{RECORD_VALUES, Record};
 
 /// 10 steps of the paper's swimmer, no checkpoint.
 fn params() -> GaitParams {
     GaitParams {
-        model: Model {
-            links: [1.0; 3],
-            drag: 1.0,
-            ratio: 2.0,
-        },
-        h: 0.01,
-        steps: 10,
-        alpha0: [0.0, 0.0],
-        target: [0.1, 0.0, 0.0],
-        mu: [0.1, 0.2, 0.0],
-        xi0: [0.3, -0.1],
         checkpoint_every: 0,
-        alpha_max: None,
+        ..paper_gait(10, [0.1, 0.0, 0.0], [0.1, 0.2, 0.0], [0.3, -0.1])
     }
 }
 

@@ -92,6 +92,74 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// The sections of a file, found through its directory.
+struct Sections<'a> {
+    params: &'a [u8],
+    arcs: &'a [u8],
+    t64: &'a [u8],
+    t32: &'a [u8],
+    /// Checkpoints in each table.
+    count: usize,
+    tracking: &'a [u8],
+}
+
+impl<'a> Sections<'a> {
+    /// Reads the directory of `sections` entries of a file of `version` (`body`: the file
+    /// without its CRC): each section after the previous one, inside the body, with a known
+    /// tag and record size, each once, the two checkpoint tables of one count; else
+    /// [`Error::GaitLayout`].
+    fn read(body: &'a [u8], sections: usize, version: u16) -> Result<Self, Error> {
+        let mut directory = Cursor(body.get(HEADER_LEN..).ok_or(Error::GaitLayout)?);
+        let mut end = HEADER_LEN + sections * ENTRY_LEN;
+        let (mut params, mut table64, mut table32) = (None, None, None);
+        // Version 1 has no arc table: read as an empty one.
+        let mut arcs = (version == 1).then_some((&[][..], 0));
+        // Only version 3 has a tracking table: read as an empty one before.
+        let mut tracking = (version != VERSION_TRACKING).then_some((&[][..], 0));
+        for _ in 0..sections {
+            let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
+            let (count, size) = (directory.usize()?, directory.usize()?);
+            let stop = count
+                .checked_mul(size)
+                .and_then(|n| n.checked_add(offset))
+                .ok_or(Error::GaitLayout)?;
+            let data = body.get(offset..stop).ok_or(Error::GaitLayout)?;
+            if offset < end {
+                return Err(Error::GaitLayout);
+            }
+            end = stop;
+            let slot = match (tag, size) {
+                (PARAMS_TAG, s) if s == params_len(version) && count == 1 => &mut params,
+                (ARCS_TAG, arc::RECORD_LEN) if version != 1 => &mut arcs,
+                (CK64_TAG, s) if s == record_len(8) => &mut table64,
+                (CK32_TAG, s) if s == record_len(4) => &mut table32,
+                (TRACKING_TAG, TRACKING_RECORD_LEN) if version == VERSION_TRACKING => &mut tracking,
+                _ => return Err(Error::GaitLayout),
+            };
+            if slot.replace((data, count)).is_some() {
+                return Err(Error::GaitLayout);
+            }
+        }
+        match (params, arcs, table64, table32, tracking) {
+            (
+                Some((params, _)),
+                Some((arcs, _)),
+                Some((t64, count)),
+                Some((t32, count32)),
+                Some((tracking, _)),
+            ) if count == count32 => Ok(Sections {
+                params,
+                arcs,
+                t64,
+                t32,
+                count,
+                tracking,
+            }),
+            _ => Err(Error::GaitLayout),
+        }
+    }
+}
+
 impl<'a> Gait<'a> {
     /// Reads and validates a gait file in place (the checkpoint tables stay in `bytes`).
     ///
@@ -143,51 +211,8 @@ impl<'a> Gait<'a> {
             return Err(Error::GaitChecksum);
         }
 
-        // The directory: each section after the previous one, inside the body.
-        let mut directory = Cursor(body.get(HEADER_LEN..).ok_or(Error::GaitLayout)?);
-        let mut end = HEADER_LEN + sections * ENTRY_LEN;
-        let (mut params, mut table64, mut table32) = (None, None, None);
-        // Version 1 has no arc table: read as an empty one.
-        let mut arcs = (version == 1).then_some((&[][..], 0));
-        // Only version 3 has a tracking table: read as an empty one before.
-        let mut tracking = (version != VERSION_TRACKING).then_some((&[][..], 0));
-        for _ in 0..sections {
-            let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
-            let (count, size) = (directory.usize()?, directory.usize()?);
-            let stop = count
-                .checked_mul(size)
-                .and_then(|n| n.checked_add(offset))
-                .ok_or(Error::GaitLayout)?;
-            let data = body.get(offset..stop).ok_or(Error::GaitLayout)?;
-            if offset < end {
-                return Err(Error::GaitLayout);
-            }
-            end = stop;
-            let slot = match (tag, size) {
-                (PARAMS_TAG, s) if s == params_len(version) && count == 1 => &mut params,
-                (ARCS_TAG, arc::RECORD_LEN) if version != 1 => &mut arcs,
-                (CK64_TAG, s) if s == record_len(8) => &mut table64,
-                (CK32_TAG, s) if s == record_len(4) => &mut table32,
-                (TRACKING_TAG, TRACKING_RECORD_LEN) if version == VERSION_TRACKING => &mut tracking,
-                _ => return Err(Error::GaitLayout),
-            };
-            if slot.replace((data, count)).is_some() {
-                return Err(Error::GaitLayout);
-            }
-        }
-        let (
-            Some((params, _)),
-            Some((arcs, _)),
-            Some((t64, count)),
-            Some((t32, count32)),
-            Some((tracking, _)),
-        ) = (params, arcs, table64, table32, tracking)
-        else {
-            return Err(Error::GaitLayout);
-        };
-        if count != count32 {
-            return Err(Error::GaitLayout);
-        }
+        let found = Sections::read(body, sections, version)?;
+        let (arcs, count) = (found.arcs, found.count);
         // The arc records' padding is zero.
         let padded = arcs
             .chunks_exact(arc::RECORD_LEN)
@@ -195,14 +220,14 @@ impl<'a> Gait<'a> {
         if !padded {
             return Err(Error::GaitLayout);
         }
-        let params = Cursor(params).params(version)?;
+        let params = Cursor(found.params).params(version)?;
         let gait = Gait {
             params,
             count,
-            table64: Table::new(t64),
-            table32: Table::new(t32),
+            table64: Table::new(found.t64),
+            table32: Table::new(found.t32),
             arcs,
-            tracking,
+            tracking: found.tracking,
             crc,
         };
         check(&params, gait.checkpoints(), gait.arcs())?;
@@ -222,7 +247,7 @@ impl<'a> Gait<'a> {
             }
         }
         if version == VERSION_TRACKING {
-            check_tracking(TrackingTable::new(tracking).iter(), params.steps)?;
+            check_tracking(TrackingTable::new(gait.tracking).iter(), params.steps)?;
         }
         Ok(gait)
     }
