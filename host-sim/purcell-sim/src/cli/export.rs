@@ -123,15 +123,17 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     // The gait is for the f32 firmware.
     check_stored(input, &gait, true)?;
-    let about = format!(
-        "{} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={}, tracking records={}",
+    let mut about = format!(
+        "{} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={}",
         bytes.len(),
         gait.crc(),
         gait.params().steps,
         gait.checkpoint_count(),
-        gait.arc_count(),
-        gait.tracking().map_or(0, |t| t.len())
+        gait.arc_count()
     );
+    if let Some(t) = gait.tracking() {
+        about += &format!(", tracking records={}", t.len());
+    }
     let outputs = match a.format {
         Format::Gait => vec![(a.out.clone(), bytes, is_gait_file as fn(&[u8]) -> bool)],
         Format::C => c_outputs(&a.out, &about, &bytes)?,
