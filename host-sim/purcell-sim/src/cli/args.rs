@@ -255,6 +255,52 @@ pub(super) fn read_gait(path: &Path) -> Result<Vec<u8>, Failure> {
     Ok(bytes)
 }
 
+/// The gait a command reads: a costate file or a binary gait file, exactly one
+/// (`replay`, `export`, `robustness`; `field` draws one optionally, with its own flags).
+#[derive(Debug, Args)]
+#[group(required = true, multiple = false)]
+pub struct GaitInput {
+    /// The costate file written by `solve` (DIR/costate.json).
+    #[arg(long)]
+    pub costate: Option<PathBuf>,
+    /// A binary gait file written by `export`.
+    #[arg(long)]
+    pub gait: Option<PathBuf>,
+}
+
+impl GaitInput {
+    /// The path given, either flag's.
+    pub fn path(&self) -> &Path {
+        match (&self.costate, &self.gait) {
+            (Some(p), _) | (None, Some(p)) => p,
+            // clap's group makes one of the two required.
+            (None, None) => Path::new(""),
+        }
+    }
+
+    /// The path and its gait file's bytes, a costate file converted (exit 2 if unreadable,
+    /// invalid or of the other kind).
+    pub(super) fn gait_bytes(&self) -> Result<(&Path, Vec<u8>), Failure> {
+        let path = self.path();
+        let bytes = match &self.costate {
+            Some(_) => read_costate(path)?
+                .to_gait()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?,
+            None => read_gait(path)?,
+        };
+        Ok((path, bytes))
+    }
+
+    /// The path and its numbers as a costate file, a gait file read back (exit 2 likewise).
+    pub(super) fn costate_file(&self) -> Result<(&Path, CostateFile), Failure> {
+        let path = self.path();
+        match &self.costate {
+            Some(_) => Ok((path, read_costate(path)?)),
+            None => Ok((path, costate_of_gait(path)?)),
+        }
+    }
+}
+
 /// The numbers of the binary gait file `path`, as a costate file (exit 2 if it is none).
 pub(super) fn costate_of_gait(path: &Path) -> Result<CostateFile, Failure> {
     let bytes = read_gait(path)?;

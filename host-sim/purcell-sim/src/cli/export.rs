@@ -1,7 +1,7 @@
 //! `export`: the binary gait file of a costate file (or of a gait file), for `include_bytes!`
 //! in firmware, or the same bytes as C source (`--format c`) for `purcell_flight_open`.
 
-use super::args::{Failure, fail, output_failure, read_costate, read_gait};
+use super::args::{Failure, GaitInput, fail, output_failure};
 use super::replay::check_stored;
 use crate::output::{self, OutputFile, c_array};
 use clap::{Args, ValueEnum};
@@ -21,14 +21,10 @@ pub enum Format {
 
 /// `export` flags.
 #[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("input").required(true).args(["costate", "gait"])))]
 pub struct ExportArgs {
-    /// The costate file written by `solve` (DIR/costate.json).
-    #[arg(long)]
-    pub costate: Option<PathBuf>,
-    /// A binary gait file (with --format c: its bytes as C source).
-    #[arg(long)]
-    pub gait: Option<PathBuf>,
+    /// The gait to export (a gait file: with --format c, its bytes as C source).
+    #[command(flatten)]
+    pub input: GaitInput,
     /// The file to write (atomically; an existing file is replaced only if it is one `export`
     /// wrote in that format, never an input). With --format c, the `.c` file; the header
     /// goes beside it with the extension `.h`, and the array is named after the file stem.
@@ -104,16 +100,7 @@ fn with_tracking(gait: &Gait<'_>) -> Result<Vec<u8>, purcell_core::Error> {
 /// `export`: reads and checks the costate file (or gait file), writes its gait; a line naming
 /// what it wrote.
 pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
-    let (input, bytes) = match (&a.costate, &a.gait) {
-        (Some(path), _) => {
-            let bytes = read_costate(path)?
-                .to_gait()
-                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-            (path, bytes)
-        }
-        (None, Some(path)) => (path, read_gait(path)?),
-        (None, None) => return Err(fail(2, "export needs --costate or --gait")),
-    };
+    let (input, bytes) = a.input.gait_bytes()?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", input.display()));
     let mut bytes = bytes;
     if a.tracking {
@@ -142,7 +129,7 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
     let staged = outputs
         .into_iter()
         .map(|(path, contents, ours)| {
-            OutputFile::prepare(&path, ours, a.force, &[input.as_path()]).map(|f| (f, contents))
+            OutputFile::prepare(&path, ours, a.force, &[input]).map(|f| (f, contents))
         })
         .collect::<Result<Vec<_>, output::OutputError>>()
         .map_err(output_failure(true))?;

@@ -1,7 +1,7 @@
 //! `replay`: a stored gait (a costate file or a binary gait file) through the core, as
 //! firmware flies it; and the checks every route to a replay makes of a stored gait.
 
-use super::args::{Failure, fail, output_failure, read_costate, read_gait};
+use super::args::{Failure, GaitInput, fail, output_failure};
 use crate::{input, output, replay};
 use clap::{Args, ValueEnum};
 use purcell_core::Gait;
@@ -20,14 +20,10 @@ pub enum Precision {
 
 /// `replay` flags.
 #[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("input").required(true).args(["costate", "gait"])))]
 pub struct ReplayArgs {
-    /// The costate file written by `solve` (DIR/costate.json).
-    #[arg(long)]
-    pub costate: Option<PathBuf>,
-    /// A binary gait file written by `export`.
-    #[arg(long)]
-    pub gait: Option<PathBuf>,
+    /// The gait to replay.
+    #[command(flatten)]
+    pub input: GaitInput,
     /// Replay only in this precision (default: the standard set f64, f32 with and without
     /// checkpoints).
     #[arg(long, value_enum)]
@@ -77,17 +73,7 @@ fn is_replay_report(bytes: &[u8]) -> bool {
 /// `replay`: reads and checks the gait, prepares `--out`, flies it, writes the report; the
 /// text report as printed (exit 3 with it when a replay fails).
 pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
-    let (path, bytes) = match (&a.costate, &a.gait) {
-        (Some(path), _) => {
-            let file = read_costate(path)?;
-            let bytes = file
-                .to_gait()
-                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-            (path, bytes)
-        }
-        (None, Some(path)) => (path, read_gait(path)?),
-        (None, None) => return Err(fail(2, "replay needs --costate or --gait")),
-    };
+    let (path, bytes) = a.input.gait_bytes()?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
     check_stored(path, &gait, !matches!(a.precision, Some(Precision::F64)))?;
     if let (Some(o), Some(t)) = (&a.out, &a.trace)
@@ -101,9 +87,9 @@ pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
             .transpose()
             .map_err(output_failure(true))
     };
-    let out = prepare(&a.out, is_replay_report, &[path.as_path()])?;
+    let out = prepare(&a.out, is_replay_report, &[path])?;
     // The trace is never the costate or gait file, nor --out.
-    let mut inputs = vec![path.as_path()];
+    let mut inputs = vec![path];
     inputs.extend(a.out.as_deref());
     let trace = prepare(&a.trace, |_| false, &inputs)?;
     let checkpoints = !a.no_checkpoints;

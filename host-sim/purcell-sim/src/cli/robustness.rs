@@ -3,9 +3,7 @@
 //! LQR gains along the extremal); the terminal errors, costs and joint excursions of both
 //! (docs/ROBUSTNESS.md).
 
-use super::args::{
-    Failure, PrintArgs, costate_of_gait, fail, output_failure, read_costate, read_gait,
-};
+use super::args::{Failure, GaitInput, PrintArgs, fail, output_failure, read_gait};
 use crate::costate_file::CostateFile;
 use crate::{output, plots, replay};
 use clap::Args;
@@ -21,14 +19,10 @@ use std::path::{Path, PathBuf};
 
 /// `robustness` flags.
 #[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("input").required(true).args(["costate", "gait"])))]
 pub struct RobustnessArgs {
-    /// The costate file written by `solve` (DIR/costate.json).
-    #[arg(long)]
-    pub costate: Option<PathBuf>,
-    /// A binary gait file written by `export`.
-    #[arg(long)]
-    pub gait: Option<PathBuf>,
+    /// The gait to fly.
+    #[command(flatten)]
+    pub input: GaitInput,
     /// Relative error of the plant's drag ratio r (0.1: 10 % larger than the model's).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub ratio_error: f64,
@@ -163,11 +157,7 @@ pub const TABLE: [(f64, f64, f64, f64, f64); 14] = [
 
 /// The gait of the flags, its file's numbers and the path shown in messages (exit 2).
 fn input(a: &RobustnessArgs) -> Result<(&Path, CostateFile), Failure> {
-    match (&a.costate, &a.gait) {
-        (Some(p), _) => Ok((p, read_costate(p)?)),
-        (None, Some(p)) => Ok((p, costate_of_gait(p)?)),
-        (None, None) => Err(fail(2, "robustness needs --costate or --gait")),
-    }
+    a.input.costate_file()
 }
 
 /// A flight's report from its outcome.
@@ -359,7 +349,11 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
 /// `--digest`: the closed-loop `f32` flight of `--gait` with its stored tracking table through
 /// the plant of the flags; its digest ([`Outcome::digest`]) and terminal error.
 fn stored_flight(a: &RobustnessArgs) -> Result<String, Failure> {
-    let path = a.gait.as_deref().ok_or(fail(2, "--digest needs --gait"))?;
+    let path = a
+        .input
+        .gait
+        .as_deref()
+        .ok_or(fail(2, "--digest needs --gait"))?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
     let bytes = read_gait(path)?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
