@@ -118,6 +118,10 @@ pub fn solve(
         );
         warn(py, message)?;
     }
+    let unrefined = found.search.iter().flat_map(|e| &e.unrefined);
+    for u in unrefined.filter(|u| u.cheaper) {
+        warn(py, format!("{u}: try another seed or more starts"))?;
+    }
     solution::build(py, &problem, &found, every, seconds)
 }
 
