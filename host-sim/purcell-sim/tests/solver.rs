@@ -204,15 +204,20 @@ fn tight_limits_solve() {
     }
 }
 
+/// A short global search (32 starts) on the paper's problem.
+fn paper_search() -> search::Search {
+    let p = Problem::paper();
+    let grid = coarse_grid(&p, &SolveOptions::default()).unwrap();
+    search::search(&grid, 32, 32, 0, None, &|a| p.admits(a), &|| {})
+}
+
 /// A refinement bounded below the candidate's cost stops on the intermediate grid
 /// ([`Stop::Dearer`]); unbounded, the same candidate reaches the problem's grid, where it
 /// costs more than the bound by more than [`PRUNE`] allows for the intermediate grid's error.
 #[test]
 fn a_refinement_stops_early_once_dearer_than_the_bound() {
     let p = Problem::paper();
-    let options = SolveOptions::default();
-    let grid = coarse_grid(&p, &options).unwrap();
-    let found = search::search(&grid, 32, 32, 0, None, &|a| p.admits(a), &|| {});
+    let found = paper_search();
     let c = &found.candidates[0];
     let bound = 0.9 * c.cost;
     assert_eq!(refine(&p, &c.u, &c.nu, bound).err(), Some(Stop::Dearer));
@@ -253,9 +258,7 @@ fn a_looser_joint_limit_never_costs_more() {
 #[test]
 fn a_candidate_that_fails_to_refine_is_reported() {
     let p = Problem::paper();
-    let options = SolveOptions::default();
-    let grid = coarse_grid(&p, &options).unwrap();
-    let found = search::search(&grid, 32, 32, 0, None, &|a| p.admits(a), &|| {});
+    let found = paper_search();
     let admissible = |c: &&search::Candidate| c.max_abs_alpha < 3.0;
     let real = found.candidates.iter().find(admissible).unwrap().clone();
     let zero = search::Candidate {
@@ -263,8 +266,13 @@ fn a_candidate_that_fails_to_refine_is_reported() {
         cost: 0.5 * real.cost,
         ..real.clone()
     };
-    let (best, extremals, unrefined) =
-        refine_candidates(&p, &[zero, real.clone()], &options, f64::INFINITY).unwrap();
+    let (best, extremals, unrefined) = refine_candidates(
+        &p,
+        &[zero, real.clone()],
+        &SolveOptions::default(),
+        f64::INFINITY,
+    )
+    .unwrap();
     assert_eq!(extremals.len(), 1);
     assert!(extremals[best].admissible);
     assert_eq!(unrefined.len(), 1, "{unrefined:?}");

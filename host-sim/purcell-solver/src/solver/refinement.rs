@@ -38,9 +38,9 @@ impl Stop {
 /// Carries controls `u` (on any grid over the same horizon) with multiplier `nu` to the
 /// problem's grid, through grids at most 16 times finer each ([`finer_grid`]), Newton
 /// converging at each. With a joint limit, the first finer grid runs the barrier path
-/// [`FINE_TAUS`] and the others only its last weight ([`barrier_stage`]: from the last weight
-/// reached if a smaller one stalled), and on the problem's grid the active-set rounds impose
-/// the limit on its arcs ([`limits::polish`]). Gives up with [`Stop::Dearer`] once an
+/// [`FINE_TAUS`] and the others only its last weight ([`limits::patient_barrier_path`]; if a
+/// smaller weight stalls, the path goes on from the last weight reached), and on the
+/// problem's grid the active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with [`Stop::Dearer`] once an
 /// intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 pub fn refine(
     problem: &Problem,
