@@ -137,11 +137,17 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
             ),
         );
     }
+    // Cheapest first, as the search's minima: one warning, for the cheapest.
     let unrefined = solution.search.iter().flat_map(|e| &e.unrefined);
-    for u in unrefined.filter(|u| u.cheaper) {
+    let cheaper: Vec<_> = unrefined.filter(|u| u.cheaper).collect();
+    if let Some(u) = cheaper.first() {
         warn(
             quiet,
-            format_args!("{u}: try another --seed or --starts (report.json: search.unrefined)"),
+            format_args!(
+                "{u} ({} such minima in report.json's search.unrefined): try another --seed \
+                 or --starts",
+                cheaper.len()
+            ),
         );
     }
     let best = &solution.extremals[solution.best];
