@@ -25,7 +25,13 @@
 #     --precision f32`'s, every cycle's pose to the host's composition (`purcell-mcu-check
 #     loop`), no tick overran; ticking far faster than the step (PURCELL_LOOP_HZ) must overrun
 #     and exit 1;
-#  9. the C example (c-example/check.sh): the C API's header is cbindgen's, a C firmware
+#  9. the closed loop (qemu/examples/closed_loop.rs): the committed paper's gait exported with
+#     its tracking table (export --tracking) flies its law and tracking law in f32 on the M4F
+#     against a plant with a drag ratio 10 % larger, with the digest of `purcell-sim robustness
+#     --gait … --ratio-error 0.1 --digest`; the tracking part of a step costs on average at most
+#     PURCELL_TRACK_MAX_INSN (default 200, issue 26's target) instructions over the open-loop
+#     step, reaches no soft-float helper, and the gains fit in 64 KiB;
+# 10. the C example (c-example/check.sh): the C API's header is cbindgen's, a C firmware
 #     linked against libpurcell_capi.a flies the paper's gait exported as C in QEMU with the
 #     host's digest (instructions per step beside the Rust firmware's), no panic linked, and
 #     the same C program on the host flies with the host's digest.
@@ -142,5 +148,33 @@ fi
 echo "loop: every cycle's digest is purcell-sim replay's ($host_digest)"
 echo "--- control loop ticking at 100 kHz, faster than a step: must overrun and exit 1"
 PURCELL_LOOP_HZ=100000 fails_with overrun '^failed: Overruns' loop_run
+
+echo "--- closed loop: the paper's gait and its tracking table, drag ratio +10 %, on the M4F against the host"
+sim export --gait core/examples/paper.gait --tracking --out "$gaits/paper-tracking.gait"
+closed_run() {
+  PURCELL_GAIT=$gaits/paper-tracking.gait PURCELL_RATIO_ERROR=0.1 \
+    cargo run -q -p purcell-mcu --example closed_loop --target thumbv7em-none-eabihf --release
+}
+closed_run 2>"$out/closed.stderr" | tee "$out/closed.log"
+host_digest=$(sim robustness --gait "$gaits/paper-tracking.gait" --ratio-error 0.1 --digest | grep '^closed_digest: ')
+mcu_digest=$(grep '^closed_digest: ' "$out/closed.log" || true)
+if [[ -z $host_digest || $host_digest != "$mcu_digest" ]] || ! grep -q '^result: ok$' "$out/closed.log"; then
+  echo "check.sh: closed loop: purcell-sim robustness says '$host_digest', the M4F '$mcu_digest'" >&2
+  exit 1
+fi
+track_mean=$(sed -n 's/^track_insn: mean=\([0-9.]*\) .*/\1/p' "$out/closed.log")
+track_budget=${PURCELL_TRACK_MAX_INSN:-200}
+if ! awk -v m="$track_mean" -v b="$track_budget" 'BEGIN { exit !(m != "" && m + 0 <= b + 0) }'; then
+  echo "check.sh: closed loop: the tracking part costs $track_mean instructions per step, budget $track_budget" >&2
+  exit 1
+fi
+gain_bytes=$(sed -n 's/^purcell-closed: .* gain_bytes=\([0-9]*\) .*/\1/p' "$out/closed.log")
+if ((${gain_bytes:-0} == 0 || gain_bytes > 65536)); then
+  echo "check.sh: closed loop: the tracking table is $gain_bytes bytes, more than 64 KiB (or none)" >&2
+  exit 1
+fi
+"$objdump" -d "$target_dir/thumbv7em-none-eabihf/release/examples/closed_loop" >"$out/closed.dis"
+tool disasm "$out/closed.dis" --root purcell_mcu_track | grep -v '^  reachable:'
+echo "closed loop: bit-identical to the host ($mcu_digest), tracking $track_mean <= $track_budget instructions per step over the law's, gains $gain_bytes bytes"
 bash firmware/c-example/check.sh
-echo "mcu: 10 passed, 0 failed"
+echo "mcu: 11 passed, 0 failed"

@@ -25,6 +25,7 @@ pub mod swimmer;
 mod table;
 #[cfg(feature = "test-kit")]
 pub mod testkit;
+pub mod tracking;
 
 pub use arc::Arc;
 pub use digest::TrajectoryDigest;

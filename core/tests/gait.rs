@@ -6,29 +6,8 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
-use purcell_core::gait::{self, Arc, CheckpointRecord, Gait, GaitParams, Model};
+use purcell_core::gait::{self, Arc, CheckpointRecord, Gait, GaitParams};
 use purcell_core::{Checkpoint, Error, Real, Sample, State};
-
-/// A gait of the paper's swimmer (unit links, `k = 1`, `r = 2`) with `h = 0.01` from `ᾱ = 0`,
-/// checkpoints every 100 steps, no joint limit: the parameters the gaits of these tests share
-/// (each sets its own horizon, target and costate).
-fn paper_gait(steps: u32, target: [f64; 3], mu: [f64; 3], xi0: [f64; 2]) -> GaitParams {
-    GaitParams {
-        model: Model {
-            links: [1.0; 3],
-            drag: 1.0,
-            ratio: 2.0,
-        },
-        h: 0.01,
-        steps,
-        alpha0: [0.0, 0.0],
-        target,
-        mu,
-        xi0,
-        checkpoint_every: 100,
-        alpha_max: None,
-    }
-}
 
 /// The paper's swimmer, 1 000 steps of the `|μ| ≈ 13` extremal's costate, and checkpoints every
 /// 100 steps taken from its plain `f64` replay (as `purcell-sim solve` writes them).
@@ -220,7 +199,7 @@ fn a_corrupt_header_is_refused_with_its_reason() {
     assert_eq!(refused(&good, |b| b[0] = b'X'), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(&[]).err(), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(b"PURCGAIT").err(), Some(Error::GaitLength));
-    assert_eq!(refused(&good, |b| b[8] = 3), Some(Error::GaitVersion(3)));
+    assert_eq!(refused(&good, |b| b[8] = 4), Some(Error::GaitVersion(4)));
     assert_eq!(refused(&good, |b| b[8] = 0), Some(Error::GaitVersion(0)));
     assert_eq!(
         refused(&good, |b| b.truncate(b.len() - 1)),

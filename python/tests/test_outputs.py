@@ -97,6 +97,12 @@ def test_other_outputs_match_their_schemas(cli, tmp_path):
     assert (frame.x_m == 0.3).sum() == 1 and (frame.y_m == 0.05).all()
 
 
+def test_robustness_report_matches_its_schema(cli):
+    gait = SCHEMAS.parents[1] / "core" / "examples" / "paper-limit.gait"
+    printed = cli("robustness", "--gait", gait, "--ratio-error", "0.1", "--json").stdout
+    valid("robustness-report", printed)
+
+
 def test_trajectory_csv_loads_with_units_and_exact_times(solved):
     frame = pd.read_csv(solved / "trajectory.csv")
     columns = "k,t_s,alpha1_rad,alpha2_rad,u1_rad_per_s,u2_rad_per_s,x_m,y_m,theta_rad,"

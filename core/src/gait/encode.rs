@@ -5,11 +5,13 @@ use crate::arc::{self, Arc};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
-    VERSION, params_len,
+    TRACKING_TAG, VERSION, VERSION_TRACKING, params_len,
 };
 use crate::gait::schema::{CheckpointRecord, GaitParams};
+use crate::gait::track::{TRACKING_RECORD_LEN, check_tracking};
 use crate::gait::validate::check;
 use crate::table::record_len;
+use crate::tracking::Record;
 
 /// Writes little-endian fields front to back; running out is [`Error::CapacityExceeded`].
 struct Out<'a>(&'a mut [u8]);
@@ -49,11 +51,23 @@ impl Out<'_> {
 /// The size of the gait file [`encode`] writes for `checkpoints` checkpoints and `arcs` arcs,
 /// bytes.
 pub const fn encoded_len(checkpoints: usize, arcs: usize) -> usize {
+    encoded_len_with_tracking(checkpoints, arcs, 0)
+}
+
+/// The size of the gait file [`encode_with_tracking`] writes with `tracking` records of the
+/// tracking table (0: none, a version-2 file), bytes.
+pub const fn encoded_len_with_tracking(checkpoints: usize, arcs: usize, tracking: usize) -> usize {
+    let track = if tracking == 0 {
+        0
+    } else {
+        ENTRY_LEN + tracking * TRACKING_RECORD_LEN
+    };
     HEADER_LEN
         + SECTIONS * ENTRY_LEN
         + params_len(VERSION)
         + arcs * arc::RECORD_LEN
         + checkpoints * (record_len(8) + record_len(4))
+        + track
         + CRC_LEN
 }
 
@@ -69,22 +83,46 @@ pub fn encode(
     arcs: &[Arc],
     out: &mut [u8],
 ) -> Result<usize, Error> {
+    encode_with_tracking(params, checkpoints, arcs, &[], out)
+}
+
+/// As [`encode`], with the tracking table `tracking` (`(k_j, record)`, docs/GAIT.md) in a
+/// `TRCK` section: a version-[`VERSION_TRACKING`] file; none (empty) is [`encode`]'s file.
+///
+/// Errors: as [`encode`], and those of the table's check (nothing is written then) ([`Error::GaitLayout`]
+/// for indices that do not start at 0, increase and stay below `N`; [`Error::NonFinite`]).
+pub fn encode_with_tracking(
+    params: &GaitParams,
+    checkpoints: &[CheckpointRecord],
+    arcs: &[Arc],
+    tracking: &[(u32, Record<f32>)],
+    out: &mut [u8],
+) -> Result<usize, Error> {
     check(params, checkpoints.iter().copied(), arcs.iter().copied())?;
+    if !tracking.is_empty() {
+        check_tracking(tracking.iter().copied(), params.steps)?;
+    }
     let n = checkpoints.len();
-    let len = encoded_len(n, arcs.len());
+    let len = encoded_len_with_tracking(n, arcs.len(), tracking.len());
     let file = out.get_mut(..len).ok_or(Error::CapacityExceeded)?;
+    let (version, sections) = match tracking.len() {
+        0 => (VERSION, SECTIONS),
+        _ => (VERSION_TRACKING, SECTIONS + 1),
+    };
     let mut w = Out(&mut *file);
     w.put(&MAGIC)?;
-    w.put(&VERSION.to_le_bytes())?;
-    w.put(&(SECTIONS as u16).to_le_bytes())?;
+    w.put(&version.to_le_bytes())?;
+    w.put(&(sections as u16).to_le_bytes())?;
     w.u32(len)?;
-    let mut offset = HEADER_LEN + SECTIONS * ENTRY_LEN;
-    for (tag, count, size) in [
+    let mut offset = HEADER_LEN + sections * ENTRY_LEN;
+    let entries = [
         (PARAMS_TAG, 1, params_len(VERSION)),
         (ARCS_TAG, arcs.len(), arc::RECORD_LEN),
         (CK64_TAG, n, record_len(8)),
         (CK32_TAG, n, record_len(4)),
-    ] {
+        (TRACKING_TAG, tracking.len(), TRACKING_RECORD_LEN),
+    ];
+    for (tag, count, size) in entries.into_iter().take(sections) {
         w.put(&tag)?;
         w.u32(offset)?;
         w.u32(count)?;
@@ -105,6 +143,10 @@ pub fn encode(
         for x in c.values() {
             w.put(&(x as f32).to_le_bytes())?;
         }
+    }
+    for (k, record) in tracking {
+        w.u32(*k as usize)?;
+        record.iter().try_for_each(|x| w.put(&x.to_le_bytes()))?;
     }
     let body = file.get(..len - CRC_LEN).ok_or(Error::CapacityExceeded)?;
     let crc = crc32(body);

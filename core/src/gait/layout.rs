@@ -4,8 +4,12 @@
 
 /// The first 8 bytes of every gait file.
 pub const MAGIC: [u8; 8] = *b"PURCGAIT";
-/// The version this build writes; it reads this one and version 1 (no joint limit, no arcs).
+/// The version this build writes for a gait without a tracking table; it reads this one,
+/// version 1 (no joint limit, no arcs) and [`VERSION_TRACKING`].
 pub const VERSION: u16 = 2;
+/// The version this build writes for a gait with a tracking table: version 2 and a fifth
+/// section, `TRCK` (a version-2 reader refuses unknown sections, so the version changes).
+pub const VERSION_TRACKING: u16 = 3;
 
 /// Header: magic (8), version (u16), section count (u16), file length (u32).
 pub(super) const HEADER_LEN: usize = 16;
@@ -17,7 +21,9 @@ pub(super) const PARAMS_TAG: [u8; 4] = *b"PARM";
 pub(super) const ARCS_TAG: [u8; 4] = *b"ARCS";
 pub(super) const CK64_TAG: [u8; 4] = *b"CK64";
 pub(super) const CK32_TAG: [u8; 4] = *b"CK32";
-/// Sections of a version-2 file, in the order `encode` writes them.
+pub(super) const TRACKING_TAG: [u8; 4] = *b"TRCK";
+/// Sections of a version-2 file, in the order `encode` writes them (a version-3 file has
+/// `TRCK` after them).
 pub(super) const SECTIONS: usize = 4;
 /// The `PARM` record: `steps`, `checkpoint_every` (u32), then 16 `f64` (`L0 L1 L2 k r h`, `ᾱ`,
 /// `ḡ`, `μ`, `ξ^{−1}`), then in version 2 `α_max` (`f64`, 0 for none).

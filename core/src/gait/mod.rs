@@ -10,7 +10,8 @@
 //! and a CRC-32 of all that. Version 2 has four sections: `PARM` (the parameters), `ARCS` (the
 //! arcs), `CK64` (the checkpoints in `f64`) and `CK32` (the same checkpoints rounded to `f32`,
 //! so that an `f32` replay restores a checkpoint with integer loads: no `f64` arithmetic, which
-//! is soft-float on a Cortex-M4F).
+//! is soft-float on a Cortex-M4F). Version 3 adds a fifth section, `TRCK`: the gait's tracking
+//! table in `f32` ([`TrackingTable`], [`crate::tracking`]), for a closed-loop flight.
 //!
 //! [`GaitParams`], [`CheckpointRecord`] and [`Arc`] are also the schema of purcell-sim's JSON
 //! costate file (with the `serde` feature), and [`check`] is the one validation both formats go
@@ -52,13 +53,15 @@ mod layout;
 mod read;
 mod records;
 mod schema;
+mod track;
 mod validate;
 
 pub use crate::arc::Arc;
 pub use crc::crc32;
-pub use encode::{encode, encoded_len};
-pub use layout::{MAGIC, VERSION};
+pub use encode::{encode, encode_with_tracking, encoded_len, encoded_len_with_tracking};
+pub use layout::{MAGIC, VERSION, VERSION_TRACKING};
 pub use read::{Gait, Stored};
 pub use records::Records;
 pub use schema::{CheckpointRecord, GaitParams, Model};
+pub use track::{TRACKING_RECORD_LEN, TrackingCursor, TrackingTable};
 pub use validate::{LIMIT_TOLERANCE, check};

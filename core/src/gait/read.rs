@@ -3,11 +3,12 @@
 use crate::arc::{self, Arc, ArcTable};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
-    ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, VERSION,
-    params_len,
+    ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, TRACKING_TAG,
+    VERSION, VERSION_TRACKING, params_len,
 };
 use crate::gait::records::Records;
 use crate::gait::schema::{GaitParams, Model};
+use crate::gait::track::{TRACKING_RECORD_LEN, TrackingTable, check_tracking};
 use crate::gait::validate::check;
 use crate::replay::{CheckpointTable, Replay};
 use crate::table::{Table, record_len};
@@ -35,6 +36,8 @@ pub struct Gait<'a> {
     table32: Table<'a>,
     /// The `ARCS` records (empty in version 1).
     arcs: &'a [u8],
+    /// The `TRCK` records (empty before version 3).
+    tracking: &'a [u8],
     crc: u32,
 }
 
@@ -89,60 +92,30 @@ impl<'a> Cursor<'a> {
     }
 }
 
-impl<'a> Gait<'a> {
-    /// Reads and validates a gait file in place (the checkpoint tables stay in `bytes`).
-    ///
-    /// ```
-    /// use purcell_core::{Gait, Replay};
-    ///
-    /// // In firmware: `static GAIT: &[u8] = include_bytes!("gait.bin");`
-    /// static GAIT: &[u8] = include_bytes!("../../examples/paper.gait");
-    /// let gait = Gait::from_bytes(GAIT)?;
-    /// assert_eq!((gait.params().steps, gait.checkpoint_count()), (10_000, 99));
-    /// let flight = gait.replay::<f32>()?.fly(Replay::step)?;
-    /// let error = gait.params().terminal_error(&flight.end);
-    /// assert!(error.alpha < 1e-6 && error.g < 1e-6);
-    /// # Ok::<(), purcell_core::Error>(())
-    /// ```
-    ///
-    /// Reads version [`VERSION`] and version 1 (no `α_max`, no arcs).
-    ///
-    /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
-    /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
-    /// [`Error::GaitLayout`] (sections, or an arc record's padding), then the values as
-    /// [`check`] does ([`Error::NonFinite`], [`Error::InvalidParameters`],
-    /// [`Error::InvalidStep`], [`Error::ShapeLimit`], [`Error::JointLimit`],
-    /// [`Error::ArcInvalid`], [`Error::ArcOrder`], [`Error::NotRotation`],
-    /// [`Error::CheckpointSpacing`], [`Error::ArcCheckpoint`], [`Error::ArcOffLimit`]), and
-    /// [`Error::GaitLayout`] if the `f32` table is not the `f64` one rounded to nearest.
-    pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, Error> {
-        if bytes.first_chunk() != Some(&MAGIC) {
-            return Err(Error::GaitMagic);
-        }
-        let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
-        let version = header.u16().map_err(|_| Error::GaitLength)?;
-        if !matches!(version, 1 | VERSION) {
-            return Err(Error::GaitVersion(version));
-        }
-        let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
-        let len = header.usize().map_err(|_| Error::GaitLength)?;
-        if len != bytes.len() || len < HEADER_LEN + CRC_LEN {
-            return Err(Error::GaitLength);
-        }
-        let (body, crc) = bytes
-            .split_last_chunk::<CRC_LEN>()
-            .ok_or(Error::GaitLength)?;
-        let crc = u32::from_le_bytes(*crc);
-        if crc32(body) != crc {
-            return Err(Error::GaitChecksum);
-        }
+/// The sections of a file, found through its directory.
+struct Sections<'a> {
+    params: &'a [u8],
+    arcs: &'a [u8],
+    t64: &'a [u8],
+    t32: &'a [u8],
+    /// Checkpoints in each table.
+    count: usize,
+    tracking: &'a [u8],
+}
 
-        // The directory: each section after the previous one, inside the body.
+impl<'a> Sections<'a> {
+    /// Reads the directory of `sections` entries of a file of `version` (`body`: the file
+    /// without its CRC): each section after the previous one, inside the body, with a known
+    /// tag and record size, each once, the two checkpoint tables of one count; else
+    /// [`Error::GaitLayout`].
+    fn read(body: &'a [u8], sections: usize, version: u16) -> Result<Self, Error> {
         let mut directory = Cursor(body.get(HEADER_LEN..).ok_or(Error::GaitLayout)?);
         let mut end = HEADER_LEN + sections * ENTRY_LEN;
         let (mut params, mut table64, mut table32) = (None, None, None);
         // Version 1 has no arc table: read as an empty one.
         let mut arcs = (version == 1).then_some((&[][..], 0));
+        // Only version 3 has a tracking table: read as an empty one before.
+        let mut tracking = (version != VERSION_TRACKING).then_some((&[][..], 0));
         for _ in 0..sections {
             let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
             let (count, size) = (directory.usize()?, directory.usize()?);
@@ -160,20 +133,86 @@ impl<'a> Gait<'a> {
                 (ARCS_TAG, arc::RECORD_LEN) if version != 1 => &mut arcs,
                 (CK64_TAG, s) if s == record_len(8) => &mut table64,
                 (CK32_TAG, s) if s == record_len(4) => &mut table32,
+                (TRACKING_TAG, TRACKING_RECORD_LEN) if version == VERSION_TRACKING => &mut tracking,
                 _ => return Err(Error::GaitLayout),
             };
             if slot.replace((data, count)).is_some() {
                 return Err(Error::GaitLayout);
             }
         }
-        let (Some((params, _)), Some((arcs, _)), Some((t64, count)), Some((t32, count32))) =
-            (params, arcs, table64, table32)
-        else {
-            return Err(Error::GaitLayout);
-        };
-        if count != count32 {
-            return Err(Error::GaitLayout);
+        match (params, arcs, table64, table32, tracking) {
+            (
+                Some((params, _)),
+                Some((arcs, _)),
+                Some((t64, count)),
+                Some((t32, count32)),
+                Some((tracking, _)),
+            ) if count == count32 => Ok(Sections {
+                params,
+                arcs,
+                t64,
+                t32,
+                count,
+                tracking,
+            }),
+            _ => Err(Error::GaitLayout),
         }
+    }
+}
+
+impl<'a> Gait<'a> {
+    /// Reads and validates a gait file in place (the checkpoint tables stay in `bytes`).
+    ///
+    /// ```
+    /// use purcell_core::{Gait, Replay};
+    ///
+    /// // In firmware: `static GAIT: &[u8] = include_bytes!("gait.bin");`
+    /// static GAIT: &[u8] = include_bytes!("../../examples/paper.gait");
+    /// let gait = Gait::from_bytes(GAIT)?;
+    /// assert_eq!((gait.params().steps, gait.checkpoint_count()), (10_000, 99));
+    /// let flight = gait.replay::<f32>()?.fly(Replay::step)?;
+    /// let error = gait.params().terminal_error(&flight.end);
+    /// assert!(error.alpha < 1e-6 && error.g < 1e-6);
+    /// # Ok::<(), purcell_core::Error>(())
+    /// ```
+    ///
+    /// Reads version [`VERSION`], version 1 (no `α_max`, no arcs) and version
+    /// [`VERSION_TRACKING`] (with a tracking table).
+    ///
+    /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
+    /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
+    /// [`Error::GaitLayout`] (sections, or an arc record's padding), then the values as
+    /// [`check`] does ([`Error::NonFinite`], [`Error::InvalidParameters`],
+    /// [`Error::InvalidStep`], [`Error::ShapeLimit`], [`Error::JointLimit`],
+    /// [`Error::ArcInvalid`], [`Error::ArcOrder`], [`Error::NotRotation`],
+    /// [`Error::CheckpointSpacing`], [`Error::ArcCheckpoint`], [`Error::ArcOffLimit`]), and
+    /// [`Error::GaitLayout`] if the `f32` table is not the `f64` one rounded to nearest; then
+    /// the tracking table's indices ([`Error::GaitLayout`]: `k_0 = 0`, increasing, below `N`)
+    /// and values ([`Error::NonFinite`]).
+    pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, Error> {
+        if bytes.first_chunk() != Some(&MAGIC) {
+            return Err(Error::GaitMagic);
+        }
+        let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
+        let version = header.u16().map_err(|_| Error::GaitLength)?;
+        if !matches!(version, 1 | VERSION | VERSION_TRACKING) {
+            return Err(Error::GaitVersion(version));
+        }
+        let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
+        let len = header.usize().map_err(|_| Error::GaitLength)?;
+        if len != bytes.len() || len < HEADER_LEN + CRC_LEN {
+            return Err(Error::GaitLength);
+        }
+        let (body, crc) = bytes
+            .split_last_chunk::<CRC_LEN>()
+            .ok_or(Error::GaitLength)?;
+        let crc = u32::from_le_bytes(*crc);
+        if crc32(body) != crc {
+            return Err(Error::GaitChecksum);
+        }
+
+        let found = Sections::read(body, sections, version)?;
+        let (arcs, count) = (found.arcs, found.count);
         // The arc records' padding is zero.
         let padded = arcs
             .chunks_exact(arc::RECORD_LEN)
@@ -181,13 +220,14 @@ impl<'a> Gait<'a> {
         if !padded {
             return Err(Error::GaitLayout);
         }
-        let params = Cursor(params).params(version)?;
+        let params = Cursor(found.params).params(version)?;
         let gait = Gait {
             params,
             count,
-            table64: Table::new(t64),
-            table32: Table::new(t32),
+            table64: Table::new(found.t64),
+            table32: Table::new(found.t32),
             arcs,
+            tracking: found.tracking,
             crc,
         };
         check(&params, gait.checkpoints(), gait.arcs())?;
@@ -205,6 +245,9 @@ impl<'a> Gait<'a> {
             if pad != Some(&[0; 4]) || k32 != k || !rounded {
                 return Err(Error::GaitLayout);
             }
+        }
+        if version == VERSION_TRACKING {
+            check_tracking(TrackingTable::new(gait.tracking).iter(), params.steps)?;
         }
         Ok(gait)
     }
@@ -232,6 +275,12 @@ impl<'a> Gait<'a> {
     /// Number of arcs.
     pub fn arc_count(&self) -> usize {
         self.arcs.len() / arc::RECORD_LEN
+    }
+
+    /// The tracking table (version 3), read in place; `None` for a gait without one.
+    pub fn tracking(&self) -> Option<TrackingTable<'a>> {
+        let table = TrackingTable::new(self.tracking);
+        (!table.is_empty()).then_some(table)
     }
 
     /// The file's CRC-32 (its last four bytes): a name for this gait in logs.

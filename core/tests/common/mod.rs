@@ -7,7 +7,7 @@ pub use purcell_core::testkit::strategies::*;
 pub use purcell_core::testkit::*;
 
 use nalgebra::Vector2;
-use purcell_core::gait::GaitParams;
+use purcell_core::gait::{GaitParams, Model};
 use purcell_core::{Arc, Checkpoint, Costate, Error, Flight, Real, Replay, Se2, State};
 
 /// Largest magnitude of the translation of a motion, at least 1 (a scale for tolerances).
@@ -75,4 +75,25 @@ pub fn replay_in_memory<'a, T: Real>(
 /// or its steps fail.
 pub fn fly<T: Real>(replay: Result<Replay<'_, T>, Error>) -> Result<Flight<T>, Error> {
     replay?.fly(Replay::step)
+}
+
+/// A gait of the paper's swimmer (unit links, `k = 1`, `r = 2`) with `h = 0.01` from `ᾱ = 0`,
+/// checkpoints every 100 steps, no joint limit: the parameters the gaits of these tests share
+/// (each sets its own horizon, target and costate).
+pub fn paper_gait(steps: u32, target: [f64; 3], mu: [f64; 3], xi0: [f64; 2]) -> GaitParams {
+    GaitParams {
+        model: Model {
+            links: [1.0; 3],
+            drag: 1.0,
+            ratio: 2.0,
+        },
+        h: 0.01,
+        steps,
+        alpha0: [0.0, 0.0],
+        target,
+        mu,
+        xi0,
+        checkpoint_every: 100,
+        alpha_max: None,
+    }
 }

@@ -78,16 +78,6 @@ impl From<Error> for Failure {
     }
 }
 
-/// Starts the SysTick free-running over its 24 bits, without interrupts.
-fn start_systick(cp: &mut cortex_m::Peripherals) {
-    use cortex_m::peripheral::syst::SystClkSource;
-    cp.SYST.set_clock_source(SystClkSource::Core);
-    cp.SYST.set_reload(0x00FF_FFFF);
-    cp.SYST.clear_current();
-    cp.SYST.disable_interrupt();
-    cp.SYST.enable_counter();
-}
-
 /// Measures `f` on `input` (both passed through `black_box` inside the measured span, so the
 /// compiler can neither hoist nor sink the work), net of `base`.
 #[inline(always)]
@@ -161,7 +151,7 @@ fn step_stack_bytes(gait: &Gait<'_>) -> Result<u32, Failure> {
 
 fn run() -> Result<(), Failure> {
     let mut cp = cortex_m::Peripherals::take().ok_or(Failure::Peripherals)?;
-    start_systick(&mut cp);
+    purcell_mcu::start_systick(&mut cp.SYST);
     let base = purcell_fly::overhead::<Systick>();
     self_test(base)?;
     defmt::println!("board_tag: {=[u8]:a}", black_box(&PURCELL_BOARD)[..]);

@@ -8,7 +8,7 @@
 #[cfg(target_os = "none")]
 mod mcu;
 #[cfg(target_os = "none")]
-pub use mcu::Systick;
+pub use mcu::{Systick, start_systick};
 
 /// `-icount shift=6`: one instruction is `2⁶ ns` of virtual time, the MPS2 SysTick counts at
 /// 25 MHz (40 ns), so it advances `64/40 = 8/5` ticks per instruction.

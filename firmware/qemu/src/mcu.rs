@@ -28,6 +28,16 @@ impl Counter for Systick {
     }
 }
 
+/// Starts the SysTick free-running over its 24 bits, without interrupts.
+pub fn start_systick(syst: &mut cortex_m::peripheral::SYST) {
+    use cortex_m::peripheral::syst::SystClkSource;
+    syst.set_clock_source(SystClkSource::Core);
+    syst.set_reload(0x00FF_FFFF);
+    syst.clear_current();
+    syst.disable_interrupt();
+    syst.enable_counter();
+}
+
 /// Set by the first fault or panic: a second one exits at once without logging (the logger
 /// may be what failed).
 static FAILING: AtomicBool = AtomicBool::new(false);

@@ -126,19 +126,7 @@ pub fn trace<T: Stored + Display + Default>(gait: &Gait<'_>, checkpoints: bool) 
 /// and the costates `ξ^{k−1}` (`k = 0..=N`), e.g. to start the solver from a stored extremal.
 pub fn trajectory(file: &CostateFile) -> Result<Trajectory, purcell_core::Error> {
     let bytes = file.to_gait()?;
-    let gait = Gait::from_bytes(&bytes)?;
-    let mut replay = gait.replay::<f64>()?;
-    let mut t = Trajectory {
-        xis: vec![gait.params().costate::<f64>().xi],
-        ..Trajectory::default()
-    };
-    while let Some(sample) = replay.step()? {
-        t.states.push(sample.state);
-        t.controls.push(sample.u);
-        t.xis.push(*replay.xi());
-    }
-    t.states.push(*replay.state());
-    Ok(t)
+    purcell_solver::tracking::nominal(&Gait::from_bytes(&bytes)?)
 }
 
 /// The states `(α_k, g_k)` of the `f64` replay of `file` (with its checkpoints) at every

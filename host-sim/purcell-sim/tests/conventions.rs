@@ -162,6 +162,7 @@ fn every_help_lists_the_exit_codes() {
         "connection",
         "sweep",
         "field",
+        "robustness",
         "completions",
         "man",
     ] {

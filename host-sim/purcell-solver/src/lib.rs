@@ -4,7 +4,8 @@
 //! [`problem`] holds the validated inputs; [`solver`] finds the cheapest admissible extremal
 //! (global search on a coarse grid, Newton–SQP with a Riccati step on the problem's own grid,
 //! joint limits as state constraints, the costate from the multipliers, certificates through
-//! the core); [`curvature`] is the curvature of the connection over the shape plane; [`dual`]
+//! the core); [`tracking`] the gait under model error (a mismatched plant, open and closed
+//! loop, the tracking gains); [`curvature`] is the curvature of the connection over the shape plane; [`dual`]
 //! dual numbers for exact derivatives. With the `test-kit` feature, `testkit` holds what the
 //! test crates share (a small problem, the checks of a returned extremal).
 //!
@@ -35,3 +36,4 @@ pub mod problem;
 pub mod solver;
 #[cfg(feature = "test-kit")]
 pub mod testkit;
+pub mod tracking;

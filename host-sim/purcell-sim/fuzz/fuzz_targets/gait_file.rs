@@ -4,9 +4,9 @@
 //! with its length field and checksum rewritten, so that mutations reach past the CRC.
 #![no_main]
 
-use purcell_solver::problem::{Problem, check_gait_precision};
 use libfuzzer_sys::fuzz_target;
 use purcell_core::{Gait, gait};
+use purcell_solver::problem::{Problem, check_gait_precision};
 
 fuzz_target!(|data: &[u8]| {
     read(data);
@@ -28,12 +28,24 @@ fn read(bytes: &[u8]) {
     // Encoded again (the current version, no gaps): the same numbers.
     let checkpoints: Vec<_> = gait.checkpoints().collect();
     let arcs: Vec<_> = gait.arcs().collect();
-    let mut again = vec![0; gait::encoded_len(checkpoints.len(), arcs.len())];
-    gait::encode(gait.params(), &checkpoints, &arcs, &mut again).expect("an accepted gait encodes");
+    let tracking: Vec<_> = gait.tracking().iter().flat_map(|t| t.iter()).collect();
+    let mut again =
+        vec![0; gait::encoded_len_with_tracking(checkpoints.len(), arcs.len(), tracking.len())];
+    gait::encode_with_tracking(gait.params(), &checkpoints, &arcs, &tracking, &mut again)
+        .expect("an accepted gait encodes");
     let back = Gait::from_bytes(&again).expect("its encoding decodes");
     assert_eq!(back.params(), gait.params());
     assert!(back.checkpoints().eq(checkpoints.iter().copied()));
     assert!(back.arcs().eq(arcs.iter().copied()));
+    let bits = |t: Vec<(u32, [f32; 18])>| {
+        t.into_iter()
+            .map(|(k, r)| (k, r.map(f32::to_bits)))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        bits(back.tracking().iter().flat_map(|t| t.iter()).collect()),
+        bits(tracking)
+    );
     let params = gait.params();
     if Problem::of_gait(params).is_err()
         || check_gait_precision::<f32>(params, gait.checkpoints(), "f32").is_err()

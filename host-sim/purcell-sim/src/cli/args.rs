@@ -5,6 +5,7 @@ use super::units;
 use crate::costate_file::CostateFile;
 use crate::{input, output};
 use clap::Args;
+use purcell_core::Gait;
 use purcell_solver::problem::{Problem, Spec};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -252,4 +253,15 @@ pub(super) fn read_gait(path: &Path) -> Result<Vec<u8>, Failure> {
         ));
     }
     Ok(bytes)
+}
+
+/// The numbers of the binary gait file `path`, as a costate file (exit 2 if it is none).
+pub(super) fn costate_of_gait(path: &Path) -> Result<CostateFile, Failure> {
+    let bytes = read_gait(path)?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    Ok(CostateFile::new(
+        *gait.params(),
+        gait.arcs().collect(),
+        gait.checkpoints().collect(),
+    ))
 }

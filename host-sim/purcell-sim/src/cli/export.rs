@@ -5,7 +5,8 @@ use super::args::{Failure, fail, output_failure, read_costate, read_gait};
 use super::replay::check_stored;
 use crate::output::{self, OutputFile, c_array};
 use clap::{Args, ValueEnum};
-use purcell_core::Gait;
+use purcell_core::{Gait, gait};
+use purcell_solver::tracking::{self, Design, joint_bound};
 use std::path::{Path, PathBuf};
 
 /// What `export` writes.
@@ -39,6 +40,10 @@ pub struct ExportArgs {
     /// Replace --out (and its .h) even if it holds something else (never an input).
     #[arg(long)]
     pub force: bool,
+    /// Add the gait's tracking table (a version-3 file, docs/GAIT.md): the gains of the
+    /// closed loop, computed with the design of `robustness`'s defaults, in f32.
+    #[arg(long)]
+    pub tracking: bool,
 }
 
 /// Whether `bytes` are a gait file (its magic), by which `export --out` recognises its own.
@@ -72,6 +77,30 @@ fn c_outputs(out: &Path, about: &str, bytes: &[u8]) -> Result<Outputs, Failure> 
     ])
 }
 
+/// `gait`'s file with its tracking table ([`Design`]'s defaults, the joints' bound of its
+/// `α_max`), computed along its `f64` replay.
+fn with_tracking(gait: &Gait<'_>) -> Result<Vec<u8>, purcell_core::Error> {
+    let p = gait.params();
+    let design = Design {
+        bound: joint_bound(p.alpha_max),
+        ..Design::default()
+    };
+    let nominal = tracking::nominal(gait)?;
+    let t = tracking::table(
+        &p.kinematics()?,
+        &nominal.states,
+        &nominal.controls,
+        &design,
+    )?;
+    let records = t.to_f32();
+    let (checkpoints, arcs): (Vec<_>, Vec<_>) =
+        (gait.checkpoints().collect(), gait.arcs().collect());
+    let mut out =
+        vec![0; gait::encoded_len_with_tracking(checkpoints.len(), arcs.len(), records.len())];
+    gait::encode_with_tracking(p, &checkpoints, &arcs, &records, &mut out)?;
+    Ok(out)
+}
+
 /// `export`: reads and checks the costate file (or gait file), writes its gait; a line naming
 /// what it wrote.
 pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
@@ -85,11 +114,16 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
         (None, Some(path)) => (path, read_gait(path)?),
         (None, None) => return Err(fail(2, "export needs --costate or --gait")),
     };
-    let gait =
-        Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", input.display())))?;
+    let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", input.display()));
+    let mut bytes = bytes;
+    if a.tracking {
+        bytes = with_tracking(&Gait::from_bytes(&bytes).map_err(|e| refused(&e))?)
+            .map_err(|e| refused(&format!("tracking table: {e}")))?;
+    }
+    let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     // The gait is for the f32 firmware.
     check_stored(input, &gait, true)?;
-    let about = format!(
+    let mut about = format!(
         "{} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={}",
         bytes.len(),
         gait.crc(),
@@ -97,6 +131,9 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
         gait.checkpoint_count(),
         gait.arc_count()
     );
+    if let Some(t) = gait.tracking() {
+        about += &format!(", tracking records={}", t.len());
+    }
     let outputs = match a.format {
         Format::Gait => vec![(a.out.clone(), bytes, is_gait_file as fn(&[u8]) -> bool)],
         Format::C => c_outputs(&a.out, &about, &bytes)?,

@@ -1,11 +1,12 @@
 //! `field`: the curvature of the connection over the shape plane (MODEL.md §8), for a
 //! swimmer or under a stored gait (a costate file or a binary gait file).
 
-use super::args::{Failure, ModelArgs, OutDirArgs, fail, output_failure, read_costate, read_gait};
-use crate::costate_file::CostateFile;
+use super::args::{
+    Failure, ModelArgs, OutDirArgs, costate_of_gait, fail, output_failure, read_costate,
+};
 use crate::{plots, replay};
 use clap::{Args, ValueEnum};
-use purcell_core::{Arc, Gait};
+use purcell_core::Arc;
 use purcell_solver::problem::{Problem, Spec};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -43,17 +44,6 @@ pub struct FieldArgs {
     /// The output directory.
     #[command(flatten)]
     pub output: OutDirArgs,
-}
-
-/// The numbers of the binary gait file `path`, as a costate file (exit 2 if it is none).
-fn costate_of_gait(path: &Path) -> Result<CostateFile, Failure> {
-    let bytes = read_gait(path)?;
-    let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-    Ok(CostateFile::new(
-        *gait.params(),
-        gait.arcs().collect(),
-        gait.checkpoints().collect(),
-    ))
 }
 
 /// `field`: the swimmer (and gait) of the flags, its figures written; the files as printed.

@@ -1,9 +1,10 @@
 //! The `purcell-sim` command line (clap), one module per subcommand: [`solve`] (the optimal
 //! gait of one target), [`replay`] (a gait through the core, as firmware flies it),
-//! [`export`] (the binary gait file, or its bytes as C source), [`connection`] (the local
-//! connection as JSON), [`sweep`] (a lattice of targets by continuation), [`field`] (the
-//! connection's curvature) and [`docs`] (shell completions and the manual page); [`args`]
-//! holds the flags, checks and errors they share, `summary` what `solve` and `sweep` print.
+//! [`robustness`] (a gait through a mismatched plant, open and closed loop), [`export`] (the
+//! binary gait file, or its bytes as C source), [`connection`] (the local connection as JSON),
+//! [`sweep`] (a lattice of targets by continuation), [`field`] (the connection's curvature)
+//! and [`docs`] (shell completions and the manual page); [`args`] holds the flags, checks and
+//! errors they share, `summary` what `solve` and `sweep` print.
 
 pub mod args;
 pub mod connection;
@@ -11,6 +12,7 @@ pub mod docs;
 pub mod export;
 pub mod field;
 pub mod replay;
+pub mod robustness;
 pub mod solve;
 mod summary;
 pub mod sweep;
@@ -58,6 +60,11 @@ pub enum Command {
     /// terminal error against the target and alpha0.
     #[command(after_help = args::EXIT_CODES)]
     Replay(replay::ReplayArgs),
+    /// Fly a gait through a plant whose drag ratio, drag coefficient and link lengths differ
+    /// from the model's, with noisy measurements: print the terminal errors of the open-loop
+    /// flight (the law's controls) and of the closed-loop one (the tracking law).
+    #[command(after_help = args::EXIT_CODES)]
+    Robustness(robustness::RobustnessArgs),
     /// Write the binary gait file of a costate file, for `include_bytes!` in firmware, or
     /// (--format c) its bytes as a C array for the C API's purcell_flight_open.
     #[command(after_help = args::EXIT_CODES)]
@@ -121,6 +128,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
     let result = match cli.command {
         Command::Solve(a) => solve::run_solve(a, quiet),
         Command::Replay(a) => replay::run_replay(a),
+        Command::Robustness(a) => robustness::run_robustness(a),
         Command::Export(a) => export::run_export(a),
         Command::Connection(a) => connection::run_connection(a),
         Command::Sweep(a) => sweep::run_sweep(a, quiet),

@@ -5,7 +5,7 @@
 //! the curvature field alone (what `field` writes). Figure kinds: panels over time
 //! ([`time`]), equal-aspect planes ([`plane`]), the field over the shape plane ([`field`]);
 //! the figures of a gait are built in [`gait`], the replay-error figure in
-//! [`replay_error`]; [`sweep_files`] the atlas of a sweep ([`sweep`]).
+//! [`replay_error`], the pose error of a mismatched plant in [`robustness`]; [`sweep_files`] the atlas of a sweep ([`sweep`]).
 //!
 //! Angles are in radians, or degrees with [`Options::degrees`]; lengths in metres, time in
 //! seconds; costates and the curvature always in SI (per radian).
@@ -22,6 +22,7 @@ pub mod gait;
 pub mod plane;
 pub mod render;
 pub mod replay_error;
+pub mod robustness;
 pub mod style;
 pub mod sweep;
 pub mod time;

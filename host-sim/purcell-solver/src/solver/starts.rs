@@ -269,12 +269,10 @@ pub fn family(
     // A deterministic mix (splitmix64 of the seed and the index) of everything but the
     // axis-aligned ellipses.
     let mix = |i: u64| {
-        let mut z = seed
-            .wrapping_add(i.wrapping_mul(0x9E37_79B9_7F4A_7C15))
-            .wrapping_add(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        splitmix64(
+            seed.wrapping_add(i.wrapping_mul(GOLDEN_GAMMA))
+                .wrapping_add(GOLDEN_GAMMA),
+        )
     };
     let mixed = |list: Vec<StartLoop>, salt: u64| {
         let mut keyed: Vec<(u64, StartLoop)> = list
@@ -298,6 +296,17 @@ pub fn family(
     }
     out.truncate(count);
     out
+}
+
+/// The increment of SplitMix64's state: `2⁶⁴/φ`, odd.
+pub const GOLDEN_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// SplitMix64's output mix of a state `z` (Steele, Lea, Flood 2014): the seeded draws of the
+/// starts here and of the measurement noise in [`crate::tracking`].
+pub fn splitmix64(z: u64) -> u64 {
+    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
 }
 
 #[cfg(test)]
