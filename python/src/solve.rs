@@ -118,6 +118,16 @@ pub fn solve(
         );
         warn(py, message)?;
     }
+    // Cheapest first, as the search's minima: one warning, for the cheapest.
+    let unrefined = found.search.iter().flat_map(|e| &e.unrefined);
+    let cheaper: Vec<_> = unrefined.filter(|u| u.cheaper).collect();
+    if let Some(u) = cheaper.first() {
+        let n = cheaper.len();
+        warn(
+            py,
+            format!("{u} ({n} such minima): try another seed or more starts"),
+        )?;
+    }
     solution::build(py, &problem, &found, every, seconds)
 }
 

@@ -2,11 +2,13 @@
 //! suite) and on the paper's problem: cost at or below the reference, residuals, the
 //! certificates, and the costate file landing on the target.
 
+use nalgebra::Vector2;
 use purcell_core::{OnArcs, Real};
 use purcell_sim::output;
 use purcell_sim::replay;
 use purcell_sim::suite::{SuiteProblem, read_suite};
 use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::refinement::refine_candidates;
 use purcell_solver::solver::settings::{LAW_TOL, PRUNE};
 use purcell_solver::solver::{
     Extremal, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
@@ -202,20 +204,85 @@ fn tight_limits_solve() {
     }
 }
 
+/// A short global search (32 starts) on the paper's problem.
+fn paper_search() -> search::Search {
+    let p = Problem::paper();
+    let grid = coarse_grid(&p, &SolveOptions::default()).unwrap();
+    search::search(&grid, 32, 32, 0, None, &|a| p.admits(a), &|| {})
+}
+
 /// A refinement bounded below the candidate's cost stops on the intermediate grid
 /// ([`Stop::Dearer`]); unbounded, the same candidate reaches the problem's grid, where it
 /// costs more than the bound by more than [`PRUNE`] allows for the intermediate grid's error.
 #[test]
 fn a_refinement_stops_early_once_dearer_than_the_bound() {
     let p = Problem::paper();
-    let options = SolveOptions::default();
-    let grid = coarse_grid(&p, &options).unwrap();
-    let found = search::search(&grid, 32, 32, 0, None, &|a| p.admits(a), &|| {});
+    let found = paper_search();
     let c = &found.candidates[0];
     let bound = 0.9 * c.cost;
     assert_eq!(refine(&p, &c.u, &c.nu, bound).err(), Some(Stop::Dearer));
     let (fine, run) = refine(&p, &c.u, &c.nu, f64::INFINITY).unwrap();
     assert!(fine.cost(&run.point.u) > bound * (1.0 + PRUNE));
+}
+
+/// A looser joint limit never costs more. On the paper's target from 2.443 rad through 140°
+/// (2.443461 rad) to 2.45 rad the cost returned does not rise, and no minimum of the coarse
+/// search cheaper than the returned one's is left unrefined. At 140° the cheapest gait's
+/// barrier path on the 1 024-step grid stalls at its last weight; the refinement dropped it
+/// and returned a gait 1.8 % dearer than at 2.443 until it went on from the weight before.
+#[test]
+fn a_looser_joint_limit_never_costs_more() {
+    let mut dearest = f64::INFINITY;
+    for limit in [2.443, 140f64.to_radians(), 2.444, 2.45] {
+        let spec = Spec {
+            alpha_max: Some(limit),
+            ..Spec::default()
+        };
+        let p = Problem::new(&spec).unwrap();
+        let s = solve(&p, &SolveOptions::default(), &|| {}).unwrap();
+        let cost = s.extremals[s.best].cost;
+        assert!(cost <= dearest, "{limit}: {cost} above {dearest}");
+        let unrefined = s.search.unwrap().unrefined;
+        assert!(
+            unrefined.iter().all(|u| !u.cheaper),
+            "{limit}: {unrefined:?}"
+        );
+        dearest = cost;
+    }
+}
+
+/// A candidate whose refinement fails is reported, not dropped silently: before a minimum of
+/// the paper's coarse search, a made-up cheaper one (the zero loop, from which Newton stops
+/// at once) is reported as unrefined and cheaper than the minimum the extremal returned was
+/// refined from.
+#[test]
+fn a_candidate_that_fails_to_refine_is_reported() {
+    let p = Problem::paper();
+    let found = paper_search();
+    let admissible = |c: &&search::Candidate| c.max_abs_alpha < 3.0;
+    let real = found.candidates.iter().find(admissible).unwrap().clone();
+    let zero = search::Candidate {
+        u: vec![Vector2::zeros(); real.u.len()],
+        cost: 0.5 * real.cost,
+        ..real.clone()
+    };
+    let (best, extremals, unrefined) = refine_candidates(
+        &p,
+        &[zero, real.clone()],
+        &SolveOptions::default(),
+        f64::INFINITY,
+    )
+    .unwrap();
+    assert_eq!(extremals.len(), 1);
+    assert!(extremals[best].admissible);
+    assert_eq!(unrefined.len(), 1, "{unrefined:?}");
+    assert_eq!(unrefined[0].minimum.cost, 0.5 * real.cost);
+    assert!(unrefined[0].cheaper);
+    assert!(
+        unrefined[0].to_string().contains("cheaper"),
+        "{}",
+        unrefined[0]
+    );
 }
 
 #[test]

@@ -16,7 +16,9 @@ use clap::Args;
 use purcell_core::{Arc, Gait};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation;
-use purcell_solver::solver::{Evidence, Extremal, Solution, SolveError, SolveOptions, solve};
+use purcell_solver::solver::{
+    Evidence, Extremal, Minimum, Solution, SolveError, SolveOptions, solve,
+};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -132,6 +134,19 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
                  the gait returned: {:.3}); this is the cheapest gait found: raise --starts to \
                  search on",
                 e.budget, e.unseen
+            ),
+        );
+    }
+    // Cheapest first, as the search's minima: one warning, for the cheapest.
+    let unrefined = solution.search.iter().flat_map(|e| &e.unrefined);
+    let cheaper: Vec<_> = unrefined.filter(|u| u.cheaper).collect();
+    if let Some(u) = cheaper.first() {
+        warn(
+            quiet,
+            format_args!(
+                "{u} ({} such minima in report.json's search.unrefined): try another --seed \
+                 or --starts",
+                cheaper.len()
             ),
         );
     }
@@ -346,10 +361,19 @@ fn evidence_json(e: &Evidence) -> serde_json::Value {
         "starts": e.starts, "budget": e.budget, "rule_met": e.satisfied,
         "unseen_estimate": e.unseen, "expected_minima": finite(e.expected_minima),
         "distinct_minima": e.minima.len(),
-        "minima": e.minima.iter().map(|m| json!({
-            "cost": m.cost, "max_abs_alpha": m.max_abs_alpha, "hits": m.hits,
-        })).collect::<Vec<_>>(),
+        "minima": e.minima.iter().map(minimum_json).collect::<Vec<_>>(),
+        "unrefined": e.unrefined.iter().map(|u| {
+            let mut m = minimum_json(&u.minimum);
+            m["defect"] = json!(finite(u.defect));
+            m["cheaper"] = json!(u.cheaper);
+            m
+        }).collect::<Vec<_>>(),
     })
+}
+
+/// A minimum of the coarse search in `report.json`.
+fn minimum_json(m: &Minimum) -> serde_json::Value {
+    json!({"cost": m.cost, "max_abs_alpha": m.max_abs_alpha, "hits": m.hits})
 }
 
 /// Joint-limit arcs in `report.json`, as the costate file stores them (`purcell_core::Arc`:

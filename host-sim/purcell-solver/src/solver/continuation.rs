@@ -380,7 +380,7 @@ pub fn refine_target(
     let mut candidates = [own, brought].concat();
     candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     refine_candidates(problem, &candidates, options, residual)
-        .map(|(best, mut extremals)| extremals.swap_remove(best))
+        .map(|(best, mut extremals, _)| extremals.swap_remove(best))
 }
 
 /// A sweep's targets with their problems, coarse grids and symmetric images: [`sweep`]'s

@@ -70,7 +70,7 @@ pub fn clip_into(
 }
 
 /// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last;
-/// the run at the last weight.
+/// the run at the last weight (or at the first that did not converge).
 pub fn barrier_path(
     grid: &Grid,
     alpha_max: f64,
@@ -78,20 +78,44 @@ pub fn barrier_path(
     start: Point,
     settings: &Settings,
 ) -> Result<Run, Error> {
+    walk(grid, alpha_max, taus, start, settings).map(|w| w.run)
+}
+
+/// Where a barrier path ended ([`walk`]).
+#[derive(Clone, Debug)]
+pub struct Walk {
+    /// The run at the last weight tried: the path's end if it converged.
+    pub run: Run,
+    /// If `run` did not converge: the index in the path of the last weight that did, and its
+    /// run (`None` if the first weight did not).
+    pub reached: Option<(usize, Run)>,
+}
+
+/// [`barrier_path`], keeping the run at the last weight that converged when a later one
+/// stalls (as Newton can at the smallest weights, where the barrier's Hessian `τ/d²` is
+/// largest and the line search stops on rounding).
+pub fn walk(
+    grid: &Grid,
+    alpha_max: f64,
+    taus: &[f64],
+    start: Point,
+    settings: &Settings,
+) -> Result<Walk, Error> {
     let mut g = grid.clone();
     let mut point = start;
-    let mut last = None;
-    for &tau in taus {
+    let mut reached: Option<(usize, Run)> = None;
+    for (i, &tau) in taus.iter().enumerate() {
         g.limits = Limits::Barrier { alpha_max, tau };
         let p = Point::new(&g, point.u.clone(), point.nu)?;
         let run = direct::newton(&g, p, settings)?;
         if !run.converged {
-            return Ok(run);
+            return Ok(Walk { run, reached });
         }
         point = run.point.clone();
-        last = Some(run);
+        reached = Some((i, run));
     }
-    last.ok_or(Error::NonFinite)
+    let (_, run) = reached.ok_or(Error::NonFinite)?;
+    Ok(Walk { run, reached: None })
 }
 
 /// Why [`polish`] gave up.
@@ -175,7 +199,7 @@ pub fn polish(
     Err(PolishError::Unsettled)
 }
 
-/// The refinement's barrier path on one grid: [`barrier_path`] through `taus` with
+/// The refinement's barrier path on one grid: [`walk`] through `taus` with
 /// [`Settings::barrier`] (every step stopped at the fraction to the boundary: from a
 /// prolonged coarse solution, unguarded steps pin states to the limit and Newton stalls
 /// there), the first of [`PATIENCE`] iterations per weight, then the second if that does not
@@ -185,9 +209,9 @@ pub fn patient_barrier_path(
     alpha_max: f64,
     taus: &[f64],
     start: Point,
-) -> Result<Run, Error> {
+) -> Result<Walk, Error> {
     let path = |patience| {
-        barrier_path(
+        walk(
             grid,
             alpha_max,
             taus,
@@ -195,9 +219,9 @@ pub fn patient_barrier_path(
             &Settings::barrier(patience),
         )
     };
-    let run = path(PATIENCE[0])?;
-    if run.converged {
-        Ok(run)
+    let first = path(PATIENCE[0])?;
+    if first.run.converged {
+        Ok(first)
     } else {
         path(PATIENCE[1])
     }

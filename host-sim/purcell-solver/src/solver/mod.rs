@@ -45,7 +45,7 @@ pub mod symmetry;
 
 pub use refinement::{Stop, refine};
 pub use settings::SolveOptions;
-pub use solution::{Evidence, Extremal, Minimum, Solution, SolveError, Trajectory};
+pub use solution::{Evidence, Extremal, Minimum, Solution, SolveError, Trajectory, Unrefined};
 
 use crate::problem::Problem;
 use constraints::joint_limit::Limits;
@@ -74,12 +74,12 @@ pub fn solve(
     progress: &(dyn Fn() + Sync),
 ) -> Result<Solution, SolveError> {
     let found = search_coarse(problem, options, progress)?;
-    let (best, extremals) =
+    let (best, extremals, unrefined) =
         refinement::refine_candidates(problem, &found.candidates, options, found.best_residual)?;
     Ok(Solution {
         best,
         extremals,
-        search: Some(Evidence::of(&found, options.starts)),
+        search: Some(Evidence::of(&found, options.starts, unrefined)),
     })
 }
 

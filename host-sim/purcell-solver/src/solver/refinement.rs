@@ -11,7 +11,7 @@ use super::search;
 use super::settings::{
     COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, PRUNE, Settings, SolveOptions,
 };
-use super::solution::{Extremal, SolveError};
+use super::solution::{Extremal, Minimum, SolveError, Unrefined};
 use super::{certificate, costate, symmetry};
 use crate::problem::{OVERLAP, Problem};
 use nalgebra::{Vector2, Vector5};
@@ -38,10 +38,10 @@ impl Stop {
 /// Carries controls `u` (on any grid over the same horizon) with multiplier `nu` to the
 /// problem's grid, through grids at most 16 times finer each ([`finer_grid`]), Newton
 /// converging at each. With a joint limit, the first finer grid runs the barrier path
-/// [`FINE_TAUS`] and the others only its last weight ([`limits::patient_barrier_path`]),
-/// and on the problem's grid the active-set rounds impose the limit on its arcs
-/// ([`limits::polish`]). Gives up with [`Stop::Dearer`] once an intermediate grid's cost
-/// exceeds `bound` (`f64::INFINITY`: never).
+/// [`FINE_TAUS`] and the others only its last weight ([`limits::patient_barrier_path`]; if a
+/// smaller weight stalls, the path goes on from the last weight reached), and on the
+/// problem's grid the active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with [`Stop::Dearer`] once an
+/// intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 pub fn refine(
     problem: &Problem,
     u: &[Vector2<f64>],
@@ -50,7 +50,8 @@ pub fn refine(
 ) -> Result<(Grid, Run), Stop> {
     let mut u = u.to_vec();
     let mut nu = *nu;
-    let mut walked = false;
+    // The index in FINE_TAUS of the weight at which the next grid's barrier path starts.
+    let mut from = 0;
     loop {
         let inf = |_| Stop::Defect(f64::INFINITY);
         let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
@@ -65,14 +66,9 @@ pub fn refine(
                 direct::newton(&grid, start, &settings).map_err(inf)?
             }
             Some(alpha_max) => {
-                // The path once, on the first finer grid; a later grid only its last weight.
-                let taus: &[f64] = if walked {
-                    &FINE_TAUS[FINE_TAUS.len() - 1..]
-                } else {
-                    &FINE_TAUS
-                };
-                walked = true;
-                limits::patient_barrier_path(&grid, alpha_max, taus, start).map_err(inf)?
+                let (reached, run) = barrier_stage(&grid, alpha_max, from, start)?;
+                from = reached;
+                run
             }
         };
         if !run.converged {
@@ -94,6 +90,40 @@ pub fn refine(
         u = run.point.u;
         nu = run.point.nu;
     }
+}
+
+/// A refinement's barrier path on `grid` from `start` through the weights
+/// `FINE_TAUS[from..]` ([`limits::patient_barrier_path`]): the index in [`FINE_TAUS`] of the
+/// last weight that converged, with its run. If a smaller weight stalls after it, that run
+/// all the same: the path is only there to find the arcs (the active set converges the
+/// constrained problem itself), the next grid walks on from that weight, and the problem's
+/// grid polishes from it (seen at `α_max = 140°` on the paper's target: the 1 024-step grid
+/// stalled at `τ = 1e-9` with stationarity 1.8e-6 against [`super::settings::BARRIER_TOL_KKT`],
+/// which dropped the cheapest gait). If the first weight stalls: its run, not converged.
+fn barrier_stage(
+    grid: &Grid,
+    alpha_max: f64,
+    from: usize,
+    start: Point,
+) -> Result<(usize, Run), Stop> {
+    let walk = limits::patient_barrier_path(grid, alpha_max, &FINE_TAUS[from..], start)
+        .map_err(|_| Stop::Defect(f64::INFINITY))?;
+    if walk.run.converged {
+        return Ok((FINE_TAUS.len() - 1, walk.run));
+    }
+    let Some((i, reached)) = walk.reached else {
+        return Ok((from, walk.run));
+    };
+    log::debug!(
+        "barrier path on {} steps stalled at τ = {:e} (defect {:.1e}, stationarity {:.1e}); \
+         going on from τ = {:e}",
+        grid.steps,
+        FINE_TAUS[from + i + 1],
+        walk.run.defect,
+        walk.run.kkt,
+        FINE_TAUS[from + i]
+    );
+    Ok((from + i, reached))
 }
 
 /// The next grid of a refinement from `n` steps: at most 16 times finer, with the rule that
@@ -151,23 +181,25 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 }
 
 /// Carries coarse `candidates` (cheapest first) to the fine grid: the index of the cheapest
-/// admissible fine extremal and every distinct one refined, cheapest first (see the comments
-/// for which). `best_residual` is the search's smallest defect, for the error when no
+/// admissible fine extremal, every distinct one refined, cheapest first (see the comments
+/// for which), and the candidates whose refinement failed ([`Unrefined`], each also logged
+/// at `debug`). `best_residual` is the search's smallest defect, for the error when no
 /// candidate was tried.
 pub fn refine_candidates(
     problem: &Problem,
     candidates: &[search::Candidate],
     options: &SolveOptions,
     best_residual: f64,
-) -> Result<(usize, Vec<Extremal>), SolveError> {
+) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
     let alpha_max = problem.shape_bound();
     // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
     // the coarse grid's error in `|α|`) until the cheapest admissible fine extremal is settled
     // (every remaining candidate costs more, with a margin for the coarse grid's error in
     // `J`), then the inadmissible ones cheaper than it, for the report. A candidate that
-    // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]).
-    let mut extremals: Vec<Extremal> = Vec::new();
-    let mut refine_defect = f64::INFINITY;
+    // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
+    // extremal is kept with its candidate's coarse cost.
+    let mut extremals: Vec<(Extremal, f64)> = Vec::new();
+    let mut unrefined: Vec<Unrefined> = Vec::new();
     let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
     let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
     let mut refined = 0;
@@ -175,8 +207,8 @@ pub fn refine_candidates(
         for c in list {
             let settled = extremals
                 .iter()
-                .filter(|x| x.admissible)
-                .map(|x| x.cost)
+                .filter(|(x, _)| x.admissible)
+                .map(|(x, _)| x.cost)
                 .fold(f64::INFINITY, f64::min);
             let margin = if pass == 0 {
                 1.0 + COARSE_COST_ERROR
@@ -190,8 +222,18 @@ pub fn refine_candidates(
             let (fine, run) = match refine(problem, &c.u, &c.nu, settled * (1.0 + PRUNE)) {
                 Ok(r) => r,
                 Err(stop) => {
-                    if let Stop::Defect(d) = stop {
-                        refine_defect = refine_defect.min(d);
+                    log::debug!(
+                        "candidate of coarse J {:.7} ({} hits, max |α| {:.4}) not refined: {stop:?}",
+                        c.cost,
+                        c.hits,
+                        c.max_abs_alpha
+                    );
+                    if let Stop::Defect(defect) = stop {
+                        unrefined.push(Unrefined {
+                            minimum: Minimum::of(c),
+                            defect,
+                            cheaper: false,
+                        });
                     }
                     continue;
                 }
@@ -199,10 +241,10 @@ pub fn refine_candidates(
             let mut x = extremal(problem, &fine, &run);
             x.start = c.start;
             x.hits = c.hits;
-            if !extremals.iter().any(|o| {
+            if !extremals.iter().any(|(o, _)| {
                 search::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
             }) {
-                extremals.push(x);
+                extremals.push((x, c.cost));
             }
         }
     }
@@ -212,11 +254,15 @@ pub fn refine_candidates(
         } else {
             SolveError::NotRefined {
                 found: refined,
-                best_residual: refine_defect,
+                best_residual: unrefined
+                    .iter()
+                    .map(|u| u.defect)
+                    .fold(f64::INFINITY, f64::min),
             }
         });
     }
-    extremals.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    extremals.sort_by(|a, b| a.0.cost.total_cmp(&b.0.cost));
+    let (mut extremals, coarse): (Vec<Extremal>, Vec<f64>) = extremals.into_iter().unzip();
     mark_twins(problem, &mut extremals);
     let Some(best) = extremals.iter().position(|x| x.admissible) else {
         return Err(SolveError::NoneAdmissible {
@@ -227,7 +273,10 @@ pub fn refine_candidates(
                 .fold(f64::INFINITY, f64::min),
         });
     };
-    Ok((best, extremals))
+    for u in &mut unrefined {
+        u.cheaper = u.minimum.cost < coarse[best];
+    }
+    Ok((best, extremals, unrefined))
 }
 
 /// Marks each extremal whose image under a symmetry of the problem is also in the list.

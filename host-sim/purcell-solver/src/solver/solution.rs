@@ -125,6 +125,8 @@ pub struct Evidence {
     pub expected_minima: f64,
     /// Whether the stopping rule was met within the budget.
     pub satisfied: bool,
+    /// The minima the refinement tried and could not carry to the problem's grid.
+    pub unrefined: Vec<Unrefined>,
 }
 
 /// One distinct minimum of the coarse problem.
@@ -138,24 +140,63 @@ pub struct Minimum {
     pub hits: usize,
 }
 
+/// A minimum of the coarse problem whose refinement failed: Newton did not converge on a
+/// finer grid, even from the fallbacks of [`super::refine`] (silently dropped, it may have
+/// been the cheapest gait).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Unrefined {
+    /// The coarse minimum.
+    pub minimum: Minimum,
+    /// The terminal defect where its refinement stopped (`∞`: no iterate to measure).
+    pub defect: f64,
+    /// Whether it costs less on the coarse grid than the minimum the returned extremal was
+    /// refined from: the extremal returned may then not be the cheapest.
+    pub cheaper: bool,
+}
+
+impl core::fmt::Display for Unrefined {
+    /// What a user is told of it (a warning when it is [`Unrefined::cheaper`]).
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "a minimum of the coarse search (J {:.6} on its grid, reached from {} start(s)) \
+             could not be carried to the problem's grid (Newton stopped at terminal defect \
+             {:.1e})",
+            self.minimum.cost, self.minimum.hits, self.defect
+        )?;
+        if self.cheaper {
+            write!(
+                f,
+                "; it is cheaper there than the gait returned, which may not be the cheapest"
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl Minimum {
+    /// The coarse minimum of a search's candidate.
+    pub fn of(c: &search::Candidate) -> Self {
+        Minimum {
+            cost: c.cost,
+            max_abs_alpha: c.max_abs_alpha,
+            hits: c.hits,
+        }
+    }
+}
+
 impl Evidence {
-    /// The evidence of a finished search with budget `budget`.
-    pub(super) fn of(found: &search::Search, budget: usize) -> Self {
+    /// The evidence of a finished search with budget `budget`, whose refinement left
+    /// `unrefined`.
+    pub(super) fn of(found: &search::Search, budget: usize, unrefined: Vec<Unrefined>) -> Self {
         Evidence {
             starts: found.starts,
             budget,
-            minima: found
-                .candidates
-                .iter()
-                .map(|c| Minimum {
-                    cost: c.cost,
-                    max_abs_alpha: c.max_abs_alpha,
-                    hits: c.hits,
-                })
-                .collect(),
+            minima: found.candidates.iter().map(Minimum::of).collect(),
             unseen: found.unseen,
             expected_minima: found.expected_minima(),
             satisfied: found.satisfied,
+            unrefined,
         }
     }
 }
