@@ -174,7 +174,7 @@ def main() -> None:
         horizon = report["problem"]["horizon"]
         bound = horizon / 2 * 2 * math.radians(4) ** 2
         quoted(f"(4°/s)² = {bound:.3f}", "the cost bound of the paper's rates")
-        within = solve(sim, cwd, "paper140", "--alpha-max", "2.443")
+        within = solve(sim, cwd, "paper140", "--alpha-max", "140deg")
         quoted(
             f"costs J = {within['cost']:.7f}, on {len(within['arcs'])} arcs",
             "within 140°",
