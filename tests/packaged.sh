@@ -56,8 +56,8 @@ done
 
 board=$root/firmware/board-stm32f4-discovery
 mkdir "$dir/board"
-cp -r "$board/." "$dir/board/"
-rm -rf "$dir/board/target"
+# What a user copies: the example's tracked files (not its build dir).
+(cd "$board" && git ls-files -z . | xargs -0 cp --parents -t "$dir/board")
 # The repository's path dependencies go; the packages come in through the patches above.
 sed -i -E '/^purcell-/ s/, path = "[^"]*"//' "$dir/board/Cargo.toml"
 if grep -q 'path = ' "$dir/board/Cargo.toml"; then
