@@ -154,12 +154,13 @@ impl<T: Real> Tracker<T> {
             u_nom.y + dot(&record[5..10], error) + record[11] * eps,
         );
         if let Some(l) = limit {
+            // Divides only when it clamps: the bound is tested on the next angle `a + h·u`.
             let clamp = |u: T, a: T| {
-                let (lo, hi) = ((-l - a) / h, (l - a) / h);
-                if u > hi {
-                    hi
-                } else if u < lo {
-                    lo
+                let next = a + h * u;
+                if next > l {
+                    (l - a) / h
+                } else if next < -l {
+                    (-l - a) / h
                 } else {
                     u
                 }
