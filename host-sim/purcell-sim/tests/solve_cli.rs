@@ -158,14 +158,18 @@ fn solve_from_a_stored_extremal_reaches_a_nearby_problem() {
     assert_eq!(r["problem"]["steps"].as_u64(), Some(8000));
     // Reached by continuation, not by the fall-back search.
     assert!(r["search"].is_null(), "{}", r["search"]);
-    // Another swimmer: refused before any work.
-    let o = Solve::paper()
+    // Another swimmer: the same gait continued to a drag ratio 10 % larger, by Newton.
+    let (r, _) = Solve::paper()
         .from(&costate)
-        .flag("ratio", "3")
+        .target("0.1,0,0")
+        .flag("ratio", "2.2")
+        .no_plots()
         .out(&dir.path().join("x"))
-        .run_within(MINUTE);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("another swimmer"));
+        .solved(MINUTE);
+    assert!(r["search"].is_null(), "{}", r["search"]);
+    assert_eq!(r["problem"]["ratio"].as_f64(), Some(2.2));
+    assert!(r["residual"].as_f64().unwrap() <= 1e-10);
+    assert!(r["local_min"].as_bool().unwrap());
 }
 
 /// The search's evidence in `report.json`; a budget below what the stopping rule needs is

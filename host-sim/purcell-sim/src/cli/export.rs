@@ -74,20 +74,14 @@ fn c_outputs(out: &Path, about: &str, bytes: &[u8]) -> Result<Outputs, Failure> 
 }
 
 /// `gait`'s file with its tracking table ([`Design`]'s defaults, the joints' bound of its
-/// `α_max`), computed along its `f64` replay.
+/// `α_max`; [`tracking::table_of`]).
 fn with_tracking(gait: &Gait<'_>) -> Result<Vec<u8>, purcell_core::Error> {
     let p = gait.params();
     let design = Design {
         bound: joint_bound(p.alpha_max),
         ..Design::default()
     };
-    let nominal = tracking::nominal(gait)?;
-    let t = tracking::table(
-        &p.kinematics()?,
-        &nominal.states,
-        &nominal.controls,
-        &design,
-    )?;
+    let (t, _) = tracking::table_of(gait, &design)?;
     let records = t.to_f32();
     let (checkpoints, arcs): (Vec<_>, Vec<_>) =
         (gait.checkpoints().collect(), gait.arcs().collect());

@@ -10,7 +10,8 @@ use clap::Args;
 use purcell_core::Gait;
 use purcell_core::tracking::RECORD_VALUES;
 use purcell_solver::tracking::{
-    Control, Design, Mismatch, Noise, Outcome, Table, fly, joint_bound, table,
+    Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly, joint_bound,
+    table_of,
 };
 use serde::Serialize;
 use serde_json::json;
@@ -75,6 +76,11 @@ pub struct RobustnessArgs {
     /// See --bound-weight (rad).
     #[arg(long, default_value_t = Design::default().band, allow_hyphen_values = true)]
     pub band: f64,
+    /// Take the tracking table's gain on the estimated drag-ratio error from the plant's
+    /// neighbouring extremal (the gait continued to r(1 +- 0.02); gaits without a joint limit)
+    /// instead of the LQR's own: the plant's cheapest gait to first order (docs/ROBUSTNESS.md).
+    #[arg(long)]
+    pub plan: bool,
     /// Run the law and the tracking law in f32 (the table rounded), as the Cortex-M4F would;
     /// the plant stays f64.
     #[arg(long)]
@@ -274,6 +280,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
         bound: joint_bound(file.alpha_max),
         band: a.band,
         bound_weight: a.bound_weight,
+        plan: a.plan,
     };
     for (name, v) in [
         ("pose-noise", a.pose_noise),
@@ -302,9 +309,13 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     let bytes = file.to_gait().map_err(|e| refused(&e))?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     let nominal = replay::trajectory(&file).map_err(|e| refused(&e))?;
-    let model = gait.params().kinematics::<f64>().map_err(|e| refused(&e))?;
-    let k = table(&model, &nominal.states, &nominal.controls, &design)
-        .map_err(|e| refused(&format!("tracking table: {e}")))?;
+    let (k, source) =
+        table_of(&gait, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
+    let feedforward = match &source {
+        Feedforward::Extremal => json!({ "from": "extremal" }),
+        Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
+        Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
+    };
     let nominal_cost: f64 = nominal
         .controls
         .iter()
@@ -325,7 +336,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
                     "running_alpha": design.running_alpha,
                     "every": design.every, "estimate_from": design.estimate_from,
                     "tail": design.tail, "band": design.band,
-                    "bound_weight": design.bound_weight },
+                    "bound_weight": design.bound_weight, "feedforward": feedforward },
         "table_bytes_f32": k.records.len() * RECORD_VALUES * 4,
         "cases": reports,
     });
@@ -342,7 +353,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     Ok(if a.print.json {
         json
     } else {
-        text(&file, nominal_cost, &reports)
+        text(&file, nominal_cost, &source, &reports)
     })
 }
 
@@ -391,9 +402,20 @@ fn cell(v: Option<f64>) -> String {
 }
 
 /// The summary: the gait, then a Markdown table of the cases.
-fn text(file: &CostateFile, nominal_cost: f64, reports: &[CaseReport]) -> String {
+fn text(
+    file: &CostateFile,
+    nominal_cost: f64,
+    source: &Feedforward,
+    reports: &[CaseReport],
+) -> String {
+    let feedforward = match source {
+        Feedforward::Extremal => "the plant's neighbouring extremal (--plan)".to_string(),
+        Feedforward::Lqr(PlanError::Off) => "the LQR's".to_string(),
+        Feedforward::Lqr(why) => format!("the LQR's (no plan: {why})"),
+    };
     let mut s = format!(
-        "gait: steps={} target={:?} alpha_max={} nominal cost={nominal_cost:.6}\n\n",
+        "gait: steps={} target={:?} alpha_max={} nominal cost={nominal_cost:.6}\n\
+         gain on the ratio error: {feedforward}\n\n",
         file.steps,
         file.target,
         file.alpha_max.map_or("none".into(), |a| a.to_string())

@@ -70,8 +70,9 @@ pub struct SolveArgs {
     /// flags take degrees with their own deg suffix, e.g. --alpha-max 85deg).
     #[arg(long)]
     pub degrees: bool,
-    /// Start from a stored extremal (a costate file of the same swimmer, for a nearby target,
-    /// start shape or horizon) instead of the global search.
+    /// Start from a stored extremal (a costate file for a nearby target, start shape, horizon
+    /// or swimmer: e.g. the same gait for another drag ratio) instead of the global search; if
+    /// Newton does not reach an admissible extremal from it, the global search runs.
     #[arg(long, value_name = "COSTATE_JSON")]
     pub from: Option<PathBuf>,
     /// The output directory.
@@ -222,7 +223,7 @@ fn find(a: &SolveArgs, problem: &Problem, quiet: bool) -> Result<(Solution, f64)
     let tick = || progress.tick();
     let warm = match &a.from {
         None => None,
-        Some(path) => Some(warm_start(path, problem)?),
+        Some(path) => Some(warm_start(path)?),
     };
     let t0 = Instant::now();
     let result = match &warm {
@@ -275,21 +276,13 @@ fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
     format!("try {}, or {last}", tries.join(", "))
 }
 
-/// The stored extremal of `path` as a start for `problem`: same swimmer required.
-pub fn warm_start(path: &Path, problem: &Problem) -> Result<continuation::Warm, Failure> {
+/// The stored extremal of `path` as a start for a problem (of any swimmer: the gait's
+/// neighbouring extremal for another drag ratio or other links, where Newton reaches it).
+pub fn warm_start(path: &Path) -> Result<continuation::Warm, Failure> {
     let file = read_costate(path)?;
     let stored = file
         .problem()
         .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-    if stored.swimmer != problem.swimmer {
-        return Err(fail(
-            2,
-            format!(
-                "{}: stored for another swimmer (links, drag or ratio differ); --from needs the same model",
-                path.display()
-            ),
-        ));
-    }
     let t = replay::trajectory(&file)
         .map_err(|e| fail(2, format!("{}: its replay fails ({e})", path.display())))?;
     let mu = nalgebra::Vector3::from(file.mu);

@@ -24,6 +24,7 @@
 //! its terminal state fixed (a multiplier, no terminal weight); tracking needs the feedback
 //! of a terminal penalty, the textbook recursion above.
 
+use super::plan::PlanStep;
 use crate::dual::Dual;
 use crate::solver::stage::{self, Rule, StageModel, StageState};
 use nalgebra::{Matrix2, Matrix5, Matrix5x2, Matrix6, Matrix6x2, Vector2, Vector5, Vector6};
@@ -55,6 +56,9 @@ pub struct Design {
     pub band: f64,
     /// See `band`.
     pub bound_weight: f64,
+    /// Whether the gain on `ε` comes from the plant's neighbouring extremal where the gait has
+    /// one ([`super::plan`], [`super::table_of`]) instead of the LQR's own.
+    pub plan: bool,
 }
 
 impl Default for Design {
@@ -71,6 +75,7 @@ impl Default for Design {
             bound: core::f64::consts::PI,
             band: 1.0,
             bound_weight: 1e4,
+            plan: false,
         }
     }
 }
@@ -217,7 +222,10 @@ fn riccati(
 }
 
 /// The tracking table along the trajectory `states` (`N + 1`) under `controls` (`N`) of the
-/// swimmer `kin` (module docs).
+/// swimmer `kin` (module docs), its gain on `ε` from `plan` if given (one step each,
+/// [`super::plan`]): `κ_k = φ_k − K_kψ_k` at each record's first step, so that the law flies
+/// the plant's neighbouring extremal `u_k + φ_kε̂` where it tracks its error `ψ_kε̂`; without
+/// one, the LQR's own `κ_k`.
 ///
 /// Errors: those of the linearisation ([`StageModel::linearise`]), [`Error::Singular`] if a
 /// pivot `S` is singular, [`Error::NonFinite`] for a non-finite gain,
@@ -227,8 +235,12 @@ pub fn table(
     states: &[State<f64>],
     controls: &[Vector2<f64>],
     design: &Design,
+    plan: Option<&[PlanStep]>,
 ) -> Result<Table, Error> {
-    if states.len() != controls.len() + 1 || design.every == 0 {
+    if states.len() != controls.len() + 1
+        || design.every == 0
+        || plan.is_some_and(|p| p.len() != controls.len())
+    {
         return Err(Error::InvalidStep);
     }
     let stages = error_stages(kin, states, controls)?;
@@ -242,6 +254,10 @@ pub fn table(
     for (k, (st, gain)) in stages.iter().zip(&gains).enumerate() {
         if Table::index(design.every, tail_from, k).1 {
             held = *gain;
+            if let Some(step) = plan.map(|p| p[k]) {
+                let feedback = gain.fixed_view::<2, 5>(0, 0);
+                held.set_column(5, &(step.control - feedback * step.error));
+            }
             sum += psi.norm_squared();
             let beta = if k >= design.estimate_from as usize && sum > 0.0 {
                 1.0 / sum

@@ -8,11 +8,14 @@
 
 pub mod flight;
 pub mod gains;
+pub mod plan;
 
 pub use flight::{Control, FlightFailure, Noise, Outcome, fly};
 pub use gains::{Design, Table, table};
+pub use plan::{PLAN_STEP, PlanError, PlanStep, plan};
 pub use purcell_core::tracking::{Mismatch, joint_bound};
 
+use crate::problem::Problem;
 use crate::solver::Trajectory;
 use purcell_core::{Error, Gait};
 
@@ -34,4 +37,43 @@ pub fn nominal(gait: &Gait<'_>) -> Result<Trajectory, Error> {
     }
     t.states.push(*replay.state());
     Ok(t)
+}
+
+/// Where a table's gain on `ε` comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Feedforward {
+    /// The plant's neighbouring extremal ([`plan`]).
+    Extremal,
+    /// The LQR's own: no plan asked for, or the gait has none, and why.
+    Lqr(PlanError),
+}
+
+/// The tracking table of `gait` along its `f64` replay ([`nominal`]) under `design`, its gain
+/// on `ε` from the plant's neighbouring extremal if `design.plan` asks for it and the gait has
+/// one ([`plan`]):
+/// what `export --tracking` stores and `robustness` flies.
+///
+/// Errors: the replay's and [`table`]'s.
+pub fn table_of(gait: &Gait<'_>, design: &Design) -> Result<(Table, Feedforward), Error> {
+    let p = gait.params();
+    let nominal = nominal(gait)?;
+    let planned = if design.plan {
+        Problem::of_gait(p)
+            .map_err(|e| PlanError::Problem(e.to_string()))
+            .and_then(|problem| plan(&problem, &nominal, &p.costate::<f64>().mu))
+    } else {
+        Err(PlanError::Off)
+    };
+    let (steps, source) = match planned {
+        Ok(steps) => (Some(steps), Feedforward::Extremal),
+        Err(why) => (None, Feedforward::Lqr(why)),
+    };
+    let t = table(
+        &p.kinematics()?,
+        &nominal.states,
+        &nominal.controls,
+        design,
+        steps.as_deref(),
+    )?;
+    Ok((t, source))
 }
