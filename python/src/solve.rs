@@ -87,7 +87,7 @@ pub fn solve(
         seed,
         ..SolveOptions::default()
     };
-    let warm = warm.map(|w| warm_start(&w, &problem)).transpose()?;
+    let warm = warm.map(|w| warm_start(&w)).transpose()?;
     let t0 = Instant::now();
     let (found, failed) = detach::run(
         py,
@@ -137,30 +137,19 @@ fn warn(py: Python<'_>, message: String) -> PyResult<()> {
     PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)
 }
 
-/// The start `warm` names for `problem` (`solve --from`): a `Solution`'s extremal (its
-/// costate file, replayed) or a costate file's path; the same swimmer required.
-fn warm_start(warm: &Bound<'_, PyAny>, problem: &Problem) -> PyResult<Warm> {
-    let Ok(s) = warm.cast::<solution::Solution>() else {
-        let path: PathBuf = warm.extract().map_err(|_| {
-            input_error("warm takes a Solution or the path of a costate file (costate.json)")
-        })?;
-        return purcell_sim::cli::solve::warm_start(&path, problem)
-            .map_err(|f| InputError::new_err(f.message));
+/// The start `warm` names (`solve --from`): a `Solution`'s extremal (its costate file,
+/// replayed) or a costate file's path, of any swimmer.
+fn warm_start(warm: &Bound<'_, PyAny>) -> PyResult<Warm> {
+    let found = match warm.cast::<solution::Solution>() {
+        Ok(s) => purcell_sim::cli::solve::warm_of(s.get().file(), "warm"),
+        Err(_) => {
+            let path: PathBuf = warm.extract().map_err(|_| {
+                input_error("warm takes a Solution or the path of a costate file (costate.json)")
+            })?;
+            purcell_sim::cli::solve::warm_start(&path)
+        }
     };
-    let file = s.get().file();
-    let stored = file
-        .problem()
-        .map_err(|e| input_error(format!("warm: {e}")))?;
-    if stored.swimmer != problem.swimmer {
-        return Err(input_error(
-            "warm: stored for another swimmer (links, drag or ratio differ); warm needs the \
-             same model",
-        ));
-    }
-    let t = purcell_sim::replay::trajectory(file)
-        .map_err(|e| input_error(format!("warm: its replay fails ({e})")))?;
-    Warm::from_trajectory(&t, &nalgebra::Vector3::from(file.mu), stored.horizon())
-        .ok_or_else(|| input_error("warm: empty trajectory"))
+    found.map_err(|f| InputError::new_err(f.message))
 }
 
 /// [`NoSolution`] for `e`, with `best_residual` and `best_alpha`.

@@ -78,7 +78,11 @@ def test_warm_equals_from(solved, cli, tmp_path):
             s = purcell.solve(target, alpha0=ALPHA0, warm=warm)
             close(dict(s.report, solve_seconds=None), dict(report, solve_seconds=None))
     assert len(s.extremals) == 1
-    with pytest.raises(purcell.InputError, match="another swimmer"):
-        purcell.solve(target, alpha0=ALPHA0, links=(1, 2, 2), warm=solved)
+    # Another swimmer: the same gait continued to a drag ratio 10 % larger, as --from does.
+    cli("solve", *flags, "--ratio", "2.2", "--from", tmp_path / "costate.json",
+        "--out", tmp_path / "r22")
+    report = json.loads((tmp_path / "r22" / "report.json").read_text())
+    s = purcell.solve(target, alpha0=ALPHA0, ratio=2.2, warm=solved)
+    close(dict(s.report, solve_seconds=None), dict(report, solve_seconds=None))
     with pytest.raises(purcell.InputError, match="warm takes"):
         purcell.solve(target, warm=3)

@@ -276,18 +276,23 @@ fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
     format!("try {}, or {last}", tries.join(", "))
 }
 
-/// The stored extremal of `path` as a start for a problem (of any swimmer: the gait's
-/// neighbouring extremal for another drag ratio or other links, where Newton reaches it).
+/// The stored extremal of `path` as a start for a problem ([`warm_of`]).
 pub fn warm_start(path: &Path) -> Result<continuation::Warm, Failure> {
-    let file = read_costate(path)?;
+    warm_of(&read_costate(path)?, &path.display().to_string())
+}
+
+/// The extremal of a costate `file` (named `name` in messages) as a start for a problem of
+/// any swimmer: the gait's neighbouring extremal for another drag ratio or other links, where
+/// Newton reaches it (exit 2 if its problem is invalid or its replay fails).
+pub fn warm_of(file: &CostateFile, name: &str) -> Result<continuation::Warm, Failure> {
     let stored = file
         .problem()
-        .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-    let t = replay::trajectory(&file)
-        .map_err(|e| fail(2, format!("{}: its replay fails ({e})", path.display())))?;
+        .map_err(|e| fail(2, format!("{name}: {e}")))?;
+    let t =
+        replay::trajectory(file).map_err(|e| fail(2, format!("{name}: its replay fails ({e})")))?;
     let mu = nalgebra::Vector3::from(file.mu);
     continuation::Warm::from_trajectory(&t, &mu, stored.horizon())
-        .ok_or_else(|| fail(2, format!("{}: empty trajectory", path.display())))
+        .ok_or_else(|| fail(2, format!("{name}: empty trajectory")))
 }
 
 /// `report.json`'s `format` tag (schema: `docs/schemas/solve-report.schema.json`).
