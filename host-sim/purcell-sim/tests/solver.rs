@@ -251,10 +251,10 @@ fn a_looser_joint_limit_never_costs_more() {
     }
 }
 
-/// A candidate whose refinement fails is reported, not dropped silently: before a minimum of
-/// the paper's coarse search, a made-up cheaper one (the zero loop, from which Newton stops
-/// at once) is reported as unrefined and cheaper than the minimum the extremal returned was
-/// refined from.
+/// A candidate whose refinement fails is reported, not dropped silently, and does not use up
+/// the budget of candidates refined: before a minimum of the paper's coarse search, a made-up
+/// cheaper one (the zero loop, from which Newton stops at once) is reported as unrefined and
+/// cheaper than the minimum the extremal returned was refined from, with a budget of one.
 #[test]
 fn a_candidate_that_fails_to_refine_is_reported() {
     let p = Problem::paper();
@@ -266,13 +266,12 @@ fn a_candidate_that_fails_to_refine_is_reported() {
         cost: 0.5 * real.cost,
         ..real.clone()
     };
-    let (best, extremals, unrefined) = refine_candidates(
-        &p,
-        &[zero, real.clone()],
-        &SolveOptions::default(),
-        f64::INFINITY,
-    )
-    .unwrap();
+    let budget = SolveOptions {
+        refine: 1,
+        ..SolveOptions::default()
+    };
+    let (best, extremals, unrefined) =
+        refine_candidates(&p, &[zero, real.clone()], &budget, f64::INFINITY).unwrap();
     assert_eq!(extremals.len(), 1);
     assert!(extremals[best].admissible);
     assert_eq!(unrefined.len(), 1, "{unrefined:?}");
@@ -283,6 +282,29 @@ fn a_candidate_that_fails_to_refine_is_reported() {
         "{}",
         unrefined[0]
     );
+}
+
+/// Joint-limit problems the refinement gave up on (exit 3). Within 1.5 rad at `r = 2.1` the
+/// coarse search's ten cheapest minima (J ≈ 1.05) are of the family that costs 0.83 at
+/// `r = 2.2` and ends in a fold near `r = 2.147` on the problem's grid: none can be carried,
+/// and they used up the budget of candidates refined. The reference is the gait continued by
+/// Newton (`solve --from`) from `r = 2.0` through 2.05, and from `r = 2.2` through 2.12.
+/// Within 1.0 rad at `r = 2` the coarse search's only minimum stalled at the first barrier
+/// weight on the 1 024-step grid, 0.1 % below its coarse cost; from larger weights it
+/// converges.
+#[test]
+fn joint_limits_whose_coarse_minima_do_not_all_refine() {
+    for (ratio, limit, reference) in [(2.1, 1.5, Some(1.1049915)), (2.0, 1.0, None)] {
+        let name = format!("r = {ratio}, alpha_max = {limit}");
+        let spec = Spec {
+            ratio,
+            alpha_max: Some(limit),
+            ..Spec::default()
+        };
+        let p = Problem::new(&spec).unwrap();
+        let s = solve(&p, &SolveOptions::default(), &|| {}).expect(&name);
+        check_solution(&name, &p, &s, reference);
+    }
 }
 
 #[test]

@@ -9,7 +9,7 @@ use super::grid::{self, Grid, Point};
 use super::limits::{self, PolishError};
 use super::search;
 use super::settings::{
-    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, PRUNE, Settings, SolveOptions,
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, PRUNE, RESCUE_TAUS, Settings, SolveOptions,
 };
 use super::solution::{Extremal, Minimum, SolveError, Unrefined};
 use super::{certificate, costate, symmetry};
@@ -39,9 +39,10 @@ impl Stop {
 /// problem's grid, through grids at most 16 times finer each ([`finer_grid`]), Newton
 /// converging at each. With a joint limit, the first finer grid runs the barrier path
 /// [`FINE_TAUS`] and the others only its last weight ([`limits::patient_barrier_path`]; if a
-/// smaller weight stalls, the path goes on from the last weight reached), and on the
-/// problem's grid the active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with [`Stop::Dearer`] once an
-/// intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
+/// smaller weight stalls, the path goes on from the last weight reached; if the first stalls
+/// near the start, the path runs again from larger weights), and on the problem's grid the
+/// active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with
+/// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 pub fn refine(
     problem: &Problem,
     u: &[Vector2<f64>],
@@ -99,19 +100,26 @@ pub fn refine(
 /// constrained problem itself), the next grid walks on from that weight, and the problem's
 /// grid polishes from it (seen at `α_max = 140°` on the paper's target: the 1 024-step grid
 /// stalled at `τ = 1e-9` with stationarity 1.8e-6 against [`super::settings::BARRIER_TOL_KKT`],
-/// which dropped the cheapest gait). If the first weight stalls: its run, not converged.
+/// which dropped the cheapest gait). If the first weight stalls near the start (its cost
+/// within [`COARSE_COST_ERROR`] of the start's), the path again from the weights
+/// [`RESCUE_TAUS`] down ([`rescue`]); otherwise, or if that stalls too: the first
+/// weight's run, not converged.
 fn barrier_stage(
     grid: &Grid,
     alpha_max: f64,
     from: usize,
     start: Point,
 ) -> Result<(usize, Run), Stop> {
-    let walk = limits::patient_barrier_path(grid, alpha_max, &FINE_TAUS[from..], start)
+    let walk = limits::patient_barrier_path(grid, alpha_max, &FINE_TAUS[from..], start.clone())
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
     if walk.run.converged {
         return Ok((FINE_TAUS.len() - 1, walk.run));
     }
     let Some((i, reached)) = walk.reached else {
+        let near = grid.cost(&walk.run.point.u) <= grid.cost(&start.u) * (1.0 + COARSE_COST_ERROR);
+        if near && let Some(rescued) = rescue(grid, alpha_max, start) {
+            return Ok(rescued);
+        }
         return Ok((from, walk.run));
     };
     log::debug!(
@@ -124,6 +132,24 @@ fn barrier_stage(
         FINE_TAUS[from + i]
     );
     Ok((from + i, reached))
+}
+
+/// The barrier path on `grid` from `start` through the larger weights [`RESCUE_TAUS`] and
+/// then [`FINE_TAUS`], for a grid whose path stalled at its first weight near its start:
+/// the larger weights first hold the states off the limit, where Newton converges from the
+/// prolonged path, and the smaller ones bring them back (seen at `α_max = 1` on the paper's
+/// target: from the coarse extremal, the 1 024-step grid stalled at `τ = 1e-6` with
+/// stationarity 0.4 at a cost 0.1 % below the coarse one, and converged from `τ = 1e-4`).
+/// The index in [`FINE_TAUS`] of the last weight that converged, with its run; `None` if
+/// none of them did.
+fn rescue(grid: &Grid, alpha_max: f64, start: Point) -> Option<(usize, Run)> {
+    let taus: Vec<f64> = RESCUE_TAUS.iter().chain(&FINE_TAUS).copied().collect();
+    let walk = limits::patient_barrier_path(grid, alpha_max, &taus, start).ok()?;
+    if walk.run.converged {
+        return Some((FINE_TAUS.len() - 1, walk.run));
+    }
+    let (j, reached) = walk.reached?;
+    Some((j.checked_sub(RESCUE_TAUS.len())?, reached))
 }
 
 /// The next grid of a refinement from `n` steps: at most 16 times finer, with the rule that
@@ -197,12 +223,17 @@ pub fn refine_candidates(
     // (every remaining candidate costs more, with a margin for the coarse grid's error in
     // `J`), then the inadmissible ones cheaper than it, for the report. A candidate that
     // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
-    // extremal is kept with its candidate's coarse cost.
+    // extremal is kept with its candidate's coarse cost. The budget `options.refine` counts
+    // the candidates carried (to the end or to a prune), not those Newton could not carry:
+    // a coarse grid can hold minima of a family that has ended in a fold before the problem's
+    // grid (seen with `α_max = 1.5`, `r = 2.1`: ten coarse minima at J ≈ 1.05, ν_y ≈ −46, of
+    // the family that costs 0.83 at `r = 2.2` and folds near `r = 2.147` on the problem's
+    // grid), and they would use it up before the cheapest that exists there.
     let mut extremals: Vec<(Extremal, f64)> = Vec::new();
     let mut unrefined: Vec<Unrefined> = Vec::new();
     let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
     let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
-    let mut refined = 0;
+    let mut tried = 0;
     for (pass, list) in [maybe, beyond].into_iter().enumerate() {
         for c in list {
             let settled = extremals
@@ -215,10 +246,10 @@ pub fn refine_candidates(
             } else {
                 1.0
             };
-            if refined >= options.refine || c.cost > settled * margin {
+            if tried - unrefined.len() >= options.refine || c.cost > settled * margin {
                 break;
             }
-            refined += 1;
+            tried += 1;
             let (fine, run) = match refine(problem, &c.u, &c.nu, settled * (1.0 + PRUNE)) {
                 Ok(r) => r,
                 Err(stop) => {
@@ -249,11 +280,11 @@ pub fn refine_candidates(
         }
     }
     if extremals.is_empty() {
-        return Err(if refined == 0 {
+        return Err(if tried == 0 {
             SolveError::Unreachable { best_residual }
         } else {
             SolveError::NotRefined {
-                found: refined,
+                found: tried,
                 best_residual: unrefined
                     .iter()
                     .map(|u| u.defect)

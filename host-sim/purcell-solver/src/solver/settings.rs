@@ -32,7 +32,7 @@ pub struct SolveOptions {
     pub seed: u64,
     /// Steps of the coarse grid of the global search.
     pub coarse_steps: usize,
-    /// Most candidates carried to the fine grid.
+    /// Most candidates carried to the fine grid (those Newton cannot carry do not count).
     pub refine: usize,
 }
 
@@ -172,6 +172,9 @@ pub fn coarse_path(index: usize) -> &'static [f64] {
 pub const COARSE_TAU: f64 = 1e-6;
 /// Barrier weights of the fine grid before the active set is fixed.
 pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
+/// Larger barrier weights before [`FINE_TAUS`] for a refinement's grid whose path stalled at
+/// its first weight ([`super::refinement`]).
+pub const RESCUE_TAUS: [f64; 2] = [1e-4, 1e-5];
 /// Newton iterations per barrier weight; the second for a path that ran out of the first (as
 /// one pinned to a tight limit can). In the search, the second pass of starts only
 /// ([`super::search`]).
