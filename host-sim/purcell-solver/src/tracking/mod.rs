@@ -13,7 +13,7 @@ pub mod plan;
 
 pub use flight::{Control, FlightFailure, Noise, Outcome, fly};
 pub use gains::{Design, Table, table};
-pub use plan::{PLAN_STEP, PlanError, PlanStep, plan};
+pub use plan::{PLAN_STEP, PlanError, PlanStep, neighbouring};
 pub use purcell_core::tracking::{Mismatch, joint_bound};
 
 use crate::problem::Problem;
@@ -60,7 +60,7 @@ pub fn table_of(gait: &Gait<'_>, design: &Design) -> Result<(Table, Feedforward)
     let planned = if design.plan {
         Problem::of_gait(p)
             .map_err(|e| PlanError::Problem(e.to_string()))
-            .and_then(|problem| plan(&problem, &nominal, &p.costate::<f64>().mu))
+            .and_then(|problem| neighbouring(&problem, &nominal, &p.costate::<f64>().mu))
     } else {
         Err(PlanError::Off)
     };
