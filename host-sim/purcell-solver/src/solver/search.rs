@@ -84,8 +84,11 @@ pub struct Search {
     pub satisfied: bool,
     /// Each minimum past the overlap that was pulled inside, with the controls of the
     /// admissible minimum its pull reached (see the module docs).
-    pulls: Vec<(Vec<Vector2<f64>>, Vec<Vector2<f64>>)>,
+    pulls: Vec<(Controls, Controls)>,
 }
+
+/// A coarse minimum's controls.
+type Controls = Vec<Vector2<f64>>;
 
 impl Search {
     /// Boender and Rinnooy Kan's posterior estimate of the number of distinct minima,
