@@ -5,7 +5,6 @@
 use crate::{InputError, NoSolution, detach, input_error, numbers, solution};
 use purcell_sim::cli::args::{ModelArgs, OutDirArgs, PrintArgs, ProblemArgs};
 use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
-use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation::{self, Warm};
 use purcell_solver::solver::{self, SolveError, SolveOptions};
 use pyo3::exceptions::PyUserWarning;

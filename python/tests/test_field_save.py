@@ -79,8 +79,16 @@ def test_warm_equals_from(solved, cli, tmp_path):
             close(dict(s.report, solve_seconds=None), dict(report, solve_seconds=None))
     assert len(s.extremals) == 1
     # Another swimmer: the same gait continued to a drag ratio 10 % larger, as --from does.
-    cli("solve", *flags, "--ratio", "2.2", "--from", tmp_path / "costate.json",
-        "--out", tmp_path / "r22")
+    cli(
+        "solve",
+        *flags,
+        "--ratio",
+        "2.2",
+        "--from",
+        tmp_path / "costate.json",
+        "--out",
+        tmp_path / "r22",
+    )
     report = json.loads((tmp_path / "r22" / "report.json").read_text())
     s = purcell.solve(target, alpha0=ALPHA0, ratio=2.2, warm=solved)
     close(dict(s.report, solve_seconds=None), dict(report, solve_seconds=None))

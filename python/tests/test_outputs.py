@@ -98,9 +98,12 @@ def test_other_outputs_match_their_schemas(cli, tmp_path):
 
 
 def test_robustness_report_matches_its_schema(cli):
-    gait = SCHEMAS.parents[1] / "core" / "examples" / "paper-limit.gait"
-    printed = cli("robustness", "--gait", gait, "--ratio-error", "0.1", "--json").stdout
-    valid("robustness-report", printed)
+    examples = SCHEMAS.parents[1] / "core" / "examples"
+    for gait, source in (("paper-limit.gait", "lqr"), ("paper.gait", "extremal")):
+        flags = ("--ratio-error", "0.1", "--json", "--plan")
+        printed = cli("robustness", "--gait", examples / gait, *flags).stdout
+        valid("robustness-report", printed)
+        assert json.loads(printed)["design"]["feedforward"]["from"] == source
 
 
 def test_trajectory_csv_loads_with_units_and_exact_times(solved):

@@ -113,3 +113,85 @@ fn export_tracking_then_digest_flies_the_stored_table() {
     ]);
     assert_exit(&o, 2, "export --gait FILE --tracking");
 }
+
+/// `--plan`: `export --tracking --plan` stores the neighbouring extremal's gain, which
+/// `robustness --digest` flies as `robustness --plan --f32` computes it; a gait with a joint
+/// limit keeps the LQR's, said in the line printed; `--plan` needs `--tracking`.
+#[test]
+fn a_plan_table_is_stored_and_flies_as_computed() {
+    let paper = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../core/examples/paper.gait"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let gait = tmp.path().join("paper-plan.gait");
+    let o = sim(&[
+        "export",
+        "--gait",
+        paper,
+        "--tracking",
+        "--plan",
+        "--out",
+        arg(&gait),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("gain on the ratio error: extremal"),
+        "{}",
+        stdout(&o)
+    );
+    let o = sim(&[
+        "robustness",
+        "--gait",
+        arg(&gait),
+        "--ratio-error",
+        "0.05",
+        "--digest",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let printed = stdout(&o);
+    let g: f64 = printed
+        .split(" g=")
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let o = sim(&[
+        "robustness",
+        "--gait",
+        paper,
+        "--ratio-error",
+        "0.05",
+        "--plan",
+        "--f32",
+        "--json",
+    ]);
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["design"]["feedforward"]["from"], "extremal");
+    let expected = r["cases"][0]["closed"]["g_error"].as_f64().unwrap();
+    assert!(
+        (g - expected).abs() <= 1e-3 * expected,
+        "{printed} vs {expected}"
+    );
+    let limited = tmp.path().join("limit-plan.gait");
+    let o = sim(&[
+        "export",
+        "--gait",
+        LIMIT,
+        "--tracking",
+        "--plan",
+        "--out",
+        arg(&limited),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("LQR (no plan: the gait has a joint limit)"),
+        "{}",
+        stdout(&o)
+    );
+    let o = sim(&["export", "--gait", paper, "--plan", "--out", arg(&limited)]);
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -6,7 +6,7 @@ use super::replay::check_stored;
 use crate::output::{self, OutputFile, c_array};
 use clap::{Args, ValueEnum};
 use purcell_core::{Gait, gait};
-use purcell_solver::tracking::{self, Design, joint_bound};
+use purcell_solver::tracking::{self, Design, Feedforward, PlanError, joint_bound};
 use std::path::{Path, PathBuf};
 
 /// What `export` writes.
@@ -40,6 +40,11 @@ pub struct ExportArgs {
     /// closed loop, computed with the design of `robustness`'s defaults, in f32.
     #[arg(long)]
     pub tracking: bool,
+    /// With --tracking: the table's gain on the ratio error from the plant's neighbouring
+    /// extremal, as `robustness --plan` (the LQR's where the gait has none: said in the line
+    /// printed).
+    #[arg(long, requires = "tracking")]
+    pub plan: bool,
 }
 
 /// Whether `bytes` are a gait file (its magic), by which `export --out` recognises its own.
@@ -74,21 +79,26 @@ fn c_outputs(out: &Path, about: &str, bytes: &[u8]) -> Result<Outputs, Failure> 
 }
 
 /// `gait`'s file with its tracking table ([`Design`]'s defaults, the joints' bound of its
-/// `α_max`; [`tracking::table_of`]).
-fn with_tracking(gait: &Gait<'_>) -> Result<Vec<u8>, purcell_core::Error> {
+/// `α_max`, the neighbouring extremal's gain if `plan`; [`tracking::table_of`]) and where its
+/// gain on the ratio error came from.
+fn with_tracking(
+    gait: &Gait<'_>,
+    plan: bool,
+) -> Result<(Vec<u8>, Feedforward), purcell_core::Error> {
     let p = gait.params();
     let design = Design {
         bound: joint_bound(p.alpha_max),
+        plan,
         ..Design::default()
     };
-    let (t, _) = tracking::table_of(gait, &design)?;
+    let (t, source) = tracking::table_of(gait, &design)?;
     let records = t.to_f32();
     let (checkpoints, arcs): (Vec<_>, Vec<_>) =
         (gait.checkpoints().collect(), gait.arcs().collect());
     let mut out =
         vec![0; gait::encoded_len_with_tracking(checkpoints.len(), arcs.len(), records.len())];
     gait::encode_with_tracking(p, &checkpoints, &arcs, &records, &mut out)?;
-    Ok(out)
+    Ok((out, source))
 }
 
 /// `export`: reads and checks the costate file (or gait file), writes its gait; a line naming
@@ -97,9 +107,13 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
     let (input, bytes) = a.input.gait_bytes()?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", input.display()));
     let mut bytes = bytes;
+    let mut gain = None;
     if a.tracking {
-        bytes = with_tracking(&Gait::from_bytes(&bytes).map_err(|e| refused(&e))?)
-            .map_err(|e| refused(&format!("tracking table: {e}")))?;
+        let (tracked, source) =
+            with_tracking(&Gait::from_bytes(&bytes).map_err(|e| refused(&e))?, a.plan)
+                .map_err(|e| refused(&format!("tracking table: {e}")))?;
+        bytes = tracked;
+        gain = Some(source);
     }
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     // The gait is for the f32 firmware.
@@ -114,6 +128,13 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
     );
     if let Some(t) = gait.tracking() {
         about += &format!(", tracking records={}", t.len());
+    }
+    match gain {
+        Some(Feedforward::Extremal) => about += ", gain on the ratio error: extremal",
+        Some(Feedforward::Lqr(PlanError::Off)) | None => {}
+        Some(Feedforward::Lqr(why)) => {
+            about += &format!(", gain on the ratio error: LQR (no plan: {why})");
+        }
     }
     let outputs = match a.format {
         Format::Gait => vec![(a.out.clone(), bytes, is_gait_file as fn(&[u8]) -> bool)],

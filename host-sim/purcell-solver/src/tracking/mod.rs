@@ -4,7 +4,8 @@
 //! gains from a time-varying LQR along the extremal and a running estimate of the drag-ratio
 //! error).
 //!
-//! [`gains`] computes the tracking table offline; [`flight`] flies a gait through a plant.
+//! [`gains`] computes the tracking table offline, its gain on the ratio error optionally from
+//! the plant's neighbouring extremal ([`plan`]); [`flight`] flies a gait through a plant.
 
 pub mod flight;
 pub mod gains;
@@ -12,7 +13,7 @@ pub mod plan;
 
 pub use flight::{Control, FlightFailure, Noise, Outcome, fly};
 pub use gains::{Design, Table, table};
-pub use plan::{PLAN_STEP, PlanError, PlanStep, plan};
+pub use plan::{PLAN_STEP, PlanError, PlanStep, neighbouring};
 pub use purcell_core::tracking::{Mismatch, joint_bound};
 
 use crate::problem::Problem;
@@ -50,8 +51,7 @@ pub enum Feedforward {
 
 /// The tracking table of `gait` along its `f64` replay ([`nominal`]) under `design`, its gain
 /// on `ε` from the plant's neighbouring extremal if `design.plan` asks for it and the gait has
-/// one ([`plan`]):
-/// what `export --tracking` stores and `robustness` flies.
+/// one ([`plan`]): what `export --tracking` stores and `robustness` flies.
 ///
 /// Errors: the replay's and [`table`]'s.
 pub fn table_of(gait: &Gait<'_>, design: &Design) -> Result<(Table, Feedforward), Error> {
@@ -60,7 +60,7 @@ pub fn table_of(gait: &Gait<'_>, design: &Design) -> Result<(Table, Feedforward)
     let planned = if design.plan {
         Problem::of_gait(p)
             .map_err(|e| PlanError::Problem(e.to_string()))
-            .and_then(|problem| plan(&problem, &nominal, &p.costate::<f64>().mu))
+            .and_then(|problem| neighbouring(&problem, &nominal, &p.costate::<f64>().mu))
     } else {
         Err(PlanError::Off)
     };

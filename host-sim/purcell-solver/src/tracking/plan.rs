@@ -61,7 +61,7 @@ pub enum PlanError {
 /// `problem` with momentum `mu` (module docs).
 ///
 /// Errors: [`PlanError`].
-pub fn plan(
+pub fn neighbouring(
     problem: &Problem,
     nominal: &Trajectory,
     mu: &Vector3<f64>,
