@@ -13,7 +13,8 @@
 //! cheapest admissible minimum may lie in a basin that a single loop of the whole family
 //! reaches (at drag ratio 1.9 on the paper's target: one loop of 1 128, so a seed found it
 //! or not by where it put that loop). It lies next to minima past the overlap, which many
-//! starts reach: each distinct one is pulled inside ([`pull`]), its shape path shrunk into
+//! starts reach: each distinct one that matters to the stopping rule (no dearer than the
+//! cheapest admissible minimum so far) is pulled inside ([`pull`]), its shape path shrunk into
 //! [`PULL`]`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
 //! minima the other missed), then released to Newton with the
 //! trust radius; an admissible minimum it reaches counts as a hit, and so does every later
@@ -207,7 +208,8 @@ fn run_start(
 impl Search {
     /// Counts start `index` (loop `start_loop`) and files its run `r` ([`Search::file`]);
     /// the defect of one that did not converge. With `pull` (the starts' settings; no joint
-    /// limit), a new candidate that `admissible` refuses is pulled inside ([`pull`]) and an
+    /// limit), a new candidate that `admissible` refuses and that matters is pulled inside
+    /// ([`pull`]) and an
     /// admissible minimum it reaches filed as well (see the module docs).
     fn absorb(
         &mut self,
@@ -224,10 +226,14 @@ impl Search {
             return;
         }
         let from = run.point.clone();
-        let Some(new) = self.file(grid, index, start_loop, run) else {
+        let Some((cost, max_abs_alpha)) = self.file(grid, index, start_loop, run) else {
             return;
         };
-        let Some(settings) = pull.filter(|_| !admissible(new)) else {
+        // Only a minimum that matters (no dearer than the cheapest admissible so far).
+        let bound = (self.candidates.iter())
+            .filter(|c| admissible(c.max_abs_alpha))
+            .fold(f64::INFINITY, |b, c| b.min(c.cost));
+        let Some(settings) = pull.filter(|_| !admissible(max_abs_alpha) && cost <= bound) else {
             return;
         };
         for path in COARSE_PATHS {
@@ -250,7 +256,7 @@ impl Search {
         index: usize,
         start_loop: Option<StartLoop>,
         run: Run,
-    ) -> Option<f64> {
+    ) -> Option<(f64, f64)> {
         let h = grid.h();
         if let Some(c) = self
             .candidates
@@ -286,7 +292,7 @@ impl Search {
             hits: 1,
             start_loop,
         });
-        Some(max_abs_alpha)
+        Some((cost, max_abs_alpha))
     }
 
     /// After a batch: the candidates sorted, the stopping rule's estimate and verdict
