@@ -14,7 +14,7 @@
 //! reaches (at drag ratio 1.9 on the paper's target: one loop of 1 128, so a seed found it
 //! or not by where it put that loop). It lies next to minima past the overlap, which many
 //! starts reach: each distinct one that matters to the stopping rule (no dearer than the
-//! cheapest admissible minimum so far) is pulled inside ([`pull`]), its shape path shrunk into
+//! cheapest admissible minimum so far) is pulled inside (`pull`), its shape path shrunk into
 //! [`PULL`]`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
 //! minima the other missed), then released to Newton with the
 //! trust radius; an admissible minimum it reaches counts as a hit, and so does every later
