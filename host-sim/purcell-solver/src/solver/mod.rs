@@ -9,7 +9,9 @@
 //! Pipeline of [`solve`]:
 //! 1. [`starts`]: closed shape loops through `ᾱ`, sized from the problem's geometry;
 //! 2. [`search`]: each start through the direct method on a coarse grid whose rule mimics
-//!    the fine one; distinct local minima, cheapest first;
+//!    the fine one; distinct local minima, cheapest first; without a joint limit, a minimum
+//!    past the links' overlap that matters is pulled inside through a barrier at
+//!    [`settings::PULL`]`·π` and released (an admissible minimum it reaches counts as a hit);
 //! 3. [`refinement`]: the cheapest candidates carried to the problem's own grid through finer
 //!    grids, Newton converging in a few steps at each (a candidate dearer than the settled
 //!    cheapest by [`settings::PRUNE`] on an intermediate grid stops there); second-order

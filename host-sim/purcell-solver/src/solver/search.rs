@@ -9,6 +9,17 @@
 //! into distinct extremals (same shape path to [`SAME_PATH`]). A converged point whose motion the
 //! coarse grid does not resolve ([`Grid::resolves`]) is dropped.
 //!
+//! **Pulls.** Without a joint limit many starts converge past the links' overlap, and the
+//! cheapest admissible minimum may lie in a basin that a single loop of the whole family
+//! reaches (at drag ratio 1.9 on the paper's target: one loop of 1 128, so a seed found it
+//! or not by where it put that loop). It lies next to minima past the overlap, which many
+//! starts reach: each distinct one that matters to the stopping rule (no dearer than the
+//! cheapest admissible minimum so far) is pulled inside (`pull`), its shape path shrunk into
+//! [`PULL`]`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
+//! minima the other missed), then released to Newton with the
+//! trust radius; an admissible minimum it reaches counts as a hit, and so does every later
+//! hit of the minimum it was pulled from (those starts reach it too).
+//!
 //! **Stopping rule.** After each batch, with `n` starts run and `b` the cheapest admissible
 //! extremal so far, the minima that matter are those no dearer than `b` (`b` and cheaper
 //! inadmissible ones). By the Good–Turing estimate, the chance that the next start reaches a
@@ -27,10 +38,11 @@ use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits;
 use super::settings::{
-    self, BATCH, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, SAME_PATH, Settings,
-    UNSEEN,
+    self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, PULL,
+    SAME_PATH, Settings, UNSEEN,
 };
 use super::starts::{self, StartLoop};
+use crate::problem::OVERLAP;
 use nalgebra::{Vector2, Vector5};
 use purcell_core::Error;
 use rayon::prelude::*;
@@ -71,7 +83,13 @@ pub struct Search {
     /// Whether the stopping rule was met (otherwise the budget ran out first, or nothing was
     /// found).
     pub satisfied: bool,
+    /// Each minimum past the overlap that was pulled inside, with the controls of the
+    /// admissible minimum its pull reached (see the module docs).
+    pulls: Vec<(Controls, Controls)>,
 }
+
+/// A coarse minimum's controls.
+type Controls = Vec<Vector2<f64>>;
 
 impl Search {
     /// Boender and Rinnooy Kan's posterior estimate of the number of distinct minima,
@@ -143,7 +161,8 @@ pub fn search(
                 })
                 .collect();
             for (index, start_loop, r) in results {
-                out.absorb(grid, index, start_loop, r);
+                let pull = limit.is_none().then_some(&settings);
+                out.absorb(grid, (index, start_loop), r, pull, admissible);
             }
             if out.after_batch(min_starts, admissible) {
                 break;
@@ -187,15 +206,18 @@ fn run_start(
 }
 
 impl Search {
-    /// Counts start `index` (loop `start_loop`) and files its run `r`: a converged one as
-    /// another hit of a candidate with the same path, or as a new candidate if the grid
-    /// resolves its motion; the defect of one that did not converge.
+    /// Counts start `index` (loop `start_loop`) and files its run `r` ([`Search::file`]);
+    /// the defect of one that did not converge. With `pull` (the starts' settings; no joint
+    /// limit), a new candidate that `admissible` refuses and that matters is pulled inside
+    /// ([`pull`]) and an
+    /// admissible minimum it reaches filed as well (see the module docs).
     fn absorb(
         &mut self,
         grid: &Grid,
-        index: usize,
-        start_loop: Option<StartLoop>,
+        (index, start_loop): (usize, Option<StartLoop>),
         r: Result<Run, Error>,
+        pull: Option<&Settings>,
+        admissible: &(dyn Fn(f64) -> bool + Sync),
     ) {
         self.starts += usize::from(index > 0);
         let Ok(run) = r else { return };
@@ -203,22 +225,61 @@ impl Search {
             self.best_residual = self.best_residual.min(run.defect);
             return;
         }
+        let from = run.point.clone();
+        let Some((cost, max_abs_alpha)) = self.file(grid, index, start_loop, run) else {
+            return;
+        };
+        // Only a minimum that matters (no dearer than the cheapest admissible so far).
+        let bound = (self.candidates.iter())
+            .filter(|c| admissible(c.max_abs_alpha))
+            .fold(f64::INFINITY, |b, c| b.min(c.cost));
+        let Some(settings) = pull.filter(|_| !admissible(max_abs_alpha) && cost <= bound) else {
+            return;
+        };
+        for path in COARSE_PATHS {
+            let Some(inside) = self::pull(grid, &from, path, settings) else {
+                continue;
+            };
+            if admissible(grid::max_abs_alpha(&inside.point.states)) {
+                self.pulls.push((from.u.clone(), inside.point.u.clone()));
+                self.file(grid, index, start_loop, inside);
+            }
+        }
+    }
+
+    /// Files the converged `run` of start `index` (loop `start_loop`): as another hit of a
+    /// candidate with the same path (and of the minimum that candidate was pulled to), or as
+    /// a new candidate if the grid resolves its motion; the new candidate's largest `|α_i|`.
+    fn file(
+        &mut self,
+        grid: &Grid,
+        index: usize,
+        start_loop: Option<StartLoop>,
+        run: Run,
+    ) -> Option<(f64, f64)> {
+        let h = grid.h();
         if let Some(c) = self
             .candidates
             .iter_mut()
-            .find(|c| same_path(&c.u, &run.point.u, grid.h()))
+            .find(|c| same_path(&c.u, &run.point.u, h))
         {
             c.hits += 1;
             if index < c.start {
                 c.start = index;
                 c.start_loop = start_loop;
             }
-            return;
+            let from = c.u.clone();
+            for (_, to) in self.pulls.iter().filter(|(f, _)| same_path(f, &from, h)) {
+                if let Some(t) = self.candidates.iter_mut().find(|t| same_path(&t.u, to, h)) {
+                    t.hits += 1;
+                }
+            }
+            return None;
         }
         // Checked once per distinct extremal (a rollout 16 times finer).
         if !grid.resolves(&run.point.u) {
             self.unresolved += 1;
-            return;
+            return None;
         }
         let cost = grid.cost(&run.point.u);
         let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
@@ -231,6 +292,7 @@ impl Search {
             hits: 1,
             start_loop,
         });
+        Some((cost, max_abs_alpha))
     }
 
     /// After a batch: the candidates sorted, the stopping rule's estimate and verdict
@@ -253,6 +315,24 @@ impl Search {
         let hopeless = self.candidates.is_empty() && self.starts >= HOPELESS_BATCHES * BATCH;
         self.satisfied || hopeless
     }
+}
+
+/// A coarse minimum `from` past the links' overlap pulled inside (see the module docs): its
+/// shape path shrunk into `PULL·π`, the barrier path `taus` there, then
+/// Newton without the barrier by `settings` (the starts', with the trust radius); the
+/// converged run, if any.
+fn pull(grid: &Grid, from: &Point, taus: &[f64], settings: &Settings) -> Option<Run> {
+    let wall = PULL * OVERLAP;
+    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+    let u = limits::shrink_into(from.u.clone(), &alpha0, wall, grid.h());
+    let barrier = Settings::search(settings.max_iterations, true);
+    let start = Point::new(grid, u, from.nu).ok()?;
+    let held = limits::barrier_path(grid, wall, taus, start, &barrier).ok()?;
+    if !held.converged {
+        return None;
+    }
+    let free = direct::newton(grid, held.point, settings).ok()?;
+    free.converged.then_some(free)
 }
 
 fn cheapest_admissible<'a>(

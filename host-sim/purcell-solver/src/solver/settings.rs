@@ -263,6 +263,11 @@ pub const HOPELESS_BATCHES: usize = 3;
 /// Two control sequences run the same shape path when their shapes agree to this (radians)
 /// at every node.
 pub const SAME_PATH: f64 = 1e-6;
+/// Without a joint limit, a minimum past the links' overlap is pulled inside the barrier at
+/// this share of `π` ([`super::search`]): far enough inside that the barrier's minimum near
+/// an admissible extremal (largest `|α_i|` about 3.03 in the cases that needed it) is that
+/// extremal, which Newton then reaches without the barrier.
+pub const PULL: f64 = 0.97;
 /// A start whose terminal defect is within this share of the displacement asked for came
 /// near the target (with a joint limit, the search then runs again with more patience).
 pub const NEAR_TARGET: f64 = 1e-3;
