@@ -124,22 +124,22 @@ fn a_plan_table_is_stored_and_flies_as_computed() {
         "/../../core/examples/paper.gait"
     );
     let tmp = tempfile::tempdir().unwrap();
+    // `export --tracking --plan` of `from` into `out`, which says `says`.
+    let export = |from: &str, out: &std::path::Path, says: &str| {
+        let o = sim(&[
+            "export",
+            "--gait",
+            from,
+            "--tracking",
+            "--plan",
+            "--out",
+            arg(out),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert!(stdout(&o).contains(says), "{}", stdout(&o));
+    };
     let gait = tmp.path().join("paper-plan.gait");
-    let o = sim(&[
-        "export",
-        "--gait",
-        paper,
-        "--tracking",
-        "--plan",
-        "--out",
-        arg(&gait),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stdout(&o).contains("gain on the ratio error: extremal"),
-        "{}",
-        stdout(&o)
-    );
+    export(paper, &gait, "gain on the ratio error: extremal");
     let o = sim(&[
         "robustness",
         "--gait",
@@ -177,21 +177,7 @@ fn a_plan_table_is_stored_and_flies_as_computed() {
         "{printed} vs {expected}"
     );
     let limited = tmp.path().join("limit-plan.gait");
-    let o = sim(&[
-        "export",
-        "--gait",
-        LIMIT,
-        "--tracking",
-        "--plan",
-        "--out",
-        arg(&limited),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        stdout(&o).contains("LQR (no plan: the gait has a joint limit)"),
-        "{}",
-        stdout(&o)
-    );
+    export(LIMIT, &limited, "LQR (no plan: the gait has a joint limit)");
     let o = sim(&["export", "--gait", paper, "--plan", "--out", arg(&limited)]);
     assert_eq!(o.status.code(), Some(2));
 }
