@@ -16,9 +16,9 @@
 //! starts reach: each distinct one that matters to the stopping rule (no dearer than the
 //! cheapest admissible minimum so far) is pulled inside (`pull`), its shape path shrunk into
 //! [`PULL`]`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
-//! minima the other missed), then released to Newton with the
-//! trust radius; an admissible minimum it reaches counts as a hit, and so does every later
-//! hit of the minimum it was pulled from (those starts reach it too).
+//! minima the other missed), then released to Newton with the trust radius; an admissible
+//! minimum it reaches counts as a hit, and so does every later hit of the minimum it was
+//! pulled from (those starts reach it too).
 //!
 //! **Stopping rule.** After each batch, with `n` starts run and `b` the cheapest admissible
 //! extremal so far, the minima that matter are those no dearer than `b` (`b` and cheaper
@@ -209,8 +209,7 @@ impl Search {
     /// Counts start `index` (loop `start_loop`) and files its run `r` ([`Search::file`]);
     /// the defect of one that did not converge. With `pull` (the starts' settings; no joint
     /// limit), a new candidate that `admissible` refuses and that matters is pulled inside
-    /// ([`pull`]) and an
-    /// admissible minimum it reaches filed as well (see the module docs).
+    /// ([`pull`]) and an admissible minimum it reaches filed as well (see the module docs).
     fn absorb(
         &mut self,
         grid: &Grid,
