@@ -3,8 +3,8 @@
 //!
 //! ```text
 //! e_k = (α̂_k − α_k,  R(θ_k)ᵀ(p̂_k − p_k),  sin(θ̂_k − θ_k))      (nominal α_k, g_k = (p_k, θ_k))
-//! at a record step k = jD:   a ← a + ψ_jᵀe_k,   ε̂ = a·β_j
-//! u_k = u_k^nom + K_j e_k + κ_j ε̂,   then each u_{k,i} clamped to [(−α_max − α_i)/h, (α_max − α_i)/h]
+//! at a record step k = jD:   a ← a + ψ_jᵀe_k,   ε̂ = a·β_j,   w = κ_j ε̂
+//! u_k = u_k^nom + K_j e_k + w,   then each u_{k,i} clamped to [(−α_max − α_i)/h, (α_max − α_i)/h]
 //! ```
 //!
 //! `(α̂, ĝ)` is the measured state; `e` is `(α̂ − α, log(g⁻¹ĝ))` to first order, computed without
@@ -20,7 +20,7 @@
 //! follows exactly (`α_{k+1} = α_k + h·u_k` in plant and model alike) — within a gait's joint
 //! limit, as the law's arcs do: on an arc the nominal `u_i` is 0 and a correction that would
 //! push the joint past the limit is cut to land on it. Fixed work per step: 8 multiplications
-//! for `e`, 12 multiply-adds for `u`, two clamps; 6 more at a record step.
+//! for `e`, 10 multiply-adds and 2 additions for `u`, two clamps; 8 more at a record step.
 
 use crate::kinematics::State;
 use crate::{Error, Kinematics, Real, Se2, Swimmer};
@@ -104,12 +104,14 @@ fn dot<T: Real>(x: &[T], y: &[T]) -> T {
     x.iter().zip(y).fold(T::zero(), |acc, (a, b)| acc + *a * *b)
 }
 
-/// The tracking law's state: the running sum `a` of the estimate and the estimate `ε̂`.
+/// The tracking law's state: the running sum `a` of the estimate, the estimate `ε̂` and the
+/// record's feed-forward `w = κε̂`, computed once a record.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Tracker<T> {
     sum: T,
     estimate: T,
+    feed: [T; 2],
 }
 
 impl<T: Real> Tracker<T> {
@@ -118,6 +120,7 @@ impl<T: Real> Tracker<T> {
         Tracker {
             sum: T::zero(),
             estimate: T::zero(),
+            feed: [T::zero(); 2],
         }
     }
 
@@ -126,15 +129,16 @@ impl<T: Real> Tracker<T> {
         self.estimate
     }
 
-    /// At the first step of a record: `a ← a + ψᵀe`, `ε̂ = a·β`.
+    /// At the first step of a record: `a ← a + ψᵀe`, `ε̂ = a·β`, `w = κε̂`.
     #[inline]
     pub fn update(&mut self, record: &Record<T>, error: &[T; 5]) {
         let (psi, beta) = (&record[12..17], record[17]);
         self.sum += dot(psi, error);
         self.estimate = self.sum * beta;
+        self.feed = [record[10] * self.estimate, record[11] * self.estimate];
     }
 
-    /// The control `u_nom + K·e + κ·ε̂`, clamped so that the joints at `joints` stay within
+    /// The control `u_nom + K·e + w` (`w` of the record's [`Tracker::update`]), clamped so that the joints at `joints` stay within
     /// `limit` (`None`: no clamp) after a step of `h`.
     ///
     /// Errors: [`Error::NonFinite`] if the result is not finite.
@@ -148,10 +152,9 @@ impl<T: Real> Tracker<T> {
         limit: Option<T>,
         h: T,
     ) -> Result<Vector2<T>, Error> {
-        let eps = self.estimate;
         let mut u = Vector2::new(
-            u_nom.x + dot(&record[0..5], error) + record[10] * eps,
-            u_nom.y + dot(&record[5..10], error) + record[11] * eps,
+            u_nom.x + dot(&record[0..5], error) + self.feed[0],
+            u_nom.y + dot(&record[5..10], error) + self.feed[1],
         );
         if let Some(l) = limit {
             // Divides only when it clamps: the bound is tested on the next angle `a + h·u`.
