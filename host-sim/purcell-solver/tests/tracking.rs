@@ -26,7 +26,7 @@ fn setup(gait: &Gait<'_>) -> (Table, f64) {
         .iter()
         .map(|u| 0.5 * p.h * u.norm_squared())
         .sum();
-    (table_of(gait, &design).unwrap().0, cost)
+    (table_of(gait, &t, &design).unwrap().0, cost)
 }
 
 /// Open and closed loop through the plant of `mismatch` with `noise`.
@@ -132,7 +132,7 @@ fn the_neighbouring_extremal_gain_costs_what_the_plant_needs() {
         plan: true,
         ..Design::default()
     };
-    let (planned, source) = table_of(&gait, &design).unwrap();
+    let (planned, source) = table_of(&gait, &nominal(&gait).unwrap(), &design).unwrap();
     assert_eq!(source, Feedforward::Extremal);
     let (lqr, nominal_cost) = setup(&gait);
     let m = Mismatch {
@@ -161,6 +161,7 @@ fn the_neighbouring_extremal_gain_costs_what_the_plant_needs() {
     let limited = Gait::from_bytes(LIMIT).unwrap();
     let (_, source) = table_of(
         &limited,
+        &nominal(&limited).unwrap(),
         &Design {
             bound: 1.5,
             ..design

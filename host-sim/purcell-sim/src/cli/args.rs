@@ -270,7 +270,7 @@ pub struct GaitInput {
 
 impl GaitInput {
     /// The path given, either flag's.
-    pub fn path(&self) -> &Path {
+    fn path(&self) -> &Path {
         match (&self.costate, &self.gait) {
             (Some(p), _) | (None, Some(p)) => p,
             // clap's group makes one of the two required.

@@ -91,7 +91,7 @@ fn with_tracking(
         plan,
         ..Design::default()
     };
-    let (t, source) = tracking::table_of(gait, &design)?;
+    let (t, source) = tracking::table_of(gait, &tracking::nominal(gait)?, &design)?;
     let records = t.to_f32();
     let (checkpoints, arcs): (Vec<_>, Vec<_>) =
         (gait.checkpoints().collect(), gait.arcs().collect());

@@ -5,18 +5,18 @@
 
 use super::args::{Failure, GaitInput, PrintArgs, fail, output_failure, read_gait};
 use crate::costate_file::CostateFile;
-use crate::{output, plots, replay};
+use crate::{output, plots};
 use clap::Args;
 use purcell_core::Gait;
 use purcell_core::tracking::RECORD_VALUES;
 use purcell_solver::tracking::{
     Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly, joint_bound,
-    table_of,
+    nominal, table_of,
 };
 use serde::Serialize;
 use serde_json::json;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `robustness` flags.
 #[derive(Debug, Args)]
@@ -161,11 +161,6 @@ pub const TABLE: [(f64, f64, f64, f64, f64); 14] = [
     (-0.1, -0.05, 0.0, 1e-4, 1e-3),
 ];
 
-/// The gait of the flags, its file's numbers and the path shown in messages (exit 2).
-fn input(a: &RobustnessArgs) -> Result<(&Path, CostateFile), Failure> {
-    a.input.costate_file()
-}
-
 /// A flight's report from its outcome.
 fn flight_report(gait: &Gait<'_>, r: Result<Outcome, impl ToString>) -> FlightReport {
     match r {
@@ -267,7 +262,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     if a.digest {
         return stored_flight(&a);
     }
-    let (path, file) = input(&a)?;
+    let (path, file) = a.input.costate_file()?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
     let design = Design {
         terminal_pose: a.terminal_pose,
@@ -308,9 +303,9 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     };
     let bytes = file.to_gait().map_err(|e| refused(&e))?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
-    let nominal = replay::trajectory(&file).map_err(|e| refused(&e))?;
+    let nominal = nominal(&gait).map_err(|e| refused(&e))?;
     let (k, source) =
-        table_of(&gait, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
+        table_of(&gait, &nominal, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
     let feedforward = match &source {
         Feedforward::Extremal => json!({ "from": "extremal" }),
         Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
@@ -391,8 +386,8 @@ fn stored_flight(a: &RobustnessArgs) -> Result<String, Failure> {
     ))
 }
 
-/// `+10 %` for `0.1`.
-fn percent(v: f64) -> String {
+/// `+10%` for `0.1`.
+pub(crate) fn percent(v: f64) -> String {
     format!("{:+}%", (v * 1000.0).round() / 10.0)
 }
 

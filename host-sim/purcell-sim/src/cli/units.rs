@@ -38,7 +38,7 @@ pub fn radians(value: f64, degrees: bool) -> f64 {
 }
 
 /// One entry of kind `q` in SI units (radians for an angle); why not, for a message.
-pub fn quantity(text: &str, q: Quantity) -> Result<f64, String> {
+fn quantity(text: &str, q: Quantity) -> Result<f64, String> {
     let (number, degrees) = split_unit(text, q)?;
     let value: f64 = number.parse().map_err(|_| {
         format!(

@@ -50,7 +50,7 @@ impl PathCsv {
     pub fn new(h: f64, steps: u32, arcs: impl IntoIterator<Item = Arc>) -> Self {
         let mut on = vec![[0i8; 2]; steps as usize + 1];
         for a in arcs {
-            let joint = usize::from(a.joint.clamp(1, 2) - 1);
+            let joint = a.index();
             for flags in on
                 .iter_mut()
                 .take(a.last as usize + 1)

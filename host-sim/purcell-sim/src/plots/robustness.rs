@@ -6,7 +6,7 @@ use super::PlotError;
 use super::gait::{POINTS, thin};
 use super::style::*;
 use super::time::{Panel, Series, TimeFigure};
-use crate::cli::robustness::CaseReport;
+use crate::cli::robustness::{CaseReport, percent};
 
 /// The flights' pose error over time (`h` the step), `log10`.
 pub fn figure(cases: &[CaseReport], h: f64) -> Result<TimeFigure, PlotError> {
@@ -32,10 +32,7 @@ pub fn figure(cases: &[CaseReport], h: f64) -> Result<TimeFigure, PlotError> {
                 })
                 .collect();
             series.push(Series {
-                label: format!(
-                    "{name} loop, r {:+}%",
-                    (c.ratio_error * 1000.0).round() / 10.0
-                ),
+                label: format!("{name} loop, r {}", percent(c.ratio_error)),
                 color,
                 points,
             });

@@ -19,6 +19,7 @@
 use super::cost::{Effort, StageCost};
 use super::settings::ON_LIMIT;
 use super::solution::Trajectory;
+use super::stage::coordinates;
 use crate::dual::Dual;
 use crate::problem::Problem;
 use nalgebra::{SVector, Vector2, Vector3};
@@ -144,9 +145,4 @@ pub fn kkt(
         min_eta,
         active,
     })
-}
-
-/// `s = (α1, α2, x, y, θ)` of a state, for any scalar.
-fn coordinates<T: Real>(s: &State<T>) -> [T; 5] {
-    [s.alpha.x, s.alpha.y, s.g.x(), s.g.y(), s.g.theta()]
 }

@@ -34,7 +34,7 @@
 
 use crate::dual::Dual;
 use nalgebra::{Matrix2, Matrix2x3, Matrix3x2, Matrix5, Matrix5x2, Vector2, Vector3, Vector5};
-use purcell_core::{Error, Kinematics, Real, Swimmer};
+use purcell_core::{Error, Kinematics, Real, State, Swimmer};
 
 /// A state `(α1, α2, x, y, θ)`.
 pub type StageState = Vector5<f64>;
@@ -423,6 +423,11 @@ impl Twist {
         hss[(4, 4)] = h_tt;
         (hss, hsu, huu)
     }
+}
+
+/// The stage coordinates `s = (α1, α2, x, y, θ)` of a state, for any scalar.
+pub(crate) fn coordinates<T: Real>(s: &State<T>) -> [T; 5] {
+    [s.alpha.x, s.alpha.y, s.g.x(), s.g.y(), s.g.theta()]
 }
 
 #[cfg(test)]

@@ -49,7 +49,7 @@ pub struct Design {
     pub tail: u32,
     /// The first step whose record uses the estimate `ε̂` (before it, `ε̂ = 0`).
     pub estimate_from: u32,
-    /// The bound the joints are held within (`flight::joint_bound`).
+    /// The bound the joints are held within ([`purcell_core::tracking::joint_bound`]).
     pub bound: f64,
     /// Where the nominal joint is within `band` of `bound`, its running weight is
     /// `bound_weight` more (per rad², per second): corrections stay away from the bound.
@@ -163,12 +163,11 @@ fn error_stages(
         Swimmer::new(sw.lengths().map(c), c(sw.drag()), Dual::variable(ratio, 0))?,
         c(kin.h()),
     )?;
-    let coords = |st: &State<f64>| [st.alpha.x, st.alpha.y, st.g.x(), st.g.y(), st.g.theta()];
     states
         .windows(2)
         .zip(controls)
         .map(|(pair, u)| {
-            let s = coords(&pair[0]);
+            let s = stage::coordinates(&pair[0]);
             let lin = model.linearise(&StageState::from(s), u, &StageState::zeros())?;
             let d = stage::step(&kin1, Rule::LEFT_POINT, &s.map(c), &u.map(c))?;
             let (t, t_next) = (frame(&pair[0].g), frame(&pair[1].g));

@@ -49,18 +49,21 @@ pub enum Feedforward {
     Lqr(PlanError),
 }
 
-/// The tracking table of `gait` along its `f64` replay ([`nominal`]) under `design`, its gain
+/// The tracking table of `gait` along `nominal`, its `f64` replay ([`nominal`]), under `design`, its gain
 /// on `ε` from the plant's neighbouring extremal if `design.plan` asks for it and the gait has
 /// one ([`plan`]): what `export --tracking` stores and `robustness` flies.
 ///
-/// Errors: the replay's and [`table`]'s.
-pub fn table_of(gait: &Gait<'_>, design: &Design) -> Result<(Table, Feedforward), Error> {
+/// Errors: [`table`]'s.
+pub fn table_of(
+    gait: &Gait<'_>,
+    nominal: &Trajectory,
+    design: &Design,
+) -> Result<(Table, Feedforward), Error> {
     let p = gait.params();
-    let nominal = nominal(gait)?;
     let planned = if design.plan {
         Problem::of_gait(p)
             .map_err(|e| PlanError::Problem(e.to_string()))
-            .and_then(|problem| neighbouring(&problem, &nominal, &p.costate::<f64>().mu))
+            .and_then(|problem| neighbouring(&problem, nominal, &p.costate::<f64>().mu))
     } else {
         Err(PlanError::Off)
     };
