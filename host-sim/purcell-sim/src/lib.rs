@@ -5,10 +5,11 @@
 //! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
 //! [`decimal`] writes times and grid values as exact decimals;
 //! [`replay`] replays a costate file through the core in `f64`/`f32`; [`input`] reads input
-//! files (bounded, JSON without repeated keys); [`suite`] the problems file of the public
-//! solver suite.
+//! files (bounded, JSON without repeated keys); [`budget`] the step and memory budget of every
+//! reader of a stored gait; [`suite`] the problems file of the public solver suite.
 #![deny(missing_docs)]
 
+pub mod budget;
 pub mod cli;
 pub mod costate_file;
 pub mod decimal;

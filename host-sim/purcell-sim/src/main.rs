@@ -4,6 +4,8 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // Before any thread starts: Ctrl-C removes this run's staging entries (exit 130).
+    purcell_sim::output::remove_staging_on_interrupt();
     let cli = purcell_sim::cli::Cli::parse();
     let (stdout, failure) = match purcell_sim::cli::run(cli) {
         Ok(out) => (out, None),

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 pub mod c_array;
 pub mod path;
 pub mod target;
-pub use target::{MANIFEST, OutputDir, OutputError, OutputFile};
+pub use target::{MANIFEST, OutputDir, OutputError, OutputFile, remove_staging_on_interrupt};
 
 /// `trajectory.csv` of the extremal `x` of `problem`: its path, rows `k = 0..=N`, columns
 /// [`path::HEADER`] (see [`path`]).

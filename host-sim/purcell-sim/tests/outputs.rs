@@ -226,7 +226,10 @@ fn replay_out_never_overwrites_its_input_or_a_foreign_file() {
             .contains("purcell-replay")
     );
     let names: Vec<String> = snapshot(tmp.path()).into_iter().map(|(n, _)| n).collect();
-    assert_eq!(names, ["alias.json", "c.json", "r.json"]);
+    assert_eq!(
+        names,
+        [".r.json.purcell-sim", "alias.json", "c.json", "r.json"]
+    );
 }
 
 /// [`Solve::quick`] (no figures) into `out`, which must succeed.
@@ -374,26 +377,23 @@ fn unusable_outs_are_refused_before_the_work() {
 }
 
 /// Issue 21 (lower): a Ctrl-C left a hidden staging folder beside the output, and nothing
-/// cleaned old ones. The next run in that directory removes those of processes that are
-/// gone, and leaves a running one's alone.
+/// cleaned old ones. The next run in that directory removes those that no process holds
+/// locked (issue 34: not by process id), and leaves a locked one alone.
 #[test]
 fn staging_left_by_a_killed_run_is_removed_by_the_next() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut gone = std::process::Command::new("true").spawn().unwrap();
-    let dead = gone.id();
-    gone.wait().unwrap();
-    let stale = tmp.path().join(format!(".purcell-sim-{dead}-0.tmp"));
+    let stale = tmp.path().join(".purcell-sim-00000000000000a1.tmp");
     std::fs::create_dir(&stale).unwrap();
     std::fs::write(stale.join("trajectory.csv"), "half").unwrap();
-    let stale_file = tmp.path().join(format!(".purcell-sim-{dead}-1.tmp"));
+    let stale_file = tmp.path().join(".purcell-sim-00000000000000a2.tmp");
     std::fs::write(&stale_file, "half").unwrap();
-    let live = tmp
-        .path()
-        .join(format!(".purcell-sim-{}-0.tmp", std::process::id()));
+    let live = tmp.path().join(".purcell-sim-00000000000000a3.tmp");
     std::fs::create_dir(&live).unwrap();
+    let holder = hold_lock(&live);
     solved(&tmp.path().join("out"));
     assert!(!stale.exists() && !stale_file.exists());
     assert!(live.exists());
+    drop(holder);
 }
 
 /// Issue 21 (lower): names over about 230 bytes were refused because of the staging name's

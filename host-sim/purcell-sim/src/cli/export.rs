@@ -3,6 +3,8 @@
 
 use super::args::{Failure, GaitInput, fail, output_failure};
 use super::replay::check_stored;
+use crate::budget::Work;
+use crate::input::MAX_INPUT_BYTES;
 use crate::output::{self, OutputFile, c_array};
 use clap::{Args, ValueEnum};
 use purcell_core::{Gait, gait};
@@ -25,9 +27,11 @@ pub struct ExportArgs {
     /// The gait to export (a gait file: with --format c, its bytes as C source).
     #[command(flatten)]
     pub input: GaitInput,
-    /// The file to write (atomically; an existing file is replaced only if it is one `export`
-    /// wrote in that format, never an input). With --format c, the `.c` file; the header
-    /// goes beside it with the extension `.h`, and the array is named after the file stem.
+    /// The file to write (atomically; an existing file is replaced only if its record
+    /// `.NAME.purcell-sim` beside it says `export` wrote exactly that, never an input). With
+    /// --format c, the `.c` file; the header goes beside it with the extension `.h`, and the
+    /// array is named after the file stem (prefixed with gait_ where that would clash with
+    /// C).
     #[arg(short, long)]
     pub out: PathBuf,
     /// What to write.
@@ -47,77 +51,123 @@ pub struct ExportArgs {
     pub plan: bool,
 }
 
-/// Whether `bytes` are a gait file (its magic), by which `export --out` recognises its own.
-fn is_gait_file(bytes: &[u8]) -> bool {
-    bytes.starts_with(&purcell_core::gait::MAGIC)
-}
-
-/// The files to write for `bytes`: `(path, contents, recogniser)`.
-type Outputs = Vec<(PathBuf, Vec<u8>, fn(&[u8]) -> bool)>;
-
-/// The `.c` and `.h` files of `--format c` (exit 2 unless `out` ends in `.c`).
-fn c_outputs(out: &Path, about: &str, bytes: &[u8]) -> Result<Outputs, Failure> {
-    let stem = match (out.extension(), out.file_stem()) {
-        (Some(e), Some(stem)) if e == "c" => stem.to_string_lossy(),
-        _ => {
-            return Err(fail(
-                2,
-                format!(
-                    "{}: --format c writes NAME.c (and NAME.h beside it): --out must end in .c",
-                    out.display()
-                ),
-            ));
-        }
-    };
+/// The paths `--format c` writes, the `.c` first (exit 2 unless `out` ends in `.c` and the
+/// header's name can be `#include`d): renamed in this order, a new `.c` meets the old `.h`
+/// only if the export is interrupted between the two, and then fails to compile
+/// ([`c_array::source`]'s key), so an interrupted export never leaves a pair that builds.
+fn c_paths(out: &Path) -> Result<[PathBuf; 2], Failure> {
+    if out.extension().is_none_or(|e| e != "c") || out.file_stem().is_none() {
+        return Err(fail(
+            2,
+            format!(
+                "{}: --format c writes NAME.c (and NAME.h beside it): --out must end in .c",
+                out.display()
+            ),
+        ));
+    }
     let header = out.with_extension("h");
-    let header_name = header.file_name().unwrap_or_default().to_string_lossy();
-    let (c, h) = c_array::source(&c_array::identifier(&stem), &header_name, about, bytes);
-    Ok(vec![
-        (header, h.into_bytes(), c_array::is_ours),
-        (out.to_path_buf(), c.into_bytes(), c_array::is_ours),
-    ])
+    if let Some(why) = c_array::unincludable(header.file_name().unwrap_or_default()) {
+        return Err(fail(2, format!("{}: {why}", out.display())));
+    }
+    Ok([out.to_path_buf(), header])
 }
 
-/// `gait`'s file with its tracking table ([`Design`]'s defaults, the joints' bound of its
-/// `α_max`, the neighbouring extremal's gain if `plan`; [`tracking::table_of`]) and where its
+/// The `.c` and `.h` sources of the gait file `bytes` for the paths [`c_paths`] gave.
+fn c_sources([c, h]: &[PathBuf; 2], about: &str, bytes: &[u8]) -> [Vec<u8>; 2] {
+    let stem = c.file_stem().unwrap_or_default().to_string_lossy();
+    let header = h.file_name().unwrap_or_default().to_string_lossy();
+    let (c, h) = c_array::source(&c_array::identifier(&stem), &header, about, bytes);
+    [c.into_bytes(), h.into_bytes()]
+}
+
+/// The length of `gait`'s file with a tracking table of `design` ([`tracking::table_of`]'s
+/// records: one every `every` steps up to the tail, then one a step), known before the work.
+fn tracked_len(gait: &Gait<'_>, design: &Design) -> usize {
+    let n = gait.params().steps;
+    let d = design.every.max(1);
+    let tail_from = n.saturating_sub(design.tail) / d * d;
+    let records = n.checked_sub(1).map_or(0, |last| {
+        tracking::Table::index(d, tail_from, last as usize).0 + 1
+    });
+    gait::encoded_len_with_tracking(gait.checkpoint_count(), gait.arc_count(), records)
+}
+
+/// The design of `export --tracking`: [`Design`]'s defaults, the joints' bound of the gait's
+/// `α_max`, the neighbouring extremal's gain if `plan`.
+fn design(gait: &Gait<'_>, plan: bool) -> Design {
+    Design {
+        bound: joint_bound(gait.params().alpha_max),
+        plan,
+        ..Design::default()
+    }
+}
+
+/// `gait`'s file with its tracking table of `design` ([`tracking::table_of`]) and where its
 /// gain on the ratio error came from.
 fn with_tracking(
     gait: &Gait<'_>,
-    plan: bool,
+    design: &Design,
 ) -> Result<(Vec<u8>, Feedforward), purcell_core::Error> {
-    let p = gait.params();
-    let design = Design {
-        bound: joint_bound(p.alpha_max),
-        plan,
-        ..Design::default()
-    };
-    let (t, source) = tracking::table_of(gait, &tracking::nominal(gait)?, &design)?;
+    let (t, source) = tracking::table_of(gait, &tracking::nominal(gait)?, design)?;
     let records = t.to_f32();
     let (checkpoints, arcs): (Vec<_>, Vec<_>) =
         (gait.checkpoints().collect(), gait.arcs().collect());
     let mut out =
         vec![0; gait::encoded_len_with_tracking(checkpoints.len(), arcs.len(), records.len())];
-    gait::encode_with_tracking(p, &checkpoints, &arcs, &records, &mut out)?;
+    gait::encode_with_tracking(gait.params(), &checkpoints, &arcs, &records, &mut out)?;
     Ok((out, source))
 }
 
 /// `export`: reads and checks the costate file (or gait file), writes its gait; a line naming
 /// what it wrote.
-pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
+pub(super) fn run_export(a: ExportArgs, quiet: bool) -> Result<String, Failure> {
     let (input, bytes) = a.input.gait_bytes()?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", input.display()));
-    let mut bytes = bytes;
-    let mut gain = None;
-    if a.tracking {
-        let (tracked, source) =
-            with_tracking(&Gait::from_bytes(&bytes).map_err(|e| refused(&e))?, a.plan)
-                .map_err(|e| refused(&format!("tracking table: {e}")))?;
-        bytes = tracked;
-        gain = Some(source);
+    let source = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
+    // The gait is for the f32 firmware; --tracking flies it and keeps per-step gains.
+    let work = if a.tracking {
+        Work::Tracking
+    } else {
+        Work::Read
+    };
+    check_stored(input, &source, true, work, quiet)?;
+    let design = design(&source, a.plan);
+    let len = if a.tracking {
+        tracked_len(&source, &design)
+    } else {
+        bytes.len()
+    };
+    if len as u64 > MAX_INPUT_BYTES {
+        return Err(fail(
+            2,
+            format!(
+                "{}: the gait file would be {len} bytes, more than replay and the other readers \
+                 take ({} MiB)",
+                input.display(),
+                MAX_INPUT_BYTES >> 20
+            ),
+        ));
     }
+    let paths = match a.format {
+        Format::Gait => vec![a.out.clone()],
+        Format::C => c_paths(&a.out)?.to_vec(),
+    };
+    // Every output checked and staged before any work.
+    let files = paths
+        .iter()
+        .map(|p| OutputFile::prepare(p, "export", a.force, &[input]))
+        .collect::<Result<Vec<_>, output::OutputError>>()
+        .map_err(output_failure(true))?;
+    let mut gain = None;
+    let bytes = if a.tracking {
+        let (tracked, source) = with_tracking(&source, &design)
+            .map_err(|e| refused(&format!("tracking table: {e}")))?;
+        gain = Some(source);
+        tracked
+    } else {
+        bytes
+    };
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
-    // The gait is for the f32 firmware.
-    check_stored(input, &gait, true)?;
     let mut about = format!(
         "{} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={}",
         bytes.len(),
@@ -136,20 +186,13 @@ pub(super) fn run_export(a: ExportArgs) -> Result<String, Failure> {
             about += &format!(", gain on the ratio error: LQR (no plan: {why})");
         }
     }
-    let outputs = match a.format {
-        Format::Gait => vec![(a.out.clone(), bytes, is_gait_file as fn(&[u8]) -> bool)],
-        Format::C => c_outputs(&a.out, &about, &bytes)?,
+    let contents = match a.format {
+        Format::Gait => vec![bytes],
+        Format::C => {
+            c_sources(&[a.out.clone(), a.out.with_extension("h")], &about, &bytes).to_vec()
+        }
     };
-    // Every output checked and staged before any is written.
-    let staged = outputs
-        .into_iter()
-        .map(|(path, contents, ours)| {
-            OutputFile::prepare(&path, ours, a.force, &[input]).map(|f| (f, contents))
-        })
-        .collect::<Result<Vec<_>, output::OutputError>>()
-        .map_err(output_failure(true))?;
-    for (file, contents) in staged {
-        file.commit(&contents).map_err(output_failure(false))?;
-    }
+    let staged = files.into_iter().zip(contents).collect();
+    OutputFile::commit_all(staged).map_err(output_failure(false))?;
     Ok(format!("gait: wrote {} ({about})\n", a.out.display()))
 }

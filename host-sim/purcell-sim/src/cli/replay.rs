@@ -2,7 +2,8 @@
 //! firmware flies it; and the checks every route to a replay makes of a stored gait.
 
 use super::args::{Failure, GaitInput, fail, output_failure};
-use crate::{input, output, replay};
+use crate::budget::{self, Work};
+use crate::{output, replay};
 use clap::{Args, ValueEnum};
 use purcell_core::Gait;
 use purcell_solver::problem::{InputError, Problem, check_gait_precision};
@@ -48,50 +49,61 @@ pub struct ReplayArgs {
     pub force: bool,
 }
 
-/// What every route to a replay checks in a stored gait of `path` (`replay --costate`,
-/// `replay --gait`, `export`), besides the core's own validation: its problem as
-/// command-line input ([`Problem::of_gait`], the step limit included) and, where it is
-/// replayed in `f32`, every number there ([`purcell_solver::problem::check_gait_precision`]); exit 2.
-pub(super) fn check_stored(path: &Path, gait: &Gait<'_>, f32: bool) -> Result<(), Failure> {
-    let refused = |e: InputError| fail(2, format!("{}: {e}", path.display()));
-    Problem::of_gait(gait.params()).map_err(refused)?;
+/// What every route to a replay checks in a stored gait of `path` (`replay`, `export`,
+/// `robustness`), besides the core's own validation, before any work: the step and memory
+/// budget of `work` ([`budget::check`]; a large run's needs are said on stderr first, unless
+/// `quiet`), its problem as command-line input ([`Problem::of_gait`]) and, where it is
+/// replayed in `f32`, every number there ([`purcell_solver::problem::check_gait_precision`]);
+/// exit 2.
+pub(super) fn check_stored(
+    path: &Path,
+    gait: &Gait<'_>,
+    f32: bool,
+    work: Work,
+    quiet: bool,
+) -> Result<(), Failure> {
+    let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
+    let note = budget::check(u64::from(gait.params().steps), work).map_err(|e| refused(&e))?;
+    Problem::of_gait(gait.params()).map_err(|e: InputError| refused(&e))?;
     if f32 {
-        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32").map_err(refused)?;
+        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32")
+            .map_err(|e| refused(&e))?;
+    }
+    if let Some(note) = note {
+        super::args::warn(quiet, format_args!("{}: {note}", path.display()));
     }
     Ok(())
 }
 
-/// The `format` tag of the `replay` report, by which `replay --out` recognises its own.
+/// The `format` tag of the `replay` report.
 const REPLAY_REPORT: &str = "purcell-replay";
-
-/// Whether `bytes` are a `replay` report.
-fn is_replay_report(bytes: &[u8]) -> bool {
-    input::json::<serde_json::Value>(bytes)
-        .is_ok_and(|v| v.get("format").and_then(|f| f.as_str()) == Some(REPLAY_REPORT))
-}
 
 /// `replay`: reads and checks the gait, prepares `--out`, flies it, writes the report; the
 /// text report as printed (exit 3 with it when a replay fails).
-pub(super) fn run_replay(a: ReplayArgs) -> Result<String, Failure> {
+pub(super) fn run_replay(a: ReplayArgs, quiet: bool) -> Result<String, Failure> {
     let (path, bytes) = a.input.gait_bytes()?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
-    check_stored(path, &gait, !matches!(a.precision, Some(Precision::F64)))?;
-    if let (Some(o), Some(t)) = (&a.out, &a.trace)
-        && std::path::absolute(o).ok() == std::path::absolute(t).ok()
-    {
-        return Err(fail(2, "--out and --trace name the same file"));
-    }
-    let prepare = |out: &Option<PathBuf>, recognise, inputs: &[&Path]| {
+    let work = if a.trace.is_some() {
+        Work::Path
+    } else {
+        Work::Fly
+    };
+    let f32 = !matches!(a.precision, Some(Precision::F64));
+    check_stored(path, &gait, f32, work, quiet)?;
+    let prepare = |out: &Option<PathBuf>, command| {
         out.as_deref()
-            .map(|p| output::OutputFile::prepare(p, recognise, a.force, inputs))
+            .map(|p| output::OutputFile::prepare(p, command, a.force, &[path]))
             .transpose()
             .map_err(output_failure(true))
     };
-    let out = prepare(&a.out, is_replay_report, &[path])?;
-    // The trace is never the costate or gait file, nor --out.
-    let mut inputs = vec![path];
-    inputs.extend(a.out.as_deref());
-    let trace = prepare(&a.trace, |_| false, &inputs)?;
+    let out = prepare(&a.out, "replay")?;
+    let trace = prepare(&a.trace, "replay --trace")?;
+    // The same file by two names (`r.json`, `x/../r.json`): refused before the work.
+    if let (Some(o), Some(t)) = (&out, &trace)
+        && o.key() == t.key()
+    {
+        return Err(fail(2, "--out and --trace name the same file"));
+    }
     let checkpoints = !a.no_checkpoints;
     let results = match a.precision {
         None => replay::standard_replays(&gait),

@@ -4,6 +4,8 @@
 //! (docs/ROBUSTNESS.md).
 
 use super::args::{Failure, GaitInput, PrintArgs, fail, output_failure, read_gait};
+use super::replay::check_stored;
+use crate::budget::Work;
 use crate::costate_file::CostateFile;
 use crate::{output, plots};
 use clap::Args;
@@ -258,9 +260,10 @@ fn cases(a: &RobustnessArgs) -> Vec<(Mismatch, Noise)> {
 
 /// `robustness`: reads the gait, computes its gains, flies the cases; the summary (or the
 /// JSON report) as printed.
-pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
+pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, Failure> {
+    check_flags(&a)?;
     if a.digest {
-        return stored_flight(&a);
+        return stored_flight(&a, quiet);
     }
     let (path, file) = a.input.costate_file()?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
@@ -277,23 +280,9 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
         bound_weight: a.bound_weight,
         plan: a.plan,
     };
-    for (name, v) in [
-        ("pose-noise", a.pose_noise),
-        ("shape-noise", a.shape_noise),
-        ("terminal-pose", a.terminal_pose),
-        ("terminal-alpha", a.terminal_alpha),
-        ("running-pose", a.running_pose),
-        ("running-alpha", a.running_alpha),
-        ("bound-weight", a.bound_weight),
-        ("band", a.band),
-    ] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(fail(
-                2,
-                format!("--{name} must be finite and >= 0 (got {v})"),
-            ));
-        }
-    }
+    let bytes = file.to_gait().map_err(|e| refused(&e))?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
+    check_stored(path, &gait, a.f32, Work::Tracking, quiet)?;
     let out = match &a.out {
         Some(dir) => Some(
             output::OutputDir::prepare(dir, "robustness", a.force, &[path])
@@ -301,8 +290,6 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
         ),
         None => None,
     };
-    let bytes = file.to_gait().map_err(|e| refused(&e))?;
-    let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     let nominal = nominal(&gait).map_err(|e| refused(&e))?;
     let (k, source) =
         table_of(&gait, &nominal, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
@@ -352,9 +339,32 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     })
 }
 
+/// The flags' values every case takes: noise and weights finite and `>= 0` (exit 2, also
+/// with `--digest`).
+fn check_flags(a: &RobustnessArgs) -> Result<(), Failure> {
+    for (name, v) in [
+        ("pose-noise", a.pose_noise),
+        ("shape-noise", a.shape_noise),
+        ("terminal-pose", a.terminal_pose),
+        ("terminal-alpha", a.terminal_alpha),
+        ("running-pose", a.running_pose),
+        ("running-alpha", a.running_alpha),
+        ("bound-weight", a.bound_weight),
+        ("band", a.band),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(fail(
+                2,
+                format!("--{name} must be finite and >= 0 (got {v})"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// `--digest`: the closed-loop `f32` flight of `--gait` with its stored tracking table through
 /// the plant of the flags; its digest ([`Outcome::digest`]) and terminal error.
-fn stored_flight(a: &RobustnessArgs) -> Result<String, Failure> {
+fn stored_flight(a: &RobustnessArgs, quiet: bool) -> Result<String, Failure> {
     let path = a
         .input
         .gait
@@ -363,6 +373,7 @@ fn stored_flight(a: &RobustnessArgs) -> Result<String, Failure> {
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
     let bytes = read_gait(path)?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
+    check_stored(path, &gait, true, Work::Tracking, quiet)?;
     let stored = gait.tracking().ok_or_else(|| {
         refused(&"no tracking table (write one with `purcell-sim export --gait FILE --tracking`)")
     })?;

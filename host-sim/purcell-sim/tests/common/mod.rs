@@ -175,3 +175,36 @@ pub fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
     out.sort();
     out
 }
+
+/// A process holding an exclusive `flock` on `path` (`flock(1)`) until dropped, as a live run
+/// holds its staging entry.
+pub struct LockHolder(std::process::Child);
+
+/// Starts a [`LockHolder`] on `path` and waits until it holds the lock.
+pub fn hold_lock(path: &Path) -> LockHolder {
+    let ready = path.with_extension("locked");
+    let child = Command::new("flock")
+        .arg("--exclusive")
+        .arg(path)
+        .args(["sh", "-c", "touch \"$0\"; exec sleep 600"])
+        .arg(&ready)
+        .spawn()
+        .expect("flock(1) (util-linux) runs");
+    let t0 = std::time::Instant::now();
+    while !ready.exists() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "flock(1) never locked"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let _ = std::fs::remove_file(&ready);
+    LockHolder(child)
+}
+
+impl Drop for LockHolder {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}

@@ -211,29 +211,69 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Classifies a single-file output path.
+/// Classifies a single-file output path `path` of subcommand `command`, whose record is
+/// `record` (`file::record_path`): ours only if the record is a manifest of `command` that
+/// lists the file's length and hash.
 pub(super) fn classify_file(
     path: &Path,
-    recognise: fn(&[u8]) -> bool,
+    record: &Path,
+    command: &str,
     inputs: &[PathBuf],
 ) -> io::Result<Existing> {
+    let manifest = match fs::symlink_metadata(record) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e),
+        Ok(m) if !m.is_file() => {
+            return Ok(foreign(
+                format!("its record {} is not a file", record.display()),
+                false,
+            ));
+        }
+        Ok(_) => Some(match crate::input::read(record) {
+            Ok(bytes) => Manifest::parse(&bytes),
+            Err(e) if e.kind() == io::ErrorKind::FileTooLarge => None,
+            Err(e) => return Err(e),
+        }),
+    };
     let kind = match settled(path, inputs)? {
         Ok(kind) => kind,
+        // A record without its file (or not one of ours): replaced only with force.
+        Err(Existing::Missing) if matches!(manifest, Some(None)) => {
+            return Ok(foreign(
+                format!(
+                    "is missing, but {} beside it is not a record purcell-sim wrote",
+                    record.display()
+                ),
+                true,
+            ));
+        }
         Err(existing) => return Ok(existing),
     };
-    Ok(if kind.is_file() {
-        let recognised = match crate::input::read(path) {
-            Ok(bytes) => recognise(&bytes),
-            // Too large to be ours.
-            Err(e) if e.kind() == io::ErrorKind::FileTooLarge => false,
-            Err(e) => return Err(e),
-        };
-        if recognised {
-            Existing::Ours(None)
-        } else {
-            foreign("holds data that purcell-sim did not write", true)
+    if !kind.is_file() {
+        return Ok(foreign("is a directory", false));
+    }
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let len = fs::metadata(path)?.len();
+    Ok(match manifest {
+        None => foreign(
+            format!(
+                "holds data that purcell-sim did not write (no record {} of it)",
+                record.display()
+            ),
+            true,
+        ),
+        Some(None) => foreign(
+            format!("{} is not a record purcell-sim wrote", record.display()),
+            true,
+        ),
+        Some(Some(m)) if m.command != command => {
+            foreign(format!("is a result of `purcell-sim {}`", m.command), true)
         }
-    } else {
-        foreign("is a directory", false)
+        Some(Some(m)) if m.matches(&name, len, path)? => Existing::Ours(Some(m)),
+        Some(Some(_)) => foreign(
+            "holds data that purcell-sim did not write (not what its record lists: changed \
+             since)",
+            true,
+        ),
     })
 }

@@ -4,11 +4,12 @@
 
 use super::classify::{Existing, classify_dir};
 use super::disk::{
-    create_parents, create_staging, exchange, keep_permissions, remove_any, remove_empty_dirs,
-    split, sync_dir, walk, write_synced,
+    create_parents, exchange, keep_permissions, remove_any, remove_empty_dirs, split, sync_dir,
+    walk, write_synced,
 };
 use super::error::{OutputError, io_error};
 use super::manifest::{Entry, MANIFEST, Manifest};
+use super::staging::{Staging, swap_guard};
 use std::fs;
 use std::io;
 use std::path::{Component, Path, PathBuf};
@@ -43,7 +44,7 @@ pub struct OutputDir {
     command: &'static str,
     force: bool,
     inputs: Vec<PathBuf>,
-    pub(super) staging: Option<PathBuf>,
+    pub(super) staging: Option<Staging>,
     created_parents: Vec<PathBuf>,
 }
 
@@ -85,21 +86,26 @@ impl OutputDir {
             created_parents,
         };
         out.staging =
-            Some(create_staging(&parent, true).map_err(io_error(path, "cannot be created"))?);
+            Some(Staging::create(&parent, true).map_err(io_error(path, "cannot be created"))?);
         Ok(out)
     }
 
     /// Writes `files` (name relative to the directory, contents) and the manifest, then
     /// puts them in place of the path in one step.
     pub fn commit(mut self, files: &[(String, Vec<u8>)]) -> Result<(), OutputError> {
-        let staging = self.staging.clone().unwrap_or_default();
+        let staging = self.staging.as_ref().map(|s| s.path().to_path_buf());
+        let staging = staging.unwrap_or_default();
         let manifest = self.stage(&staging, files)?;
         let shown = self.shown.clone();
         let existing = classify_dir(&self.path, self.command, &self.inputs)
             .map_err(io_error(&shown, "cannot inspect"))?;
         match existing {
             Existing::Missing => {
-                fs::rename(&staging, &self.path).map_err(io_error(&shown, "cannot create"))?
+                let _swap = swap_guard();
+                fs::rename(&staging, &self.path).map_err(io_error(&shown, "cannot create"))?;
+                if let Some(s) = self.staging.take() {
+                    s.done();
+                }
             }
             Existing::Foreign {
                 reason,
@@ -117,6 +123,10 @@ impl OutputDir {
                     _ => None,
                 };
                 keep_permissions(&staging, &self.path);
+                for e in &manifest.files {
+                    keep_permissions(&staging.join(&e.name), &self.path.join(&e.name));
+                }
+                let _swap = swap_guard();
                 match exchange(&staging, &self.path) {
                     Ok(()) => remove_any(&staging)
                         .map_err(io_error(&staging, "replaced; cannot remove the old copy"))?,
@@ -128,7 +138,9 @@ impl OutputDir {
                 }
             }
         }
-        self.staging = None;
+        if let Some(s) = self.staging.take() {
+            s.done();
+        }
         self.created_parents.clear();
         if let Some(parent) = self.path.parent() {
             sync_dir(parent);
@@ -162,9 +174,7 @@ impl OutputDir {
 
 impl Drop for OutputDir {
     fn drop(&mut self) {
-        if let Some(s) = self.staging.take() {
-            let _ = fs::remove_dir_all(s);
-        }
+        drop(self.staging.take());
         remove_empty_dirs(&self.created_parents);
     }
 }

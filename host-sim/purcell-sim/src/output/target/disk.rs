@@ -1,16 +1,11 @@
-//! The filesystem steps of an output: resolving the path, creating missing parents,
-//! staging entries beside it (and removing those of killed runs), synced writes, keeping
-//! permissions, and `renameat2` (exchange, rename without replacing).
+//! The filesystem steps of an output: resolving the path, creating missing parents, synced
+//! writes, keeping permissions, and `renameat2` (exchange, rename without replacing).
 
 use super::error::{OutputError, io_error};
 use std::ffi::OsString;
 use std::fs;
 use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
-
-/// Staging entries are named `.purcell-sim-PID-N.tmp` (this prefix, the process id, a
-/// counter, this suffix): short, so any output name fits beside them.
-const STAGING: [&str; 2] = [".purcell-sim-", ".tmp"];
 
 /// `(parent, name)` of an output path; `.`, `..` and the like are resolved first.
 pub(super) fn split(path: &Path) -> Result<(PathBuf, OsString), OutputError> {
@@ -67,76 +62,6 @@ pub(super) fn remove_empty_dirs(dirs: &[PathBuf]) {
     for d in dirs {
         let _ = fs::remove_dir(d);
     }
-}
-
-/// A fresh staging directory or file in `parent`, after removing the stale ones there.
-pub(super) fn create_staging(parent: &Path, directory: bool) -> io::Result<PathBuf> {
-    remove_stale_staging(parent);
-    let [prefix, suffix] = STAGING;
-    for n in 0..1000 {
-        let p = parent.join(format!("{prefix}{}-{n}{suffix}", std::process::id()));
-        let made = if directory {
-            fs::create_dir(&p)
-        } else {
-            fs::OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(&p)
-                .map(drop)
-        };
-        match made {
-            Ok(()) => return Ok(p),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(e),
-        }
-    }
-    Err(io::Error::new(
-        io::ErrorKind::AlreadyExists,
-        "no free temporary name",
-    ))
-}
-
-/// Removes the staging entries in `parent` whose process is gone (a run killed before it
-/// could clean up); best effort.
-fn remove_stale_staging(parent: &Path) {
-    let Ok(entries) = fs::read_dir(parent) else {
-        return;
-    };
-    let [prefix, suffix] = STAGING;
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let pid = name
-            .to_str()
-            .and_then(|n| {
-                n.strip_prefix(prefix)?
-                    .strip_suffix(suffix)?
-                    .split_once('-')
-            })
-            .filter(|(_, n)| n.parse::<u32>().is_ok())
-            .and_then(|(pid, _)| pid.parse::<u32>().ok());
-        if let Some(pid) = pid
-            && !running(pid)
-        {
-            let _ = remove_any(&entry.path());
-        }
-    }
-}
-
-/// Whether process `pid` exists (assumed, where that cannot be asked).
-#[cfg(target_os = "linux")]
-fn running(pid: u32) -> bool {
-    let Ok(pid) = libc::pid_t::try_from(pid) else {
-        return true;
-    };
-    // SAFETY: signal 0 sends nothing; it only asks whether `pid` (> 0: one process) exists.
-    pid <= 0
-        || unsafe { libc::kill(pid, 0) } == 0
-        || io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH)
-}
-
-#[cfg(not(target_os = "linux"))]
-fn running(_: u32) -> bool {
-    true
 }
 
 /// Gives `staging` the permissions of `old`, the entry it replaces, if of the same kind (best

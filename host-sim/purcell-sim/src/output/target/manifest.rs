@@ -88,14 +88,31 @@ impl Manifest {
         if entries.is_empty() {
             return Ok(false);
         }
-        let hash = format!("{:016x}", fnv1a64(&fs::read(path)?));
+        let hash = format!("{:016x}", fnv1a64_file(path)?);
         Ok(entries.iter().any(|e| e.fnv1a64 == hash))
     }
 }
 
 /// FNV-1a, 64 bit: detects a changed file, does not resist forgery.
-fn fnv1a64(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+pub(crate) fn fnv1a64(bytes: &[u8]) -> u64 {
+    fnv1a64_from(0xcbf2_9ce4_8422_2325, bytes)
+}
+
+fn fnv1a64_from(h: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(h, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
+}
+
+/// [`fnv1a64`] of a file's contents, read in blocks (bounded memory at any size).
+fn fnv1a64_file(path: &Path) -> io::Result<u64> {
+    use std::io::Read as _;
+    let mut f = fs::File::open(path)?;
+    let (mut h, mut buf) = (fnv1a64(&[]), vec![0; 1 << 16]);
+    loop {
+        match f.read(&mut buf)? {
+            0 => return Ok(h),
+            n => h = fnv1a64_from(h, buf.get(..n).unwrap_or_default()),
+        }
+    }
 }

@@ -38,6 +38,7 @@ mod disk;
 mod error;
 mod file;
 mod manifest;
+mod staging;
 #[cfg(test)]
 mod tests;
 
@@ -45,3 +46,5 @@ pub use dir::OutputDir;
 pub use error::OutputError;
 pub use file::OutputFile;
 pub use manifest::MANIFEST;
+pub(crate) use manifest::fnv1a64;
+pub use staging::remove_staging_on_interrupt;

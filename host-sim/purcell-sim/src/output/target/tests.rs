@@ -104,7 +104,7 @@ fn replacing_ours_by_exchange_or_file_by_file_leaves_exactly_the_new_files() {
                 .unwrap();
         } else {
             let staged = OutputDir::prepare(&out, "solve", false, &[]).unwrap();
-            let staging = staged.staging.clone().unwrap();
+            let staging = staged.staging.as_ref().unwrap().path().to_path_buf();
             let manifest = staged.stage(&staging, &new).unwrap();
             let Existing::Ours(old_manifest) = classify_dir(&out, "solve", &[]).unwrap() else {
                 panic!("not ours")
@@ -201,44 +201,50 @@ fn force_replaces_a_foreign_directory_or_file_and_a_dropped_output_cleans_up() {
     // Prepared then dropped (the command failed): staging and new parents removed.
     let deep = tmp.path().join("x/y/out");
     drop(OutputDir::prepare(&deep, "solve", false, &[]).unwrap());
-    drop(OutputFile::prepare(&deep, |_| false, false, &[]).unwrap());
+    drop(OutputFile::prepare(&deep, "replay", false, &[]).unwrap());
     assert!(!tmp.path().join("x").exists());
     assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
 }
 
 #[test]
-fn a_single_file_replaces_only_its_own_kind_and_never_an_input() {
+fn a_single_file_is_ours_only_as_its_record_lists_it_and_never_an_input() {
     let tmp = tempfile::tempdir().unwrap();
-    let ours = |b: &[u8]| b.starts_with(b"OURS");
     let path = tmp.path().join("r.json");
-    OutputFile::prepare(&path, ours, false, &[])
-        .unwrap()
-        .commit(b"OURS 1")
-        .unwrap();
-    OutputFile::prepare(&path, ours, false, &[])
-        .unwrap()
-        .commit(b"OURS 2")
-        .unwrap();
+    let record = tmp.path().join(".r.json.purcell-sim");
+    let write =
+        |bytes: &[u8], force: bool| OutputFile::prepare(&path, "replay", force, &[])?.commit(bytes);
+    write(b"OURS 1", false).unwrap();
+    write(b"OURS 2", false).unwrap();
     assert_eq!(fs::read(&path).unwrap(), b"OURS 2");
-    fs::write(&path, "theirs").unwrap();
-    assert!(refused(OutputFile::prepare(&path, ours, false, &[]), true));
-    OutputFile::prepare(&path, ours, true, &[])
-        .unwrap()
-        .commit(b"OURS 3")
-        .unwrap();
+    assert!(record.is_file());
+    // Another subcommand's file, one with bytes appended, one with the same first bytes.
+    assert!(refused(
+        OutputFile::prepare(&path, "export", false, &[]),
+        true
+    ));
+    for theirs in [&b"OURS 2 and a line of mine"[..], b"OURS 3", b"theirs"] {
+        fs::write(&path, theirs).unwrap();
+        assert!(refused(write(b"OURS 4", false), true));
+        assert_eq!(fs::read(&path).unwrap(), theirs);
+    }
+    write(b"OURS 3", true).unwrap();
+    // A file without a record is not ours, whatever it holds.
+    fs::remove_file(&record).unwrap();
+    assert!(refused(write(b"OURS 5", false), true));
+    write(b"OURS 3", true).unwrap();
     // The input, by its own name or another one, even with force and even if ours.
     let alias = tmp.path().join("alias.json");
     fs::hard_link(&path, &alias).unwrap();
     for out in [&path, &alias] {
         assert!(refused(
-            OutputFile::prepare(out, ours, true, &[&path]),
+            OutputFile::prepare(out, "replay", true, &[&path]),
             false
         ));
     }
     assert!(refused(
-        OutputFile::prepare(tmp.path(), ours, true, &[]),
+        OutputFile::prepare(tmp.path(), "replay", true, &[]),
         false
     ));
     assert_eq!(fs::read(&path).unwrap(), b"OURS 3");
-    assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
+    assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 3);
 }
