@@ -569,3 +569,67 @@ fn replaced_files_keep_their_modes() {
     let mode = std::fs::metadata(&csv).unwrap().permissions().mode() & 0o7777;
     assert_eq!(mode, 0o600);
 }
+
+/// Also open in issue 34: `solve --target 1e-9,0,0` exited 3 ("no start reached the
+/// target") for a motion below what the solve resolves. It is refused first (exit 2, with
+/// why), and the zero target still solves.
+#[test]
+fn a_target_below_the_solves_resolution_is_refused_with_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    for t in ["1e-9,0,0", "0,-3e-7,0", "0,0,1e-9", "1e-8,1e-8,2pi"] {
+        let t = t.replace("2pi", &std::f64::consts::TAU.to_string());
+        let o = Solve::quick()
+            .target(&t)
+            .no_plots()
+            .out(&tmp.path().join("o"))
+            .run();
+        assert_exit(&o, 2, "below what solve resolves");
+        assert!(!tmp.path().join("o").exists());
+    }
+    let o = Solve::quick()
+        .target("0,0,0")
+        .no_plots()
+        .out(&tmp.path().join("z"))
+        .run();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Also open in issue 34: `sweep --theta` was not taken modulo 2π as `solve --target`'s is.
+/// Each value is wrapped into ]−π, π] (said in `--help`).
+#[test]
+fn sweep_takes_theta_modulo_two_pi() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("s");
+    let o = sim(&[
+        "sweep",
+        "--x",
+        "0.01",
+        "--y",
+        "0.01",
+        "--theta",
+        "7",
+        "--horizon",
+        "10",
+        "--step",
+        "0.1",
+        "--starts",
+        "1",
+        "--no-plots",
+        "--out",
+        arg(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let theta: f64 = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(theta, 7.0 - std::f64::consts::TAU);
+    let help = stdout(&sim(&["sweep", "--help"]));
+    assert!(help.contains("modulo 2 pi"), "{help}");
+}

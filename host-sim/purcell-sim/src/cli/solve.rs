@@ -47,11 +47,16 @@ pub struct SearchArgs {
     pub seed: u64,
 }
 
+/// The smallest nonzero target `solve` takes (largest of `|x|`, `|y|` in m and `|θ|` in
+/// rad): below it the terminal tolerance (1e-10) is more than 1e-4 of the motion (exit 2).
+pub const MIN_TARGET: f64 = 1e-6;
+
 /// `solve` flags.
 #[derive(Debug, Args)]
 pub struct SolveArgs {
     /// Target position g_bar = X,Y,THETA reached from the origin: X, Y in metres, THETA in
-    /// radians or degrees with deg (0.1,0.1,30deg), taken modulo 2 pi into ]-pi, pi].
+    /// radians or degrees with deg (0.1,0.1,30deg), taken modulo 2 pi into ]-pi, pi]; 0,0,0
+    /// or a largest component of at least 1e-6.
     #[arg(long, value_parser = units::List([Length, Length, Angle]), default_value = "0.1,0.1,0",
           allow_hyphen_values = true)]
     pub target: [f64; 3],
@@ -81,16 +86,6 @@ pub struct SolveArgs {
     /// What to print.
     #[command(flatten)]
     pub print: PrintArgs,
-}
-
-/// `theta` modulo 2π in `]−π, π]` (as given if it is there already; NaN if not finite).
-fn wrap_angle(theta: f64) -> f64 {
-    use core::f64::consts::{PI, TAU};
-    if -PI < theta && theta <= PI {
-        return theta;
-    }
-    let t = theta.rem_euclid(TAU);
-    if t > PI { t - TAU } else { t }
 }
 
 /// The checkpoint spacing of a solve of `steps` steps: as given, below `steps` (or 0), with
@@ -195,7 +190,20 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
 /// firmware, and the report replays it in `f32`), the search's limits.
 pub fn checked_problem(a: &SolveArgs) -> Result<(Problem, u32), Failure> {
     let [x, y, theta] = a.target;
-    let spec = a.problem.spec([x, y, wrap_angle(theta)]);
+    let target = [x, y, super::units::wrap_angle(theta)];
+    let largest = target.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if largest > 0.0 && largest < MIN_TARGET {
+        return Err(fail(
+            2,
+            format!(
+                "--target {x},{y},{theta}: a motion this small (largest component {largest:e}) \
+                 is below what solve resolves: its terminal tolerance, 1e-10, is more than \
+                 1e-4 of any target under {MIN_TARGET:e} (m or rad); 0,0,0 is the zero gait \
+                 (J = 0)"
+            ),
+        ));
+    }
+    let spec = a.problem.spec(target);
     let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
     problem
         .check_precision::<f32>("f32")

@@ -49,7 +49,8 @@ pub struct SweepArgs {
     #[arg(long, default_value = "-0.3:0.3:13", allow_hyphen_values = true)]
     pub y: String,
     /// Target theta: a value or FROM:TO:COUNT, each end in radians or degrees with deg
-    /// (-30deg:30deg:5; sweep.csv and report.json hold radians).
+    /// (-30deg:30deg:5; sweep.csv and report.json hold radians), each value taken modulo 2 pi
+    /// into ]-pi, pi].
     #[arg(long, default_value = "0", allow_hyphen_values = true)]
     pub theta: String,
     /// The problem and the searches.
@@ -121,7 +122,10 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
         axes: [
             axis("x", &a.x, Length)?,
             axis("y", &a.y, Length)?,
-            axis("theta", &a.theta, Angle)?,
+            axis("theta", &a.theta, Angle)?
+                .into_iter()
+                .map(units::wrap_angle)
+                .collect(),
         ],
     };
     if lattice.len() > MAX_SWEEP_TARGETS {

@@ -112,6 +112,16 @@ impl<const N: usize> TypedValueParser for List<N> {
     }
 }
 
+/// `theta` modulo 2π in `]−π, π]` (as given if it is there already; NaN if not finite).
+pub(super) fn wrap_angle(theta: f64) -> f64 {
+    use core::f64::consts::{PI, TAU};
+    if -PI < theta && theta <= PI {
+        return theta;
+    }
+    let t = theta.rem_euclid(TAU);
+    if t > PI { t - TAU } else { t }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
