@@ -6,6 +6,7 @@ use crate::{ReplayFailed, array1, array2, input_error};
 use numpy::{PyArray1, PyArray2};
 use purcell_core::gait::Stored;
 use purcell_core::{Gait, Real};
+use purcell_sim::budget::Work;
 use purcell_sim::costate_file::CostateFile;
 use purcell_sim::replay::{ReplayReport, replay_gait};
 use purcell_solver::problem::{Problem, check_gait_precision};
@@ -64,6 +65,9 @@ pub fn replay(
     let (name, bytes) = gait_bytes(py, costate_or_gait)?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| input_error(format!("{name}: {e}")))?;
     let refused = |e| input_error(format!("{name}: {e}"));
+    // The command line's step and memory budget: the replay keeps the whole path.
+    purcell_sim::budget::check(u64::from(gait.params().steps), Work::Path)
+        .map_err(|e| input_error(format!("{name}: {e}")))?;
     Problem::of_gait(gait.params()).map_err(refused)?;
     match precision {
         "f32" => {

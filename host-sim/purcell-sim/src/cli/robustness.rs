@@ -373,7 +373,7 @@ fn stored_flight(a: &RobustnessArgs, quiet: bool) -> Result<String, Failure> {
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
     let bytes = read_gait(path)?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
-    check_stored(path, &gait, true, Work::Tracking, quiet)?;
+    check_stored(path, &gait, true, Work::Stored, quiet)?;
     let stored = gait.tracking().ok_or_else(|| {
         refused(&"no tracking table (write one with `purcell-sim export --gait FILE --tracking`)")
     })?;
