@@ -181,9 +181,13 @@ fn every_help_lists_the_exit_codes() {
     let mut table: Vec<&str> = section
         .lines()
         .filter_map(|l| l.strip_prefix("| ")?.split(' ').next())
-        .filter(|c| c.len() == 1 && c.chars().all(|c| c.is_ascii_digit()))
+        .filter(|c| !c.is_empty() && c.chars().all(|c| c.is_ascii_digit()))
         .collect();
-    let mut listed: Vec<&str> = codes.lines().skip(1).map(|l| &l.trim()[..1]).collect();
+    let mut listed: Vec<&str> = codes
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
     table.sort_unstable();
     listed.sort_unstable();
     assert_eq!(table, listed);

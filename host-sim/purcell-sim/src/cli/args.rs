@@ -17,7 +17,8 @@ Exit codes:
   0  success
   1  I/O error after the work (writing the results or stdout), or no worker threads
   2  bad input or usage, refused before any work
-  3  no solution: solve found no admissible extremal; replay: a replay failed";
+  3  no solution: solve found no admissible extremal; replay: a replay failed
+  130  interrupted (Ctrl-C; 143 SIGTERM, 129 SIGHUP): staging removed, nothing replaced";
 
 /// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
 pub const MAX_STARTS: usize = 4096;
