@@ -1,5 +1,5 @@
 //! The one step and memory budget of every reader of a stored gait (`replay`, `export`,
-//! `robustness`, the Python package): at most [`MAX_STEPS`] steps, and no more memory than
+//! `robustness`, `field`, the Python package): at most [`MAX_STEPS`] steps, and no more memory than
 //! this process may use, checked before any work, with what a large run needs said first.
 
 use purcell_solver::problem::MAX_STEPS;
@@ -13,7 +13,7 @@ pub enum Work {
     Read,
     /// Flown without keeping the path (`replay`'s flights).
     Fly,
-    /// Flown keeping the path (`replay --trace`, the Python package's replay).
+    /// Flown keeping the path (`replay --trace`, `field`'s gait, the Python package's replay).
     Path,
     /// Flown closed loop with its stored tracking table (`robustness --digest`).
     Stored,

@@ -253,8 +253,12 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
             grouped(u64::from(purcell_sim::cli::MAX_CHECKPOINTS))
         ),
         format!(
-            "`replay` and `export` ≤ {} steps",
+            "`replay`, `export`, `robustness` and `field` ≤ {} steps",
             grouped(purcell_solver::problem::MAX_STEPS)
+        ),
+        format!(
+            "a nonzero target ≥ {:e}",
+            purcell_sim::cli::solve::MIN_TARGET
         ),
         format!("`sweep` ≤ {} targets", grouped(MAX_SWEEP_TARGETS as u64)),
         format!(
@@ -276,6 +280,14 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
         grouped(purcell_solver::problem::MAX_STEPS),
         grouped(MAX_SWEEP_TARGETS as u64),
     ]);
+    // 1e-6: its digits.
+    let min_target = format!("{:e}", purcell_sim::cli::solve::MIN_TARGET);
+    known.extend(
+        min_target
+            .split(|c: char| !c.is_ascii_digit())
+            .filter(|s| !s.is_empty())
+            .map(String::from),
+    );
     for number in row
         .split(|c: char| !(c.is_ascii_digit() || c == ' '))
         .map(str::trim)

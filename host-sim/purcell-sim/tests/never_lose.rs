@@ -351,7 +351,7 @@ fn a_file_is_ours_only_byte_for_byte() {
     }
 }
 
-/// Defect 4: `robustness` and `export --tracking` had no step limit (a 228-byte gait claiming
+/// Defect 4 (and `replay --trace`, `field`): `robustness` and `export --tracking` had no step limit (a 228-byte gait claiming
 /// 2^32 − 1 steps aborted on a failed allocation), and at the 10^7-step limit needed 4.9 GB
 /// without saying so, refusing a foreign `--out` only after the work. Now one budget, checked
 /// before any work: steps past the limit, or more memory than the process may use, exit 2 at
@@ -366,8 +366,9 @@ fn every_reader_of_a_gait_keeps_the_step_and_memory_budget() {
     let user = tmp.path().join("user.txt");
     std::fs::write(&user, "mine").unwrap();
     let (o_gait, t_csv) = (tmp.path().join("o.gait"), tmp.path().join("t.csv"));
+    let f_dir = tmp.path().join("f");
     // Each run, and an address space (KiB) too small for 10^7 of its steps.
-    let runs: [(&[&str], u32); 4] = [
+    let runs: [(&[&str], u32); 5] = [
         (&["robustness", "--gait"], 3_000_000),
         (&["robustness", "--digest", "--gait"], 500_000),
         (
@@ -375,6 +376,7 @@ fn every_reader_of_a_gait_keeps_the_step_and_memory_budget() {
             3_000_000,
         ),
         (&["replay", "--trace", arg(&t_csv), "--gait"], 1_000_000),
+        (&["field", "--out", arg(&f_dir), "--gait"], 1_000_000),
     ];
     for (run, kib) in runs {
         let t0 = Instant::now();

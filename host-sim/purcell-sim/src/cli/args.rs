@@ -132,6 +132,23 @@ pub(super) fn warn(quiet: bool, message: std::fmt::Arguments<'_>) {
     }
 }
 
+/// The step and memory budget ([`crate::budget::check`]) of `steps` steps of `work` on the
+/// stored gait `path`, before any work (exit 2); what a large run needs is said on stderr
+/// first, unless `quiet`.
+pub(super) fn budget(
+    path: &Path,
+    steps: u32,
+    work: crate::budget::Work,
+    quiet: bool,
+) -> Result<(), Failure> {
+    let note = crate::budget::check(u64::from(steps), work)
+        .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+    if let Some(note) = note {
+        warn(quiet, format_args!("{}: {note}", path.display()));
+    }
+    Ok(())
+}
+
 /// A failure of the command, with its exit code (the README's "Exit codes").
 #[derive(Debug)]
 pub struct Failure {

@@ -47,7 +47,7 @@ pub struct FieldArgs {
 }
 
 /// `field`: the swimmer (and gait) of the flags, its figures written; the files as printed.
-pub(super) fn run_field(a: FieldArgs) -> Result<String, Failure> {
+pub(super) fn run_field(a: FieldArgs, quiet: bool) -> Result<String, Failure> {
     let stored = match (&a.costate, &a.gait) {
         (Some(path), _) => Some((path, read_costate(path)?)),
         (None, Some(path)) => Some((path, costate_of_gait(path)?)),
@@ -55,6 +55,8 @@ pub(super) fn run_field(a: FieldArgs) -> Result<String, Failure> {
     };
     let (problem, states, arcs) = match &stored {
         Some((path, file)) => {
+            // Drawn from its whole replayed path.
+            super::args::budget(path, file.steps, crate::budget::Work::Path, quiet)?;
             let problem = file
                 .problem()
                 .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;

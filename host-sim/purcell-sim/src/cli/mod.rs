@@ -132,7 +132,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
         Command::Export(a) => export::run_export(a, quiet),
         Command::Connection(a) => connection::run_connection(a),
         Command::Sweep(a) => sweep::run_sweep(a, quiet),
-        Command::Field(a) => field::run_field(a),
+        Command::Field(a) => field::run_field(a, quiet),
         Command::Completions(a) => Ok(docs::completions(&a)),
         Command::Man(a) => docs::man(&a),
     };

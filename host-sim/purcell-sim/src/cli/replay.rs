@@ -2,7 +2,7 @@
 //! firmware flies it; and the checks every route to a replay makes of a stored gait.
 
 use super::args::{Failure, GaitInput, fail, output_failure};
-use crate::budget::{self, Work};
+use crate::budget::Work;
 use crate::{output, replay};
 use clap::{Args, ValueEnum};
 use purcell_core::Gait;
@@ -51,8 +51,7 @@ pub struct ReplayArgs {
 
 /// What every route to a replay checks in a stored gait of `path` (`replay`, `export`,
 /// `robustness`), besides the core's own validation, before any work: the step and memory
-/// budget of `work` ([`budget::check`]; a large run's needs are said on stderr first, unless
-/// `quiet`), its problem as command-line input ([`Problem::of_gait`]) and, where it is
+/// budget of `work` ([`super::args::budget`]), its problem as command-line input ([`Problem::of_gait`]) and, where it is
 /// replayed in `f32`, every number there ([`purcell_solver::problem::check_gait_precision`]);
 /// exit 2.
 pub(super) fn check_stored(
@@ -62,15 +61,11 @@ pub(super) fn check_stored(
     work: Work,
     quiet: bool,
 ) -> Result<(), Failure> {
-    let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
-    let note = budget::check(u64::from(gait.params().steps), work).map_err(|e| refused(&e))?;
-    Problem::of_gait(gait.params()).map_err(|e: InputError| refused(&e))?;
+    let refused = |e: InputError| fail(2, format!("{}: {e}", path.display()));
+    super::args::budget(path, gait.params().steps, work, quiet)?;
+    Problem::of_gait(gait.params()).map_err(refused)?;
     if f32 {
-        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32")
-            .map_err(|e| refused(&e))?;
-    }
-    if let Some(note) = note {
-        super::args::warn(quiet, format_args!("{}: {note}", path.display()));
+        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32").map_err(refused)?;
     }
     Ok(())
 }
