@@ -196,7 +196,9 @@ fn remove_stale(parent: &Path) {
         return;
     };
     for entry in entries.flatten() {
-        if !entry.file_name().to_str().is_some_and(is_staging_name) {
+        // Only directories and regular files: opening a device or a FIFO could act on it.
+        let plain = entry.file_type().is_ok_and(|t| t.is_dir() || t.is_file());
+        if !plain || !entry.file_name().to_str().is_some_and(is_staging_name) {
             continue;
         }
         let path = entry.path();
