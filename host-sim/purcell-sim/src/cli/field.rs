@@ -53,13 +53,34 @@ pub(super) fn run_field(a: FieldArgs, quiet: bool) -> Result<String, Failure> {
         (None, Some(path)) => Some((path, costate_of_gait(path)?)),
         (None, None) => None,
     };
-    let (problem, states, arcs) = match &stored {
+    let problem = match &stored {
         Some((path, file)) => {
             // Drawn from its whole replayed path.
             super::args::budget(path, file.steps, crate::budget::Work::Path, quiet)?;
-            let problem = file
-                .problem()
-                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?;
+            file.problem()
+                .map_err(|e| fail(2, format!("{}: {e}", path.display())))?
+        }
+        None => {
+            let spec = Spec {
+                links: a.model.links,
+                drag: a.model.drag,
+                ratio: a.model.ratio,
+                ..Spec::default()
+            };
+            Problem::new(&spec).map_err(|e| fail(2, e))?
+        }
+    };
+    let components = match a.component {
+        None => plots::field::Component::ALL.to_vec(),
+        Some(FieldComponent::X) => vec![plots::field::Component::X],
+        Some(FieldComponent::Y) => vec![plots::field::Component::Y],
+        Some(FieldComponent::Theta) => vec![plots::field::Component::Theta],
+    };
+    let inputs: Vec<&Path> = stored.iter().map(|(p, _)| p.as_path()).collect();
+    // The output checked before the gait is replayed.
+    let out = a.output.prepare("field", &inputs)?;
+    let (states, arcs) = match &stored {
+        Some((path, file)) => {
             let (states, stride) = replay::gait_states(file, 10_000).map_err(|e| {
                 fail(
                     2,
@@ -76,30 +97,10 @@ pub(super) fn run_field(a: FieldArgs, quiet: bool) -> Result<String, Failure> {
                     ..*a
                 })
                 .collect();
-            (problem, Some(states), arcs)
+            (Some(states), arcs)
         }
-        None => {
-            let spec = Spec {
-                links: a.model.links,
-                drag: a.model.drag,
-                ratio: a.model.ratio,
-                ..Spec::default()
-            };
-            (
-                Problem::new(&spec).map_err(|e| fail(2, e))?,
-                None,
-                Vec::new(),
-            )
-        }
+        None => (None, Vec::new()),
     };
-    let components = match a.component {
-        None => plots::field::Component::ALL.to_vec(),
-        Some(FieldComponent::X) => vec![plots::field::Component::X],
-        Some(FieldComponent::Y) => vec![plots::field::Component::Y],
-        Some(FieldComponent::Theta) => vec![plots::field::Component::Theta],
-    };
-    let inputs: Vec<&Path> = stored.iter().map(|(p, _)| p.as_path()).collect();
-    let out = a.output.prepare("field", &inputs)?;
     let options = plots::Options { degrees: a.degrees };
     let gait = states.as_deref().map(|states| plots::FieldGait {
         problem: &problem,
