@@ -29,7 +29,7 @@ fn staging(dir: &Path) -> Vec<PathBuf> {
 fn wait_for_staging(dir: &Path) -> PathBuf {
     let t0 = Instant::now();
     loop {
-        if let Some(p) = staging(dir).pop() {
+        if let Some(p) = dir.is_dir().then(|| staging(dir).pop()).flatten() {
             return p;
         }
         assert!(
@@ -143,15 +143,15 @@ fn live_staging_of_a_run_in_another_pid_namespace_is_kept() {
 }
 
 /// Ctrl-C (also no handler before issue 34): the run stops at once with exit 130 and removes
-/// its staging.
+/// its staging and the directories it created for it.
 #[test]
 fn ctrl_c_removes_the_staging_and_exits_130() {
     let tmp = tempfile::tempdir().unwrap();
-    let a = tmp.path().join("a");
+    let a = tmp.path().join("new/dirs/a");
     let child = command(&[&SLOW_SOLVE[..], &["--out", arg(&a)]].concat())
         .spawn()
         .unwrap();
-    let live = wait_for_staging(tmp.path());
+    let live = wait_for_staging(&tmp.path().join("new/dirs"));
     let t0 = Instant::now();
     let kill = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
@@ -162,6 +162,7 @@ fn ctrl_c_removes_the_staging_and_exits_130() {
     assert!(t0.elapsed() < Duration::from_secs(10), "Ctrl-C was slow");
     assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
     assert!(!live.exists() && !a.exists(), "staging or output left");
+    assert!(!tmp.path().join("new").exists(), "created directories left");
 }
 
 /// The gait at rest (`μ = 0`, `ξ = 0`: it flies every step) of `steps` steps, without

@@ -21,11 +21,22 @@ const SUFFIX: &str = ".tmp";
 
 /// The staging entries this process holds, for the interrupt handler.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The directories this process created for its outputs, innermost first for each output.
+static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// Held while outputs are renamed into place: an interrupt waits for the swap to end.
 static SWAP: Mutex<()> = Mutex::new(());
 
 fn live() -> MutexGuard<'static, Vec<PathBuf>> {
     LIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Records `dirs` (innermost first), created for an output: an interrupt removes those that
+/// are still empty.
+pub(super) fn created(dirs: &[PathBuf]) {
+    CREATED
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .extend(dirs.iter().cloned());
 }
 
 /// Held while a commit renames its entries into place; the interrupt handler waits for it.
@@ -213,7 +224,7 @@ fn remove_stale(parent: &Path) {
 
 /// Installs the handler of `SIGINT`, `SIGTERM` and `SIGHUP` (Ctrl-C, `kill`, a closed
 /// terminal): it waits for a swap in progress to end, removes this process's staging entries
-/// and exits with `128 + signal` (130 for Ctrl-C). Call it first thing in `main`, before any
+/// and the directories it created for them that are still empty, and exits with `128 + signal` (130 for Ctrl-C). Call it first thing in `main`, before any
 /// other thread starts (the signals are blocked in every thread and taken by one).
 pub fn remove_staging_on_interrupt() {
     #[cfg(target_os = "linux")]
@@ -240,6 +251,13 @@ pub fn remove_staging_on_interrupt() {
                 let _swap = swap_guard();
                 for p in live().iter() {
                     let _ = remove_any(p);
+                }
+                for d in CREATED
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .iter()
+                {
+                    let _ = fs::remove_dir(d);
                 }
                 std::process::exit(128 + signal);
             });
