@@ -167,6 +167,8 @@ pub(super) fn run_export(a: ExportArgs, quiet: bool) -> Result<String, Failure> 
     } else {
         bytes
     };
+    // The size checked before the work is the size written.
+    debug_assert_eq!(bytes.len(), len);
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     let mut about = format!(
         "{} bytes, crc={:#010x}, steps={}, checkpoints={}, arcs={}",
