@@ -35,6 +35,17 @@ const ALLOWED: &[(&str, &str, &str)] = &[
         "fn refine_candidates",
         "being edited in parallel; split at merge",
     ),
+    (
+        "host-sim/purcell-solver/src/solver/starts.rs",
+        "fn family",
+        "being edited in parallel; split at merge",
+    ),
+    // Being edited in parallel (issue 36, the figures); split at merge.
+    (
+        "host-sim/purcell-sim/src/plots/gait.rs",
+        "fn swimmer",
+        "being edited in parallel; split at merge",
+    ),
     // Being edited in parallel (issue 34, robustness's flag checks); split at merge.
     (
         "host-sim/purcell-sim/src/cli/robustness.rs",
@@ -117,11 +128,12 @@ fn no_long_file_no_long_function_no_import_circle() {
         );
         crates.insert(file.clone(), modules);
     }
-    let test_files: BTreeSet<&PathBuf> = crates
-        .values()
-        .flat_map(|modules| modules.values())
-        .filter(|m| m.test)
+    // A file is test code if all of it is (a `#[cfg(test)] mod tests;`), not if it holds one.
+    let modules = || crates.values().flat_map(|modules| modules.values());
+    let production: BTreeSet<&PathBuf> = modules().filter(|m| !m.test).map(|m| &m.file).collect();
+    let test_files: BTreeSet<&PathBuf> = modules()
         .map(|m| &m.file)
+        .filter(|f| !production.contains(f))
         .collect();
 
     let mut findings = Vec::new();
@@ -199,8 +211,8 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The file of `mod name;` declared in `file`: beside a crate root or `mod.rs`, else in the
-/// folder named after `file`.
+/// The file of `mod name;` declared in `file`: in the folder named after `file` if there is
+/// one (and `file` is no `mod.rs`), else beside `file` (a crate root, a `mod.rs`).
 fn module_file(file: &Path, name: &str) -> PathBuf {
     let dir = file.parent().expect("a file in a folder");
     let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or("");
