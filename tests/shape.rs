@@ -205,7 +205,8 @@ fn report(findings: &[(String, String)]) {
     assert!(report.is_empty(), "the source's shape:\n{report}");
 }
 
-/// Every `.rs` file under `dir`, skipping hidden folders and build outputs.
+/// Every `.rs` file under `dir`, skipping hidden folders and build outputs (a cargo target
+/// folder holds a `CACHEDIR.TAG`; `src/output/target/` is source).
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     if dir.join("CACHEDIR.TAG").exists() {
         return;
@@ -213,7 +214,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).expect("a readable folder") {
         let path = entry.expect("a folder entry").path();
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        if name.starts_with('.') || name == "target" {
+        if name.starts_with('.') {
             continue;
         }
         if path.is_dir() {
