@@ -20,12 +20,12 @@
 #     flight (and so to the M4F), mean and largest step <= PURCELL_M3_MAX_INSN (default
 #     36000, a regression guard);
 #  7. the M7 build run on the M4F board must exit 1 through the HardFault handler;
-#  8. the control loop (qemu/examples/control_loop.rs, RTIC): the paper's gait flown cycle after
+#  8. the control loop (mcu/examples/control_loop.rs, RTIC): the paper's gait flown cycle after
 #     cycle from the SysTick at 1/h, every cycle's digest equal to `purcell-sim replay --gait …
 #     --precision f32`'s, every cycle's pose to the host's composition (`purcell-mcu-check
 #     loop`), no tick overran; ticking far faster than the step (PURCELL_LOOP_HZ) must overrun
 #     and exit 1;
-#  9. the closed loop (qemu/examples/closed_loop.rs): the committed paper's gait exported with
+#  9. the closed loop (mcu/examples/closed_loop.rs): the committed paper's gait exported with
 #     its tracking table (export --tracking) flies its law and tracking law in f32 on the M4F
 #     against a plant with a drag ratio 10 % larger, with the digest of `purcell-sim robustness
 #     --gait … --ratio-error 0.1 --digest`; the tracking part of a step costs on average at most
@@ -50,7 +50,7 @@ for tool in "${QEMU:-qemu-system-arm}" "${DEFMT_PRINT:-defmt-print}" "$objdump" 
   command -v "$tool" >/dev/null || { echo "check.sh: $tool not found (see firmware/README.md)" >&2; exit 1; }
 done
 
-# The checker on the host (firmware/checker/).
+# The checker on the host (firmware/mcu-check/).
 tool() { cargo run -q -p purcell-mcu-check -- "$@"; }
 # purcell-sim in the test profile (optimised; `cargo test` has built it already).
 sim() { cargo run -q --profile test -p purcell-sim -- "$@"; }
@@ -134,7 +134,7 @@ fly m7 "$m7" "--max-insn ${PURCELL_M7_MAX_INSN:-1200}" "" cargo -q mcu-m7
 fly m3 "$m3" "--max-insn ${PURCELL_M3_MAX_INSN:-36000}" --soft-float cargo -q mcu-m3
 
 echo "--- fault: the M7 (double-precision) build on the M4F board must exit 1 via HardFault"
-PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/qemu/qemu-run.sh "$m7"
+PURCELL_QEMU_MACHINE=mps2-an386 fails_with fault '^HardFault at pc=' firmware/mcu/qemu-run.sh "$m7"
 echo "--- control loop: the paper's gait cycle after cycle from the SysTick at 1/h (RTIC), against the host"
 loop_run() { cargo run -q -p purcell-mcu --example control_loop --target thumbv7em-none-eabihf --release; }
 loop_run 2>"$out/loop.stderr" | tee "$out/loop.log"

@@ -5,8 +5,9 @@
 //! adds a final state the same way without `u`. Not cryptographic: it detects differences,
 //! it does not resist forgery.
 
-use crate::replay::Sample;
-use crate::{Real, State};
+use crate::kinematics::State;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// Running FNV-1a 64 hash of a trajectory.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

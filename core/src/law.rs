@@ -45,48 +45,11 @@
 //! arc step fewer.
 
 use crate::kinematics::{Kinematics, State};
+use crate::passes::{PassKind, Passes};
 use crate::se2::{self, ExpCoefficients, Tangent};
 use crate::swimmer::{Frame, Sym3, connection_mul, sym_mul_vec};
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
-
-/// The kind of the passes that follow the first iterate (see the [module docs](self)).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum PassKind {
-    /// Fixed-point passes: `ζ` at the last `u`, then the 2×2 solve again.
-    Plain,
-    /// Newton passes `u ← u − J(u)⁻¹R(u)`.
-    Newton,
-}
-
-/// How many passes of which kind the law runs after its first iterate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Passes {
-    /// Their kind.
-    pub kind: PassKind,
-    /// Their number (0: the first iterate is the step's `u_k`).
-    pub count: usize,
-}
-
-impl Passes {
-    /// `count` plain fixed-point passes.
-    pub const fn plain(count: usize) -> Self {
-        Passes {
-            kind: PassKind::Plain,
-            count,
-        }
-    }
-
-    /// `count` Newton passes.
-    pub const fn newton(count: usize) -> Self {
-        Passes {
-            kind: PassKind::Newton,
-            count,
-        }
-    }
-}
 
 /// The joints on a joint-limit arc at a step, `[joint 1, joint 2]` (MODEL.md §9): their
 /// control is zero and their costate takes the value that makes the law's row hold.

@@ -18,7 +18,7 @@ use core::ops::Neg;
 use nalgebra::{ClosedAddAssign, ClosedDivAssign, ClosedMulAssign, ClosedSubAssign};
 use num_traits::{One, Zero};
 
-use crate::law::Passes;
+use crate::passes::Passes;
 
 /// A real scalar for the swimmer's kinematics and control law.
 pub trait Real:

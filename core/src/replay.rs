@@ -22,6 +22,7 @@
 use crate::arc::{Arc, ArcTable, Exits};
 use crate::kinematics::{Kinematics, State};
 use crate::law::{Free, LawStep, OnArcs};
+use crate::sample::Sample;
 use crate::table::{Table, VALUES};
 use crate::{Error, Real, Se2, TrajectoryDigest};
 use nalgebra::{Vector2, Vector3};
@@ -100,20 +101,6 @@ impl<T: Real, const CAP: usize> Checkpoints<T, CAP> {
     pub fn as_slice(&self) -> &[Checkpoint<T>] {
         &self.0
     }
-}
-
-/// One replayed step.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Sample<T> {
-    /// Step index `k`.
-    pub k: u32,
-    /// `(α_k, g_k)`.
-    pub state: State<T>,
-    /// `u_k`.
-    pub u: Vector2<T>,
-    /// `ξ^k`.
-    pub xi: Vector2<T>,
 }
 
 /// Where a replay's checkpoints come from: a slice, or a gait file's table read in place.

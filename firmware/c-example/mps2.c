@@ -1,6 +1,6 @@
 /* The C example firmware for QEMU's mps2-an386 (Cortex-M4F): vector table, reset (FPU on,
  * .data copied, .bss zeroed), semihosting output and exit, and the SysTick that counts
- * instructions under `-icount shift=6` (as firmware/qemu does: one instruction is 64 ns of
+ * instructions under `-icount shift=6` (as firmware/mcu does: one instruction is 64 ns of
  * virtual time, the SysTick counts at 25 MHz, so 8/5 ticks an instruction). Flies the gait
  * that `purcell-sim export --format c --out gait.c` wrote. */
 #include <stdint.h>

@@ -108,6 +108,13 @@ pub fn solve(
         )?;
     }
     let found = found.map_err(|e| no_solution(py, &e))?;
+    warn_search(py, &found)?;
+    solution::build(py, &problem, &found, every, seconds)
+}
+
+/// The search's warnings: its budget spent before its stopping rule was met; minima it left
+/// unrefined that may be cheaper (one warning, for the cheapest).
+fn warn_search(py: Python<'_>, found: &solver::Solution) -> PyResult<()> {
     if let Some(e) = found.search.as_ref().filter(|e| !e.satisfied) {
         let message = format!(
             "the search used its budget of {} starts before its stopping rule was met \
@@ -127,7 +134,7 @@ pub fn solve(
             format!("{u} ({n} such minima): try another seed or more starts"),
         )?;
     }
-    solution::build(py, &problem, &found, every, seconds)
+    Ok(())
 }
 
 /// A `UserWarning` with `message`.

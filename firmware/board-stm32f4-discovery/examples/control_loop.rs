@@ -1,5 +1,5 @@
 //! The gait as a control loop on the STM32F4-Discovery at 168 MHz, with RTIC 2: the same loop
-//! as the QEMU example CI runs (`firmware/qemu/examples/control_loop.rs`, both through
+//! as the QEMU example CI runs (`firmware/mcu/examples/control_loop.rs`, both through
 //! [`purcell_fly::pilot`]). The SysTick, on the 168 MHz core clock, expires every `h` (10 ms
 //! for the paper's gait); its handler steps the law once, commands the joints (recorded in
 //! `Status::joints`: drive your motors from them in `tick`, or give `Pilot::tick` your driver)

@@ -3,7 +3,7 @@
 //! `purcell-mcu-check` reads.
 //!
 //! The board example (`../board-stm32f4-discovery`, DWT cycles) and the QEMU firmware
-//! (`../qemu`, instructions under `-icount`) both call [`fly`], so what CI checks in QEMU is
+//! (`../mcu`, instructions under `-icount`) both call [`fly`], so what CI checks in QEMU is
 //! what a board runs. Copy this file into your firmware, or depend on it, with a [`Counter`]
 //! for your chip.
 //!
@@ -137,6 +137,13 @@ struct ArcSteps<I: Iterator<Item = Arc>> {
 }
 
 impl<I: Iterator<Item = Arc>> ArcSteps<I> {
+    fn new(arcs: I) -> Self {
+        ArcSteps {
+            arcs: arcs.peekable(),
+            ends: [0; 2],
+        }
+    }
+
     /// Whether step `k` (called with increasing `k`) is on an arc.
     fn at(&mut self, k: u32) -> bool {
         while let Some(a) = self.arcs.next_if(|a| a.first <= k) {
@@ -210,10 +217,7 @@ where
         gait.crc()
     );
     let (mut stats, mut free, mut on_arcs) = (Stats::default(), Stats::default(), Stats::default());
-    let mut arc_steps = ArcSteps {
-        arcs: gait.arcs().peekable(),
-        ends: [0; 2],
-    };
+    let mut arc_steps = ArcSteps::new(gait.arcs());
     let flight = replay.fly(|r| {
         let on_arc = arc_steps.at(r.steps_done());
         let t0 = C::now();

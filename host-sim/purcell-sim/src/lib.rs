@@ -4,9 +4,10 @@
 //! [`cli`] is the command line; [`costate_file`] the file format the firmware flies (and its
 //! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
 //! [`decimal`] writes times and grid values as exact decimals;
-//! [`replay`] replays a costate file through the core in `f64`/`f32`; [`input`] reads input
-//! files (bounded, JSON without repeated keys); [`budget`] the step and memory budget of every
-//! reader of a stored gait; [`suite`] the problems file of the public solver suite.
+//! [`replay`] replays a costate file through the core in `f64`/`f32`; [`robustness`] holds what
+//! a gait flown through a mismatched plant reports; [`input`] reads input files (bounded, JSON
+//! without repeated keys); [`budget`] the step and memory budget of every reader of a stored
+//! gait; [`suite`] the problems file of the public solver suite.
 #![deny(missing_docs)]
 
 pub mod budget;
@@ -17,4 +18,5 @@ pub mod input;
 pub mod output;
 pub mod plots;
 pub mod replay;
+pub mod robustness;
 pub mod suite;

@@ -11,9 +11,7 @@ use nalgebra::{Vector2, Vector3};
 use purcell_core::{Arc, Costate, Kinematics, Replay, State, Swimmer};
 use purcell_sim::costate_file::{CheckpointRecord, CostateFile, GaitParams, Model};
 use purcell_sim::plots::field::Component;
-use purcell_sim::plots::style::{
-    JOINT_LIMIT, LINE, ON_LIMIT, ON_LIMIT_LABEL, ON_LIMIT_LINE, ON_LIMIT_SHADE,
-};
+use purcell_sim::plots::style::{ARC, ARC_LABEL, ARC_LINE, ARC_SHADE, JOINT_LIMIT, LINE};
 use purcell_sim::plots::{FieldGait, Options, PlotError, field_files, figures};
 use purcell_solver::problem::{OVERLAP, Problem};
 use purcell_solver::solver::Trajectory;
@@ -165,7 +163,7 @@ fn limit_marks(svg: &[u8]) -> LimitMarks {
         .collect();
     LimitMarks {
         limit_label: texts.iter().any(|t| t.starts_with("joint limit ±")),
-        arc_label: texts.contains(&ON_LIMIT_LABEL),
+        arc_label: texts.contains(&ARC_LABEL),
         dashes: count(
             "polyline",
             &[
@@ -173,13 +171,10 @@ fn limit_marks(svg: &[u8]) -> LimitMarks {
                 ("stroke-width", width(LINE - 1.0)),
             ],
         ),
-        shaded: count("rect", &[("fill", hex(ON_LIMIT_SHADE))]),
+        shaded: count("rect", &[("fill", hex(ARC_SHADE))]),
         stretches: count(
             "polyline",
-            &[
-                ("stroke", hex(ON_LIMIT)),
-                ("stroke-width", width(ON_LIMIT_LINE)),
-            ],
+            &[("stroke", hex(ARC)), ("stroke-width", width(ARC_LINE))],
         ),
     }
 }

@@ -7,6 +7,7 @@ use super::args::{Failure, GaitInput, PrintArgs, fail, output_failure, read_gait
 use super::replay::check_stored;
 use crate::budget::Work;
 use crate::costate_file::CostateFile;
+use crate::robustness::{CaseReport, FlightReport, percent};
 use crate::{output, plots};
 use clap::Args;
 use purcell_core::Gait;
@@ -15,7 +16,6 @@ use purcell_solver::tracking::{
     Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly, joint_bound,
     nominal, table_of,
 };
-use serde::Serialize;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -88,7 +88,7 @@ pub struct RobustnessArgs {
     #[arg(long)]
     pub f32: bool,
     /// Fly the one case closed loop in f32 with the tracking table stored in --gait (export
-    /// --tracking), as the M4F firmware does (firmware/qemu/examples/closed_loop.rs), and
+    /// --tracking), as the M4F firmware does (firmware/mcu/examples/closed_loop.rs), and
     /// print its digest and terminal error.
     #[arg(long, requires = "gait", conflicts_with_all = ["table", "out", "json"])]
     pub digest: bool,
@@ -102,47 +102,6 @@ pub struct RobustnessArgs {
     /// Replace --out even if it holds files purcell-sim did not write.
     #[arg(long)]
     pub force: bool,
-}
-
-/// One flight's result.
-#[derive(Clone, Debug, Serialize)]
-pub struct FlightReport {
-    /// `max |α_N − ᾱ|`, rad (`purcell_core::TerminalError`).
-    pub alpha_error: Option<f64>,
-    /// `max |log(ḡ⁻¹ g_N)|`, m or rad.
-    pub g_error: Option<f64>,
-    /// `Σ h/2·|u_k|²` flown.
-    pub cost: Option<f64>,
-    /// Largest `|α_i|` of the plant.
-    pub max_abs_alpha: Option<f64>,
-    /// The tracking law's final estimate of the drag ratio's relative error (0 open loop).
-    pub estimated_ratio_error: Option<f64>,
-    /// Why the flight stopped, if it did.
-    pub failure: Option<String>,
-    /// The pose error against the nominal pose, per step (not in the report).
-    #[serde(skip)]
-    pub deviation: Vec<f64>,
-}
-
-/// One case: the plant's errors, the noise, and both flights.
-#[derive(Clone, Debug, Serialize)]
-pub struct CaseReport {
-    /// The plant's parameter errors and the noise, as given.
-    pub ratio_error: f64,
-    /// Of `k`.
-    pub drag_error: f64,
-    /// Of the links.
-    pub length_error: f64,
-    /// Pose noise.
-    pub pose_noise: f64,
-    /// Joint-angle noise.
-    pub shape_noise: f64,
-    /// Seed.
-    pub seed: u64,
-    /// The law's controls as they are.
-    pub open: FlightReport,
-    /// The tracking law.
-    pub closed: FlightReport,
 }
 
 /// The standard cases of `--table`: `(ratio, length, drag, pose noise, shape noise)`.
@@ -395,11 +354,6 @@ fn stored_flight(a: &RobustnessArgs, quiet: bool) -> Result<String, Failure> {
         "closed_digest: {:#018x}\nclosed_error: alpha={:.3e} g={:.3e} estimate={:.6}\n",
         o.digest, e.alpha, e.g, o.estimate
     ))
-}
-
-/// `+10%` for `0.1`.
-pub(crate) fn percent(v: f64) -> String {
-    format!("{:+}%", (v * 1000.0).round() / 10.0)
 }
 
 /// A table cell: the value in `.1e`, or `failed`.

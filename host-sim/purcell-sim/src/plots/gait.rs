@@ -28,7 +28,7 @@ pub fn thin(last: usize, points: usize) -> Vec<usize> {
 }
 
 /// A gait with what its figures need.
-pub struct Gait<'a> {
+pub struct GaitFigures<'a> {
     /// The problem.
     pub problem: &'a Problem,
     /// States, controls, costates `ξ`.
@@ -39,7 +39,7 @@ pub struct Gait<'a> {
     pub units: Units,
 }
 
-impl Gait<'_> {
+impl GaitFigures<'_> {
     fn time(&self, k: usize) -> f64 {
         self.problem.h * k as f64
     }
@@ -338,12 +338,12 @@ pub fn bound(problem: &Problem, units: Units) -> Square {
 }
 
 /// The arcs as time spans `[t_first, t_last]` (the states on the limit; the controls
-/// `u_first … u_{last−1}` of that joint are zero), shaded in [`ON_LIMIT_SHADE`]; `None`
+/// `u_first … u_{last−1}` of that joint are zero), shaded in [`ARC_SHADE`]; `None`
 /// without arcs.
 pub fn arc_spans(arcs: &[Arc], h: f64) -> Option<Spans> {
     (!arcs.is_empty()).then(|| Spans {
-        label: ON_LIMIT_LABEL.into(),
-        color: ON_LIMIT_SHADE,
+        label: ARC_LABEL.into(),
+        color: ARC_SHADE,
         spans: arcs
             .iter()
             .map(|a| (h * f64::from(a.first), h * f64::from(a.last)))
@@ -353,7 +353,7 @@ pub fn arc_spans(arcs: &[Arc], h: f64) -> Option<Spans> {
 
 /// A gait over the shape plane: the loop `alphas` (states `k = 0..=N`, drawn with about
 /// `points` of them) with arrows, its `arcs` on the joint limit drawn over it
-/// ([`ON_LIMIT`]), the bound ([`bound`]), the start.
+/// ([`ARC`]), the bound ([`bound`]), the start.
 pub fn shape_overlay(
     problem: &Problem,
     alphas: &[Vector2<f64>],
@@ -389,9 +389,9 @@ pub fn shape_overlay(
         }],
         limit: Some(bound(problem, units)),
         stretches: (!lines.is_empty()).then(|| Stretches {
-            label: ON_LIMIT_LABEL.into(),
-            color: ON_LIMIT,
-            width: ON_LIMIT_LINE,
+            label: ARC_LABEL.into(),
+            color: ARC,
+            width: ARC_LINE,
             lines,
         }),
         marks: vec![Mark {

@@ -13,7 +13,7 @@
 //! Figures are data ([`time::Panel`], [`plane::Overlay`]) drawn by one routine per kind, so
 //! a new mark is a field and a loop: the arcs on the joint limit are shaded time spans of a
 //! `Panel` and highlighted stretches of an `Overlay`'s paths, in the style
-//! [`style::ON_LIMIT`] sets, built in [`gait`] with the bound ([`gait::bound`]: a joint
+//! [`style::ARC`] sets, built in [`gait`] with the bound ([`gait::bound`]: a joint
 //! limit, dashed dark, always shown; else where the links overlap, dashed grey).
 
 pub mod axes;
@@ -29,7 +29,7 @@ pub mod time;
 
 use crate::costate_file::CostateFile;
 use field::{Component, FieldFigure};
-use gait::Gait;
+use gait::GaitFigures;
 use nalgebra::{Vector2, Vector3};
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, DrawingBackend};
@@ -167,7 +167,7 @@ pub fn figures(
     }
     check_arcs(arcs, states)?;
     let units = Units::new(options);
-    let gait = Gait {
+    let gait = GaitFigures {
         problem,
         trajectory,
         arcs,

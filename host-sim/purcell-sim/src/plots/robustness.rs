@@ -6,7 +6,7 @@ use super::PlotError;
 use super::gait::{POINTS, thin};
 use super::style::*;
 use super::time::{Panel, Series, TimeFigure};
-use crate::cli::robustness::{CaseReport, percent};
+use crate::robustness::{CaseReport, percent};
 
 /// The flights' pose error over time (`h` the step), `log10`.
 pub fn figure(cases: &[CaseReport], h: f64) -> Result<TimeFigure, PlotError> {

@@ -63,17 +63,17 @@ pub const LIMIT: RGBColor = RGBColor(120, 120, 120);
 pub const JOINT_LIMIT: RGBColor = INK;
 
 /// How the arcs (states on the joint limit) are marked in every figure: stretches of a path
-/// drawn [`ON_LIMIT_LINE`] wide in [`ON_LIMIT`] in the planes, time spans shaded in
-/// [`ON_LIMIT_SHADE`] over time, both labelled [`ON_LIMIT_LABEL`].
-pub const ON_LIMIT: RGBColor = PURPLE;
-/// See [`ON_LIMIT`].
-pub const ON_LIMIT_SHADE: RGBColor = RGBColor(237, 208, 224);
-/// See [`ON_LIMIT`].
-pub const ON_LIMIT_LINE: f64 = 3.0 * LINE;
-/// See [`ON_LIMIT`].
-pub const ON_LIMIT_LABEL: &str = "on the limit";
+/// drawn [`ARC_LINE`] wide in [`ARC`] in the planes, time spans shaded in
+/// [`ARC_SHADE`] over time, both labelled [`ARC_LABEL`].
+pub const ARC: RGBColor = PURPLE;
+/// See [`ARC`].
+pub const ARC_SHADE: RGBColor = RGBColor(237, 208, 224);
+/// See [`ARC`].
+pub const ARC_LINE: f64 = 3.0 * LINE;
+/// See [`ARC`].
+pub const ARC_LABEL: &str = "on the limit";
 /// Narrowest shaded span (pixels, unscaled): an arc of a few steps stays visible.
-pub const ON_LIMIT_MIN_SPAN: f64 = 6.0;
+pub const ARC_MIN_SPAN: f64 = 6.0;
 
 /// A plotting chart in data coordinates.
 pub type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;

@@ -42,7 +42,7 @@ pub struct Mark {
 
 /// Time spans shaded behind the curves, with one legend entry.
 pub struct Spans {
-    /// `(t0, t1)` of each span, seconds; each drawn at least [`ON_LIMIT_MIN_SPAN`] wide.
+    /// `(t0, t1)` of each span, seconds; each drawn at least [`ARC_MIN_SPAN`] wide.
     pub spans: Vec<(f64, f64)>,
     /// Fill colour.
     pub color: RGBColor,
@@ -182,7 +182,7 @@ impl Figure for TimeFigure {
                         chart.backend_coord(&(t0, y1)),
                         chart.backend_coord(&(t1, y0)),
                     );
-                    let widen = (k.px(ON_LIMIT_MIN_SPAN) - (b.0 - a.0)).max(0);
+                    let widen = (k.px(ARC_MIN_SPAN) - (b.0 - a.0)).max(0);
                     let x0 = (a.0 - widen / 2).max(left);
                     let x1 = (b.0 + widen - widen / 2).min(right);
                     root.draw(&Rectangle::new([(x0, a.1), (x1, b.1)], s.color.filled()))?;

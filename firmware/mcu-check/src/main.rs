@@ -38,7 +38,7 @@ usage:
       stack above B bytes (default 2048)
   purcell-mcu-check loop LOG [--gait FILE]
       compare a control loop's log (the gait flown cycle after cycle from a timer,
-      firmware/qemu/examples/control_loop.rs) with the host: each cycle's digest is the
+      firmware/mcu/examples/control_loop.rs) with the host: each cycle's digest is the
       host's flight of the gait, each cycle's pose the host's composition of the cycles in
       the same precision; fail on a mismatch, a missing tick, an overrun or a tick longer
       than the period
@@ -130,103 +130,111 @@ fn run(args: &[String]) -> Result<(), String> {
             print_reference(&Reference::for_scalar(&gait, scalar).map_err(|e| e.to_string())?);
             Ok(())
         }
-        Some("check") => {
-            let text = read(pos.get(1).ok_or("check needs a log file")?)?;
-            let insn = flag(args, "--max-insn", 1000.0)?;
-            let budget = Budget {
-                insn,
-                insn_step: flag(args, "--max-step-insn", insn)?,
-                cycles: flag(args, "--max-cycles", f64::NAN).map(|c| (!c.is_nan()).then_some(c))?,
-                stack_bytes: flag(args, "--max-stack", 2048)?,
-            };
-            let log = FirmwareLog::parse(&text).map_err(|e| e.to_string())?;
-            let (path, bytes) = gait_bytes(args)?;
-            let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-            let r = Reference::for_scalar(&gait, &log.scalar).map_err(|e| e.to_string())?;
-            print_reference(&r);
-            check(&log, &r, &budget).map_err(|e| e.to_string())?;
-            let (unit, limit) = match log.unit {
-                Unit::Instructions => (
-                    line::INSN,
-                    format!("{} mean, {} a step", budget.insn, budget.insn_step),
-                ),
-                Unit::Cycles => (
-                    line::CYCLES,
-                    budget.cycles.map_or("none".to_string(), |l| l.to_string()),
-                ),
-            };
-            let stack = log.stack_bytes.map_or("not measured".to_string(), |s| {
-                format!("{s} B (budget {} B)", budget.stack_bytes)
-            });
-            let a = &log.arcs;
-            println!(
-                "check: ok board={} scalar={} gait={:#010x} digest={:#018x} bit-identical to the \
-                 host; {unit} mean={} max={} (budget {limit}); on arcs: {} steps, mean={} max={} \
-                 (free steps: mean={} max={}); stack_step={stack}",
-                log.board,
-                log.scalar,
-                log.gait_crc,
-                log.digest,
-                log.mean,
-                log.max,
-                a.steps,
-                a.mean,
-                a.max,
-                a.free_mean,
-                a.free_max
-            );
-            Ok(())
-        }
-        Some("loop") => {
-            let text = read(pos.get(1).ok_or("loop needs a log file")?)?;
-            let log = LoopLog::parse(&text).map_err(|e| e.to_string())?;
-            let (path, bytes) = gait_bytes(args)?;
-            let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-            check_loop(&log, &gait).map_err(|e| e.to_string())?;
-            println!(
-                "loop: ok board={} scalar={} gait={:#010x} cycles={} each bit-identical to the \
-                 host (digest and composed pose); ticks={} mean={} max={} {unit} period={} \
-                 margin={} {unit} overruns=0",
-                log.board,
-                log.scalar,
-                log.gait_crc,
-                log.planned,
-                log.ticks,
-                log.mean,
-                log.max,
-                log.period,
-                log.period - log.max,
-                unit = log.unit
-            );
-            Ok(())
-        }
-        Some("disasm") => {
-            let text = read(pos.get(1).ok_or("disasm needs an objdump listing")?)?;
-            let root: String = flag(args, "--root", "purcell_mcu_step".to_string())?;
-            let report =
-                CodeReport::new(&CallGraph::parse(&text), &root).map_err(|e| e.to_string())?;
-            println!(
-                "step_code: root={root} functions={} bytes={} indirect_branches={} soft_float_helpers={}",
-                report.functions.len(),
-                report.bytes,
-                report.indirect,
-                report.soft_float.len()
-            );
-            for f in &report.functions {
-                println!("  reachable: {f}");
-            }
-            if args.iter().any(|a| a == "--soft-float") {
-                for f in &report.soft_float {
-                    println!("  soft-float: {f}");
-                }
-                return Ok(());
-            }
-            report.ensure_hard_float().map_err(|e| e.to_string())?;
-            println!("step_code: ok, no soft-float helper reachable from {root}");
-            Ok(())
-        }
+        Some("check") => run_check(args, &pos),
+        Some("loop") => run_loop(args, &pos),
+        Some("disasm") => run_disasm(args, &pos),
         _ => Err(USAGE.to_string()),
     }
+}
+
+/// `check LOG`: a firmware log against the host's flight of its gait, within the budgets.
+fn run_check(args: &[String], pos: &[&str]) -> Result<(), String> {
+    let text = read(pos.get(1).ok_or("check needs a log file")?)?;
+    let insn = flag(args, "--max-insn", 1000.0)?;
+    let budget = Budget {
+        insn,
+        insn_step: flag(args, "--max-step-insn", insn)?,
+        cycles: flag(args, "--max-cycles", f64::NAN).map(|c| (!c.is_nan()).then_some(c))?,
+        stack_bytes: flag(args, "--max-stack", 2048)?,
+    };
+    let log = FirmwareLog::parse(&text).map_err(|e| e.to_string())?;
+    let (path, bytes) = gait_bytes(args)?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    let r = Reference::for_scalar(&gait, &log.scalar).map_err(|e| e.to_string())?;
+    print_reference(&r);
+    check(&log, &r, &budget).map_err(|e| e.to_string())?;
+    let (unit, limit) = match log.unit {
+        Unit::Instructions => (
+            line::INSN,
+            format!("{} mean, {} a step", budget.insn, budget.insn_step),
+        ),
+        Unit::Cycles => (
+            line::CYCLES,
+            budget.cycles.map_or("none".to_string(), |l| l.to_string()),
+        ),
+    };
+    let stack = log.stack_bytes.map_or("not measured".to_string(), |s| {
+        format!("{s} B (budget {} B)", budget.stack_bytes)
+    });
+    let a = &log.arcs;
+    println!(
+        "check: ok board={} scalar={} gait={:#010x} digest={:#018x} bit-identical to the \
+         host; {unit} mean={} max={} (budget {limit}); on arcs: {} steps, mean={} max={} \
+         (free steps: mean={} max={}); stack_step={stack}",
+        log.board,
+        log.scalar,
+        log.gait_crc,
+        log.digest,
+        log.mean,
+        log.max,
+        a.steps,
+        a.mean,
+        a.max,
+        a.free_mean,
+        a.free_max
+    );
+    Ok(())
+}
+
+/// `loop LOG`: a control loop's log against the host, cycle by cycle.
+fn run_loop(args: &[String], pos: &[&str]) -> Result<(), String> {
+    let text = read(pos.get(1).ok_or("loop needs a log file")?)?;
+    let log = LoopLog::parse(&text).map_err(|e| e.to_string())?;
+    let (path, bytes) = gait_bytes(args)?;
+    let gait = Gait::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    check_loop(&log, &gait).map_err(|e| e.to_string())?;
+    println!(
+        "loop: ok board={} scalar={} gait={:#010x} cycles={} each bit-identical to the \
+         host (digest and composed pose); ticks={} mean={} max={} {unit} period={} \
+         margin={} {unit} overruns=0",
+        log.board,
+        log.scalar,
+        log.gait_crc,
+        log.planned,
+        log.ticks,
+        log.mean,
+        log.max,
+        log.period,
+        log.period - log.max,
+        unit = log.unit
+    );
+    Ok(())
+}
+
+/// `disasm LISTING`: the code reachable from the step, with no soft-float helper.
+fn run_disasm(args: &[String], pos: &[&str]) -> Result<(), String> {
+    let text = read(pos.get(1).ok_or("disasm needs an objdump listing")?)?;
+    let root: String = flag(args, "--root", "purcell_mcu_step".to_string())?;
+    let report = CodeReport::new(&CallGraph::parse(&text), &root).map_err(|e| e.to_string())?;
+    println!(
+        "step_code: root={root} functions={} bytes={} indirect_branches={} soft_float_helpers={}",
+        report.functions.len(),
+        report.bytes,
+        report.indirect,
+        report.soft_float.len()
+    );
+    for f in &report.functions {
+        println!("  reachable: {f}");
+    }
+    if args.iter().any(|a| a == "--soft-float") {
+        for f in &report.soft_float {
+            println!("  soft-float: {f}");
+        }
+        return Ok(());
+    }
+    report.ensure_hard_float().map_err(|e| e.to_string())?;
+    println!("step_code: ok, no soft-float helper reachable from {root}");
+    Ok(())
 }
 
 fn main() -> ExitCode {
