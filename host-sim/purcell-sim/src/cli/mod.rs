@@ -128,7 +128,7 @@ pub fn run(cli: Cli) -> Result<String, Failure> {
     let result = match cli.command {
         Command::Solve(a) => solve::run_solve(a, quiet),
         Command::Replay(a) => replay::run_replay(a),
-        Command::Robustness(a) => robustness::run_robustness(a),
+        Command::Robustness(a) => robustness::run_robustness(a, quiet),
         Command::Export(a) => export::run_export(a),
         Command::Connection(a) => connection::run_connection(a),
         Command::Sweep(a) => sweep::run_sweep(a, quiet),

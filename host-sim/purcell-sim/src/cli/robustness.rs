@@ -3,12 +3,13 @@
 //! LQR gains along the extremal); the terminal errors, costs and joint excursions of both
 //! (docs/ROBUSTNESS.md).
 
-use super::args::{Failure, GaitInput, PrintArgs, fail, output_failure, read_gait};
+use super::args::{Failure, GaitInput, PrintArgs, Progress, fail, output_failure, read_gait};
 use crate::costate_file::CostateFile;
 use crate::{output, plots};
 use clap::Args;
 use purcell_core::Gait;
 use purcell_core::tracking::RECORD_VALUES;
+use purcell_solver::solver::Progress as _;
 use purcell_solver::tracking::{
     Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly, joint_bound,
     nominal, table_of,
@@ -17,6 +18,7 @@ use serde::Serialize;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// `robustness` flags.
 #[derive(Debug, Args)]
@@ -258,7 +260,8 @@ fn cases(a: &RobustnessArgs) -> Vec<(Mismatch, Noise)> {
 
 /// `robustness`: reads the gait, computes its gains, flies the cases; the summary (or the
 /// JSON report) as printed.
-pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
+pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, Failure> {
+    let progress = Progress::new(Instant::now(), quiet);
     if a.digest {
         return stored_flight(&a);
     }
@@ -303,6 +306,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     };
     let bytes = file.to_gait().map_err(|e| refused(&e))?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
+    progress.phase("gains", 1, "table");
     let nominal = nominal(&gait).map_err(|e| refused(&e))?;
     let (k, source) =
         table_of(&gait, &nominal, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
@@ -311,14 +315,21 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
         Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
         Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
     };
+    progress.tick();
     let nominal_cost: f64 = nominal
         .controls
         .iter()
         .map(|u| 0.5 * file.h * u.norm_squared())
         .sum();
-    let reports = cases(&a)
+    let cases = cases(&a);
+    progress.phase("flights", cases.len(), "cases");
+    let reports = cases
         .into_iter()
-        .map(|c| fly_case(&gait, &k, a.f32, c))
+        .map(|c| {
+            let report = fly_case(&gait, &k, a.f32, c);
+            progress.tick();
+            report
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let report = json!({
         "format": "purcell-robustness", "version": 1,
@@ -337,6 +348,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
     });
     let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
     if let Some(out) = out {
+        progress.phase("output", 1, "directory");
         let figure = plots::robustness::figure(&reports, file.h)
             .map_err(|e| fail(1, format!("plotting: {e}")))?;
         let mut files = plots::render::render("robustness", &figure)
@@ -345,6 +357,7 @@ pub(super) fn run_robustness(a: RobustnessArgs) -> Result<String, Failure> {
         files.push(("robustness.json".into(), json.clone().into_bytes()));
         out.commit(&files).map_err(output_failure(false))?;
     }
+    progress.finish();
     Ok(if a.print.json {
         json
     } else {
