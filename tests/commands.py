@@ -91,10 +91,9 @@ IN_CI = [
     ),
     (
         r"^cargo build -p purcell-capi --release --target thumbv7em-none-eabihf$",
-        "firmware/c-example/check.sh",
-        "cargo build -q -p purcell-capi --target thumbv7em-none-eabihf --release",
+        "firmware/c-example/Makefile",
+        "-p purcell-capi --release",
     ),
-    (r"^make\b", "firmware/c-example/check.sh", "make -C"),
     (
         r"^(pip install \./python|maturin build)",
         "python/check.sh",
@@ -129,7 +128,7 @@ SKIP = [
     ),
     (r"^(apt-get|rustup) ", "sets up the machine (.ci/run does it)"),
     (
-        r"^cargo bench\b",
+        r"^(RAYON_NUM_THREADS=1 )?cargo bench\b",
         "benchmarks: minutes of release builds, timing only (not in CI)",
     ),
     (

@@ -168,7 +168,8 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
     ];
     if !a.no_plots {
         files.extend(
-            plots::sweep_files(&lattice, &points).map_err(|e| fail(1, format!("plotting: {e}")))?,
+            plots::sweep_files(&lattice, &points, a.problem.horizon)
+                .map_err(|e| fail(1, format!("plotting: {e}")))?,
         );
     }
     out.commit(&files).map_err(output_failure(false))?;
