@@ -13,6 +13,7 @@ order, in one scratch directory that links the repository's top-level entries (s
   `FILE`, `[...]`); a span cut short by `…`, or naming a subcommand and flags without all
   their values, must be refused only for what it leaves out (clap's usage error), so every
   name in it is checked;
+- run in the repository: a few cheap cargo commands;
 - run by CI: the stage of the test command that runs it (a line of that script, checked);
 - skipped, with the reason printed (a board, hours of IPOPT, a network install).
 A command no rule covers fails the test, so a new README command needs a rule. Every
@@ -53,7 +54,7 @@ FILL = [
 # (pattern, script, line of that script that runs it): commands the test command runs.
 IN_CI = [
     (r"^bash tests/run\.sh$", "tests/run.sh", "set -euo pipefail"),
-    (r"^bash (firmware|python)/check\.sh$", "tests/run.sh", "bash {1}/check.sh"),
+    (r"^(bash )?(firmware|python)/check\.sh$", "tests/run.sh", "bash {2}/check.sh"),
     (r"^bash tests/packaged\.sh$", "tests/run.sh", "bash tests/packaged.sh"),
     (r"^python3 tests/readme\.py$", "tests/run.sh", "python3 tests/readme.py"),
     (
@@ -84,11 +85,7 @@ IN_CI = [
         "firmware/check.sh",
         "cargo run -q -p purcell-mcu --example {2} --target thumbv7em-none-eabihf --release",
     ),
-    (
-        r"^cargo run -p purcell-mcu-check -- (loop|reference) ",
-        "firmware/check.sh",
-        "tool {1} ",
-    ),
+    (r"^cargo run -p purcell-mcu-check -- loop ", "firmware/check.sh", "tool loop "),
     (
         r"^cargo build -p purcell-capi --release --target thumbv7em-none-eabihf$",
         "firmware/c-example/Makefile",
@@ -105,6 +102,8 @@ IN_CI = [
         "wheels=$root/python/target/wheels",
     ),
     (r"^cargo tree -p purcell-solver$", "tests/outside.sh", "purcell-solver"),
+    (r"^cargo package$", "tests/packaged.sh", "cargo package"),
+    (r"^cargo fmt --check$", "python/check.sh", "cargo fmt --check"),
     (
         r"^bash firmware/board-stm32f4-discovery/copy-out\.sh ",
         "tests/packaged.sh",
@@ -120,6 +119,9 @@ IN_CI = [
     (r"^firmware/capi/header\.sh$", "firmware/c-example/check.sh", "capi/header.sh"),
 ]
 
+# Cargo commands run as typed in the repository (cheap: an earlier stage built them).
+IN_REPOSITORY = [r"^cargo run -p purcell-mcu-check -- reference f(32|64)$"]
+
 # (pattern, why it is not run here).
 SKIP = [
     (
@@ -132,8 +134,8 @@ SKIP = [
         "benchmarks: minutes of release builds, timing only (not in CI)",
     ),
     (
-        r"^bash firmware/profile\.sh$",
-        "a profile of the M4F step, for reading (not in CI)",
+        r"^(bash )?firmware/profile\.sh|^cargo mcu-m7-build$|^PURCELL_QEMU_MACHINE=\S+ firmware/profile",
+        "a profile of the step's instructions, for reading (not in CI)",
     ),
     (r"casadi|peers/|ipopt", "needs CasADi and IPOPT; hours (the peers, not in CI)"),
     (r"^pip install \"", "installs from the network (dask, an optional extra)"),
@@ -144,10 +146,11 @@ SKIP = [
         "board",
     ),
     (r"^cd \.\.", "board"),
-    (r"^cargo build/test", "a list of cargo commands in prose"),
+    (r"^cargo build/test|^pip install$", "a list of commands or a name, in prose"),
     (r"^cargo run -p purcell-mcu-check -- check ", "checks a board's log (a board)"),
     (r"^PURCELL_\w+$|^PURCELL_\w+\*?$", "an environment variable's name"),
     (r"^PURCELL_\w+=\S+$", "an environment variable's value"),
+    (r"reference f32\|f64$", "two commands in one (`reference f32`, run above)"),
     (
         r"^arm-none-eabi-gcc .* your\.ld main\.c",
         "a template: your linker script, your main.c",
@@ -187,7 +190,7 @@ def commands(readme: Path) -> list[str]:
         span = re.sub(r"\s+", " ", m.group(1)).strip()
         if span.startswith(PROGRAMS):
             found.append((m.start(), span))
-    return [c for _, c in sorted(found)]
+    return [c for _, c in sorted(found, key=lambda f: f[0])]
 
 
 def filled(command: str) -> str:
@@ -237,6 +240,13 @@ def run_sim(sim: str, args: list[str], cwd: Path) -> str:
 
 
 def covered(command: str) -> str | None:
+    if any(re.search(p, command) for p in IN_REPOSITORY):
+        out = subprocess.run(
+            shlex.split(command), cwd=ROOT, capture_output=True, text=True, check=False
+        )
+        if out.returncode != 0:
+            fail(f"`{command}` exited {out.returncode}:\n{out.stderr.strip()}")
+        return "ran in the repository"
     for pattern, script, line in IN_CI:
         m = re.search(pattern, command)
         if not m:
