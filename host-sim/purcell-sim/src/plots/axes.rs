@@ -161,7 +161,7 @@ fn tick_step((lo, hi): (f64, f64)) -> f64 {
     step
 }
 
-/// The round ticks inside `range` ([`tick_step`]'s multiples), for a colour bar.
+/// The round ticks inside `range` (multiples of plotters' tick step), for a colour bar.
 pub fn round_ticks(range: (f64, f64)) -> Vec<f64> {
     let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
     let step = tick_step((lo, hi));
@@ -170,7 +170,7 @@ pub fn round_ticks(range: (f64, f64)) -> Vec<f64> {
     (first..=last).map(|i| i as f64 * step).collect()
 }
 
-/// Tick labels with the decimals plotters' tick step over `range` needs ([`tick_step`]),
+/// Tick labels with the decimals plotters' tick step over `range` needs,
 /// and a true minus sign.
 pub fn tick_formatter((lo, hi): (f64, f64)) -> impl Fn(f64) -> String {
     let (lo, hi) = (lo.min(hi), lo.max(hi));
