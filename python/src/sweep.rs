@@ -251,7 +251,7 @@ impl SweepPlan {
             .collect::<PyResult<Vec<_>>>()?;
         let (own, residual, brought) = py.detach(|| {
             let (own, residual) = self.atlas.spread(searched, &|| {});
-            let brought = self.atlas.neighbour_passes(&own);
+            let brought = self.atlas.neighbour_passes(&own, &|| ());
             (own, residual, brought)
         });
         (0..n)

@@ -17,6 +17,8 @@ const BAR_GAP: f64 = 24.0;
 const BAR_WIDTH: f64 = 36.0;
 /// See [`BAR_GAP`].
 const BAR_LABELS: f64 = 150.0;
+/// Room above the bar for its label.
+const BAR_TITLE: f64 = 60.0;
 /// Colour steps of the bar.
 const BAR_STEPS: usize = 64;
 /// Cells with no admissible gait.
@@ -134,7 +136,9 @@ impl Figure for SweepFigure<'_> {
         // Colour bar beside the plot, J increasing upwards.
         let (_, right) = span(va, ha);
         let (bottom, upper) = span(vb, hb);
-        let (px, py0) = chart.backend_coord(&(right, upper));
+        let (px, top) = chart.backend_coord(&(right, upper));
+        // Room above the bar for its label.
+        let py0 = top + k.px(BAR_TITLE);
         let (_, py1) = chart.backend_coord(&(right, bottom));
         let bx = px + k.px(BAR_GAP);
         let bw = k.px(BAR_WIDTH);
@@ -159,8 +163,8 @@ impl Figure for SweepFigure<'_> {
         }
         root.draw(&Text::new(
             "J (rad²/s)",
-            (bx + bw / 2, py1 + k.px(20.0)),
-            k.font(LABEL_FONT, HPos::Center, VPos::Top),
+            (bx, top),
+            k.font(TICK_FONT, HPos::Left, VPos::Top),
         ))?;
         Ok(())
     }

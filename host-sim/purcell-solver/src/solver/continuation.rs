@@ -354,7 +354,7 @@ pub fn sweep(
         .collect();
     let (own, residual) = atlas.spread(searched, &|| progress.tick());
     progress.phase("neighbours", 1, "passes");
-    let brought = atlas.neighbour_passes(&own);
+    let brought = atlas.neighbour_passes(&own, &|| progress.pulse());
     progress.tick();
     progress.phase("refinement", n, "targets");
     Ok((0..n)
@@ -493,8 +493,12 @@ impl Atlas {
 
     /// 2. Neighbour passes on the coarse grid from each target's `own` candidates, until no
     ///    target's kept extremals change; the candidates they brought to each target (not
-    ///    among its own).
-    pub fn neighbour_passes(&self, own: &[Vec<Candidate>]) -> Vec<Vec<Candidate>> {
+    ///    among its own). `pulse` is called before each target's pass.
+    pub fn neighbour_passes(
+        &self,
+        own: &[Vec<Candidate>],
+        pulse: &(dyn Fn() + Sync),
+    ) -> Vec<Vec<Candidate>> {
         let n = self.targets.len();
         let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); n];
         let mut changed = vec![false; n];
@@ -510,7 +514,10 @@ impl Atlas {
         loop {
             let updates: Vec<(usize, Vec<Candidate>)> = (0..n)
                 .into_par_iter()
-                .filter_map(|i| Some((i, self.pass(i, &kept, &changed)?)))
+                .filter_map(|i| {
+                    pulse();
+                    Some((i, self.pass(i, &kept, &changed)?))
+                })
                 .collect();
             if updates.is_empty() {
                 break;
