@@ -142,10 +142,9 @@ SKIP = [
     (r"^cargo \+nightly fuzz", "fuzzing, run by tests/run.sh with a time limit"),
     (r"board\.log|board-loop\.log|probe-rs", "needs an STM32F4-Discovery on a probe"),
     (
-        r"^cd firmware/board|^cargo run --release( --example control_loop)?( 2>&1|$)",
-        "board",
+        r"^cd (firmware/board|\.\./\.\.$)|^cargo run --release( --example control_loop)?( 2>&1|$)",
+        "flashes an STM32F4-Discovery (or changes to the board's folder and back)",
     ),
-    (r"^cd \.\.", "board"),
     (r"^cargo build/test|^pip install$", "a list of commands or a name, in prose"),
     (r"^cargo run -p purcell-mcu-check -- check ", "checks a board's log (a board)"),
     (r"^PURCELL_\w+$|^PURCELL_\w+\*?$", "an environment variable's name"),
