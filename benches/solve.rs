@@ -43,7 +43,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| solve(&p, &options, &|| {}).unwrap())
     });
     g.bench_function("refine_cheapest_admissible", |b| {
-        b.iter(|| refine(&p, black_box(&best.u), &best.nu, f64::INFINITY).unwrap())
+        b.iter(|| refine(&p, black_box(&best.u), &best.nu, f64::INFINITY, &|| ()).unwrap())
     });
     g.bench_function("coarse_search", |b| b.iter(run_search));
     for a in [1.5, 2.5] {

@@ -9,7 +9,8 @@ cd "$root/python"
 bash tools.sh
 tools=${PURCELL_PY_TOOLS:-$root/target/python-tools}
 venv=$root/target/python-venv
-wheels=$root/target/python-wheels
+# maturin's own default for this crate (python/README.md installs from there).
+wheels=$root/python/target/wheels
 
 cargo fmt --check
 cargo clippy -q --locked --all-targets -- -D warnings

@@ -6,9 +6,10 @@
 #     patched in for crates.io, compiles on its own, and so does its documentation, with every
 #     feature on (as docs.rs builds it: [package.metadata.docs.rs] all-features) and warnings
 #     denied;
-#  3. a copy of the board example (firmware/board-stm32f4-discovery) beside them, its
-#     dependencies on these crates by version only, builds for thumbv7em-none-eabihf:
-#     nothing in the packages points back into the repository.
+#  3. a copy of the board example made by its copy-out.sh (its dependencies on these crates
+#     by version only, the packages patched in from the copy's vendor/) builds for
+#     thumbv7em-none-eabihf with no edit: nothing in the packages points back into the
+#     repository.
 # Run by tests/run.sh. A new user-facing crate: one word in CRATES (and in the board's
 # dependencies if the board uses it).
 #
@@ -55,18 +56,12 @@ done
 )
 
 board=$root/firmware/board-stm32f4-discovery
-mkdir "$dir/board"
-# What a user copies: the example's tracked files (not its build dir).
-(cd "$board" && git ls-files -z . | xargs -0 cp --parents -t "$dir/board")
-# The repository's path dependencies go; the packages come in through the patches above.
-sed -i -E '/^purcell-/ s/, path = "[^"]*"//' "$dir/board/Cargo.toml"
-if grep -q 'path = ' "$dir/board/Cargo.toml"; then
-  echo "packaged.sh: the board's manifest still has a path dependency:" >&2
-  grep 'path = ' "$dir/board/Cargo.toml" >&2
-  exit 1
-fi
+# What a user does (the board's README): copy-out.sh, then cargo build, no edit. Into a
+# folder of its own: the patches above are not the copy's.
+copy=$(mktemp -d)
+trap 'rm -rf "$dir" "$copy"' EXIT
+bash "$board/copy-out.sh" "$copy/board" >/dev/null
 # The board's build dir (its dependencies are built already: tests/run.sh builds it first).
 board_target=${CARGO_TARGET_DIR:-$board/target}
-(cd "$dir/board" && PURCELL_GAIT=$root/core/examples/paper.gait CARGO_TARGET_DIR=$board_target \
-  cargo build -q --release --bins --examples)
+(cd "$copy/board" && CARGO_TARGET_DIR=$board_target cargo build -q --release --bins --examples)
 echo "packaged: ${CRATES[*]} compile and document as packaged; a copy of the board example outside the repository builds against them"

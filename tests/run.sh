@@ -51,6 +51,10 @@ cargo build -q --profile test -p purcell-sim
 "$ruff" check tests/readme.py
 "$ruff" format --check tests/readme.py
 python3 tests/readme.py "$target_dir/debug/purcell-sim" "$target_dir/mcu-check"
+step "every command the READMEs show, run as typed or by the stage above that runs it (tests/commands.py)"
+"$ruff" check tests/commands.py
+"$ruff" format --check tests/commands.py
+python3 tests/commands.py "$target_dir/debug/purcell-sim"
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
 step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs

@@ -14,8 +14,8 @@
 #  3. the same C program built with the host's gcc against the host's libpurcell_capi.a flies
 #     the paper's gait and its constrained one (paper-limit.gait, arcs) with the host's digest,
 #     and refuses the paper's with its first byte changed (exit 1, the core's reason).
-# Needs cbindgen 0.29.4, arm-none-eabi-gcc (gcc-arm-none-eabi), binutils-arm-none-eabi,
-# qemu-system-arm, gcc (.ci/run installs them).
+# Needs cbindgen 0.29.4 (step 0 only; the Makefile builds without it), make, arm-none-eabi-gcc
+# (gcc-arm-none-eabi), binutils-arm-none-eabi, qemu-system-arm, gcc (.ci/run installs them).
 # Builds go to $TARGET/c-example/.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -54,16 +54,14 @@ echo "--- the C API's header"
 firmware/capi/header.sh --check
 
 echo "--- C firmware on the M4F (mps2-an386): the paper's gait through libpurcell_capi.a"
-cargo build -q -p purcell-capi --target thumbv7em-none-eabihf --release
-lib=$target_dir/thumbv7em-none-eabihf/release/libpurcell_capi.a
+# The README's build: its Makefile (the library, the gait as C, the firmware).
 export_gait paper core/examples/paper.gait
-elf=$out/c-example.elf
-"$arm_cc" "${warn[@]}" -I "$out/paper" -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 \
-  -ffreestanding -nostdlib -ffunction-sections -fdata-sections -Wl,--gc-sections,-z,noexecstack \
-  -T "$src/mps2-an386.ld" -o "$elf" "$src/mps2.c" "$src/fly.c" "$out/paper/gait.c" "$lib"
-timeout "${PURCELL_QEMU_TIMEOUT:-300}" "${QEMU:-qemu-system-arm}" -machine mps2-an386 -nographic \
-  -monitor none -serial none -semihosting-config enable=on,target=native -icount shift=6 \
-  -kernel "$elf" </dev/null 2>&1 | tee "$out/m4f.log"
+make=(make -s -C "$src" BUILD="$out/paper" TARGET_DIR="$target_dir" CC="$arm_cc"
+  QEMU="${QEMU:-qemu-system-arm}" PURCELL_SIM="cargo run -q --profile test -p purcell-sim --")
+"${make[@]}"
+lib=$target_dir/thumbv7em-none-eabihf/release/libpurcell_capi.a
+elf=$out/paper/c-example.elf
+timeout "${PURCELL_QEMU_TIMEOUT:-300}" "${make[@]}" run 2>&1 | tee "$out/m4f.log"
 same_digest paper "$out/m4f.log"
 read -r mean max < <(sed -n 's/^insn_per_step: mean=\([0-9.]*\) max=\([0-9]*\).*/\1 \2/p' "$out/m4f.log")
 stack=$(sed -n 's/^stack: bytes=\([0-9]*\).*/\1/p' "$out/m4f.log")

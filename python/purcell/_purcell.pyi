@@ -156,7 +156,7 @@ def solve(
     seed: int = 0,
     checkpoint_every: int | None = None,
     warm: Solution | str | os.PathLike[str] | None = None,
-    progress: Callable[[int, int], object] | None = None,
+    progress: Callable[[int, int, str], object] | None = None,
 ) -> Solution:
     """The cheapest admissible gait to target (x m, y m, theta rad) in horizon seconds."""
 
@@ -214,7 +214,7 @@ def sweep(
     ys: _Axis,
     thetas: _Axis,
     problem: dict[str, Any],
-    progress: Callable[[int, int], object] | None = None,
+    progress: Callable[[int, int, str], object] | None = None,
 ) -> list[dict[str, Any]]:
     """The local sweep: one record per target (the columns of sweep.csv)."""
 

@@ -74,7 +74,7 @@ def sweep(
     ratio: float = 2.0,
     alpha_max: float | None = None,
     starts: int = 512,
-    progress: Callable[[int, int], object] | None = None,
+    progress: Callable[[int, int, str], object] | None = None,
 ) -> Sweep:
     """Every target of a lattice solved as `purcell-sim sweep` solves it: the same records as
     its sweep.csv (see COLUMNS), x slowest, theta fastest. `.to_pandas()` gives a DataFrame.
@@ -89,9 +89,10 @@ def sweep(
     in which each target starts Newton from its neighbours' cheapest extremals until nothing
     changes, then each target's candidates refined on the fine grid: every target solved at
     least as well as `solve` would. The GIL is released while it runs (on all cores);
-    progress(done, total) is called every 0.1 s with the command line's count (one per target
-    searched and one per target refined, total 2 x targets); Ctrl-C or an exception in
-    progress cancels. Raises InputError with the command line's message for bad input.
+    progress(done, total, phase) is called every 0.1 s with the command line's count, and at
+    the end with (total, total, phase): the phases "search" (one per target), "neighbours"
+    (one) and "refinement" (one per target); Ctrl-C or an exception in progress cancels.
+    Raises InputError with the command line's message for bad input.
     """
     kw = problem_kwargs(horizon, step, alpha0, links, drag, ratio, alpha_max, starts)
     return Sweep(_purcell.sweep(xs, ys, thetas, kw, progress))

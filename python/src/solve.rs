@@ -24,9 +24,11 @@ use std::time::Instant;
 /// warm: a Solution, or the path of a costate file (costate.json), whose extremal (replayed)
 /// starts the solve (the command line's `--from`): continuation from its target to this one,
 /// or the global search with a UserWarning if that reaches no admissible extremal; the same
-/// swimmer required. progress: called as progress(done, total) every 0.1 s and at the end, from the calling
-/// thread: start loops finished of starts + 1 (the zero loop included), as the command line's
-/// progress bar counts them.
+/// swimmer required. progress: called as progress(done, total, phase) every 0.1 s and at the
+/// end with (total, total, phase), from the calling thread: the phases "search" (start loops
+/// finished of starts + 1, the zero loop included; the search may stop sooner) and
+/// "refinement" (candidates carried to the problem's grid), or with warm "continuation"
+/// first, as the command line's progress counts them.
 ///
 /// The GIL is released while the solver runs (on all cores); Ctrl-C, or an exception raised
 /// by `progress`, cancels the search. Raises InputError (a ValueError, the command line's
@@ -88,15 +90,10 @@ pub fn solve(
     };
     let warm = warm.map(|w| warm_start(&w)).transpose()?;
     let t0 = Instant::now();
-    let (found, failed) = detach::run(
-        py,
-        options.starts + 1,
-        progress.as_ref(),
-        |tick| match &warm {
-            None => (solver::solve(&problem, &options, tick), None),
-            Some(w) => continuation::solve_from(&problem, w, &options, tick),
-        },
-    )?;
+    let (found, failed) = detach::run(py, progress.as_ref(), |progress| match &warm {
+        None => (solver::solve(&problem, &options, progress), None),
+        Some(w) => continuation::solve_from(&problem, w, &options, progress),
+    })?;
     let seconds = t0.elapsed().as_secs_f64();
     if let Some(e) = failed {
         warn(

@@ -142,8 +142,8 @@ pub fn sweep<'py>(
     let lattice = lattice_of(xs, ys, thetas)?;
     let (spec, options) = problem.checked()?;
     // Each target ticks once when searched and once when refined, as the command line's bar.
-    let points = detach::run(py, 2 * lattice.len(), progress.as_ref(), |tick| {
-        continuation::sweep(&spec, &lattice, &options, tick)
+    let points = detach::run(py, progress.as_ref(), |progress| {
+        continuation::sweep(&spec, &lattice, &options, progress)
     })?
     .map_err(input_error)?;
     points
@@ -251,7 +251,7 @@ impl SweepPlan {
             .collect::<PyResult<Vec<_>>>()?;
         let (own, residual, brought) = py.detach(|| {
             let (own, residual) = self.atlas.spread(searched, &|| {});
-            let brought = self.atlas.neighbour_passes(&own);
+            let brought = self.atlas.neighbour_passes(&own, &|| ());
             (own, residual, brought)
         });
         (0..n)
@@ -277,7 +277,7 @@ pub fn sweep_search<'py>(
         problems
             .par_iter()
             .map(|p| {
-                let (list, residual) = search_target(p, &options);
+                let (list, residual) = search_target(p, &options, &|| ());
                 (encode(&list), residual)
             })
             .collect()
@@ -309,7 +309,7 @@ pub fn sweep_refine<'py>(
         problems
             .par_iter()
             .zip(&lists)
-            .map(|(p, (own, brought, r))| refine_target(p, own, brought, *r, &options))
+            .map(|(p, (own, brought, r))| refine_target(p, own, brought, *r, &options, &|| ()))
             .collect()
     });
     targets

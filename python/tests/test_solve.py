@@ -64,20 +64,33 @@ def test_gait_is_the_exported_file(cli, tmp_path):
     assert s.gait() == (tmp_path / "gait.bin").read_bytes()
 
 
-def test_progress_counts_the_starts():
+def test_progress_counts_each_phase_to_its_total():
     calls = []
-    s = purcell.solve((0.05, 0.05, 0.1), alpha0=(0.3, 0.3), progress=lambda *a: calls.append(a))
+    purcell.solve((0.05, 0.05, 0.1), alpha0=(0.3, 0.3), progress=lambda *a: calls.append(a))
     assert calls, "progress is called at least at the end"
-    assert calls[-1] == (s.report["search"]["starts"] + 1, 513)
-    assert [c[0] for c in calls] == sorted(c[0] for c in calls)
+    done, total, phase = calls[-1]
+    assert phase == "refinement" and done == total > 0
+    assert all(c[2] in ("search", "refinement") for c in calls)
+    search = [c for c in calls if c[2] == "search"]
+    assert all(c[1] == 513 for c in search)
+    assert [c[0] for c in search] == sorted(c[0] for c in search)
+    assert all(0 <= c[0] <= c[1] for c in calls)
 
 
-def test_an_exception_in_progress_cancels_the_solve():
-    def stop(done, budget):
-        raise KeyboardInterrupt
+@pytest.mark.parametrize("phase", ["search", "refinement"])
+def test_an_interrupt_stops_the_solve_within_half_a_second(phase):
+    # 100 000 steps: the refinement takes seconds, the search a few tenths.
+    raised = []
+
+    def stop(done, total, now):
+        if now == phase:
+            raised.append(time.perf_counter())
+            raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        purcell.solve((0.1, 0.1, 0.0), progress=stop)
+        purcell.solve((0.1, 0.1, 0.0), step=0.001, progress=stop)
+    assert raised, f"the solve ended before its {phase} was seen"
+    assert time.perf_counter() - raised[0] <= 0.5
 
 
 def test_another_thread_runs_during_a_solve():

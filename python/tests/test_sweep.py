@@ -47,7 +47,9 @@ def test_sweep_equals_the_command_line(axes, given, flags, cli, tmp_path):
     calls = []
     records = purcell.sweep(*axes, **given, progress=lambda *a: calls.append(a))
     assert_equals_csv(records, rows)
-    assert calls[-1] == (2 * len(rows), 2 * len(rows))
+    assert calls[-1] == (len(rows), len(rows), "refinement")
+    phases = [c[2] for c in calls]
+    assert phases == sorted(phases, key=["search", "neighbours", "refinement"].index)
     if flags:
         return
     # Axes as numbers give the same records as the command line's FROM:TO:COUNT.

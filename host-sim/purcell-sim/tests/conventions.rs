@@ -51,6 +51,33 @@ fn json_prints_the_report_as_written() {
     assert_eq!(printed, untimed(&out));
 }
 
+/// Issue 36: on a stderr that is no terminal (a CI log), `solve` says each phase as it begins,
+/// with the seconds since the command began, and when it is done; the summary's time line is
+/// the command's, the solver's part beside it.
+#[test]
+fn a_solve_tells_its_phases_on_a_log() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = Solve::quick().no_plots().out(&tmp.path().join("out")).run();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let phases: Vec<String> = stderr(&o)
+        .lines()
+        .filter_map(|l| {
+            let (seconds, what) = l.trim_start().split_once(" s  ")?;
+            seconds.parse::<f64>().ok()?;
+            Some(what.split(',').next().unwrap_or(what).to_string())
+        })
+        .collect();
+    assert_eq!(
+        phases,
+        ["search", "refinement", "output", "done"],
+        "{}",
+        stderr(&o)
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let time = stdout.lines().find(|l| l.starts_with("time ")).unwrap();
+    assert!(time.ends_with(" s solving)"), "{time}");
+}
+
 /// `-q`: nothing on stdout or stderr (not even the warning of a search that spent its budget
 /// of one start), the files written all the same; errors are still said.
 #[test]

@@ -220,8 +220,11 @@ fn a_refinement_stops_early_once_dearer_than_the_bound() {
     let found = paper_search();
     let c = &found.candidates[0];
     let bound = 0.9 * c.cost;
-    assert_eq!(refine(&p, &c.u, &c.nu, bound).err(), Some(Stop::Dearer));
-    let (fine, run) = refine(&p, &c.u, &c.nu, f64::INFINITY).unwrap();
+    assert_eq!(
+        refine(&p, &c.u, &c.nu, bound, &|| ()).err(),
+        Some(Stop::Dearer)
+    );
+    let (fine, run) = refine(&p, &c.u, &c.nu, f64::INFINITY, &|| ()).unwrap();
     assert!(fine.cost(&run.point.u) > bound * (1.0 + PRUNE));
 }
 
@@ -271,7 +274,7 @@ fn a_candidate_that_fails_to_refine_is_reported() {
         ..SolveOptions::default()
     };
     let (best, extremals, unrefined) =
-        refine_candidates(&p, &[zero, real.clone()], &budget, f64::INFINITY).unwrap();
+        refine_candidates(&p, &[zero, real.clone()], &budget, f64::INFINITY, &|| ()).unwrap();
     assert_eq!(extremals.len(), 1);
     assert!(extremals[best].admissible);
     assert_eq!(unrefined.len(), 1, "{unrefined:?}");

@@ -7,8 +7,10 @@ use crate::{input, output};
 use clap::Args;
 use purcell_core::Gait;
 use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// The exit codes, as `--help` lists them after every command's flags (the one list; the
 /// README's table says more on each).
@@ -197,33 +199,84 @@ pub fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The progress bar of a long run on stderr, when stderr is a terminal (none otherwise).
-pub(super) struct Progress(Option<indicatif::ProgressBar>);
+/// The progress of a long command on stderr, phase by phase ([`solver::Progress`]): on a
+/// terminal a bar per phase; otherwise a line as each phase begins and one at the end, with
+/// the time since the command began (as cargo prints); nothing if `quiet`.
+pub(super) struct Progress {
+    t0: Instant,
+    bar: Option<indicatif::ProgressBar>,
+    lines: bool,
+}
 
 impl Progress {
-    /// A bar of `len` ticks drawn by `template` (indicatif's); none if `quiet`.
-    pub(super) fn new(len: u64, template: &str, quiet: bool) -> Self {
-        Self((!quiet && std::io::stderr().is_terminal()).then(|| {
-            let b = indicatif::ProgressBar::new(len);
+    /// The progress of a command that began at `t0`.
+    pub(super) fn new(t0: Instant, quiet: bool) -> Self {
+        let terminal = !quiet && std::io::stderr().is_terminal();
+        let bar = terminal.then(|| {
+            let b = indicatif::ProgressBar::new(0);
+            let template = "{prefix:>12} {bar:30} {pos}/{len} {msg} ({elapsed})";
             b.set_style(
                 indicatif::ProgressStyle::with_template(template)
                     .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
             );
             b
-        }))
-    }
-
-    /// One step done.
-    pub(super) fn tick(&self) {
-        if let Some(b) = &self.0 {
-            b.inc(1);
+        });
+        Self {
+            t0,
+            bar,
+            lines: !quiet && !terminal,
         }
     }
 
-    /// Removes the bar.
+    fn line(&self, what: std::fmt::Arguments<'_>) {
+        if self.lines {
+            eprintln!("{:>9.2} s  {what}", self.t0.elapsed().as_secs_f64());
+        }
+    }
+
+    /// Runs `f` (which prints to stderr) with the bar hidden.
+    pub(super) fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        match &self.bar {
+            Some(b) => b.suspend(f),
+            None => f(),
+        }
+    }
+
+    /// Removes the bar, or says the command is done.
     pub(super) fn finish(&self) {
-        if let Some(b) = &self.0 {
+        if let Some(b) = &self.bar {
             b.finish_and_clear();
+        }
+        self.line(format_args!("done"));
+    }
+}
+
+/// An unfinished command's bar goes with it (its error follows).
+impl Drop for Progress {
+    fn drop(&mut self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+impl solver::Progress for Progress {
+    fn phase(&self, name: &str, total: usize, unit: &str) {
+        if let Some(b) = &self.bar {
+            b.reset();
+            b.set_length(total as u64);
+            b.set_prefix(name.to_string());
+            b.set_message(unit.to_string());
+        }
+        match total {
+            1 => self.line(format_args!("{name}")),
+            _ => self.line(format_args!("{name}, up to {total} {unit}")),
+        }
+    }
+
+    fn tick(&self) {
+        if let Some(b) = &self.bar {
+            b.inc(1);
         }
     }
 }

@@ -3,7 +3,7 @@
 //! LQR gains along the extremal); the terminal errors, costs and joint excursions of both
 //! (docs/ROBUSTNESS.md).
 
-use super::args::{Failure, GaitInput, PrintArgs, fail, output_failure, read_gait};
+use super::args::{Failure, GaitInput, PrintArgs, Progress, fail, output_failure, read_gait};
 use super::replay::check_stored;
 use crate::budget::Work;
 use crate::costate_file::CostateFile;
@@ -12,6 +12,7 @@ use crate::{output, plots};
 use clap::Args;
 use purcell_core::Gait;
 use purcell_core::tracking::RECORD_VALUES;
+use purcell_solver::solver::Progress as _;
 use purcell_solver::tracking::{
     Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly, joint_bound,
     nominal, table_of,
@@ -19,6 +20,7 @@ use purcell_solver::tracking::{
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// `robustness` flags.
 #[derive(Debug, Args)]
@@ -221,6 +223,7 @@ fn cases(a: &RobustnessArgs) -> Vec<(Mismatch, Noise)> {
 /// JSON report) as printed.
 pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, Failure> {
     check_flags(&a)?;
+    let progress = Progress::new(Instant::now(), quiet);
     if a.digest {
         return stored_flight(&a, quiet);
     }
@@ -249,6 +252,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
         ),
         None => None,
     };
+    progress.phase("gains", 1, "table");
     let nominal = nominal(&gait).map_err(|e| refused(&e))?;
     let (k, source) =
         table_of(&gait, &nominal, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
@@ -257,14 +261,21 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
         Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
         Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
     };
+    progress.tick();
     let nominal_cost: f64 = nominal
         .controls
         .iter()
         .map(|u| 0.5 * file.h * u.norm_squared())
         .sum();
-    let reports = cases(&a)
+    let cases = cases(&a);
+    progress.phase("flights", cases.len(), "cases");
+    let reports = cases
         .into_iter()
-        .map(|c| fly_case(&gait, &k, a.f32, c))
+        .map(|c| {
+            let report = fly_case(&gait, &k, a.f32, c);
+            progress.tick();
+            report
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let report = json!({
         "format": "purcell-robustness", "version": 1,
@@ -283,6 +294,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     });
     let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
     if let Some(out) = out {
+        progress.phase("output", 1, "directory");
         let figure = plots::robustness::figure(&reports, file.h)
             .map_err(|e| fail(1, format!("plotting: {e}")))?;
         let mut files = plots::render::render("robustness", &figure)
@@ -291,6 +303,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
         files.push(("robustness.json".into(), json.clone().into_bytes()));
         out.commit(&files).map_err(output_failure(false))?;
     }
+    progress.finish();
     Ok(if a.print.json {
         json
     } else {

@@ -17,7 +17,7 @@ use purcell_core::{Arc, Gait};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::continuation;
 use purcell_solver::solver::{
-    Evidence, Extremal, Minimum, Solution, SolveError, SolveOptions, solve,
+    Evidence, Extremal, Minimum, Progress as _, Solution, SolveError, SolveOptions, solve,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -117,35 +117,14 @@ fn checkpoint_spacing(given: Option<u32>, steps: u32) -> Result<u32, Failure> {
 /// `solve`: checks every input, prepares the output, solves, writes the files; the summary
 /// (or with `--json` the report) as printed; no warning if `quiet`.
 pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
+    let t0 = Instant::now();
     let (problem, checkpoint_every) = checked_problem(&a)?;
     let inputs: Vec<&Path> = a.from.iter().map(PathBuf::as_path).collect();
     let out = a.output.prepare("solve", &inputs)?;
-    let (solution, seconds) = find(&a, &problem, quiet)?;
-    if let Some(e) = solution.search.as_ref().filter(|e| !e.satisfied) {
-        warn(
-            quiet,
-            format_args!(
-                "the search used its budget of {} starts before its stopping rule was met \
-                 (estimated chance that another start finds an unseen minimum no dearer than \
-                 the gait returned: {:.3}); this is the cheapest gait found: raise --starts to \
-                 search on",
-                e.budget, e.unseen
-            ),
-        );
-    }
-    // Cheapest first, as the search's minima: one warning, for the cheapest.
-    let unrefined = solution.search.iter().flat_map(|e| &e.unrefined);
-    let cheaper: Vec<_> = unrefined.filter(|u| u.cheaper).collect();
-    if let Some(u) = cheaper.first() {
-        warn(
-            quiet,
-            format_args!(
-                "{u} ({} such minima in report.json's search.unrefined): try another --seed \
-                 or --starts",
-                cheaper.len()
-            ),
-        );
-    }
+    let progress = Progress::new(t0, quiet);
+    let (solution, seconds) = find(&a, &problem, quiet, &progress)?;
+    progress.phase("output", 1, "directory");
+    progress.suspend(|| warn_search(&solution, quiet));
     let best = &solution.extremals[solution.best];
     let file = output::costate_file(&problem, best, checkpoint_every);
     let gait_bytes = file
@@ -178,11 +157,41 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
         );
     }
     out.commit(&files).map_err(output_failure(false))?;
+    progress.finish();
     Ok(if a.print.json {
         report_text
     } else {
-        summary::solve(&report, &a.output.out, &files)
+        summary::solve(&report, &a.output.out, &files, t0.elapsed().as_secs_f64())
     })
+}
+
+/// The warnings of a search that gave up early or left a cheaper minimum unrefined.
+fn warn_search(solution: &Solution, quiet: bool) {
+    if let Some(e) = solution.search.as_ref().filter(|e| !e.satisfied) {
+        warn(
+            quiet,
+            format_args!(
+                "the search used its budget of {} starts before its stopping rule was met \
+                 (estimated chance that another start finds an unseen minimum no dearer than \
+                 the gait returned: {:.3}); this is the cheapest gait found: raise --starts to \
+                 search on",
+                e.budget, e.unseen
+            ),
+        );
+    }
+    // Cheapest first, as the search's minima: one warning, for the cheapest.
+    let unrefined = solution.search.iter().flat_map(|e| &e.unrefined);
+    let cheaper: Vec<_> = unrefined.filter(|u| u.cheaper).collect();
+    if let Some(u) = cheaper.first() {
+        warn(
+            quiet,
+            format_args!(
+                "{u} ({} such minima in report.json's search.unrefined): try another --seed \
+                 or --starts",
+                cheaper.len()
+            ),
+        );
+    }
 }
 
 /// The problem of `a` and its checkpoint spacing, checked as `solve` input (exit 2): the
@@ -215,29 +224,29 @@ pub fn checked_problem(a: &SolveArgs) -> Result<(Problem, u32), Failure> {
 
 /// The solution of `problem` from `a.from`'s stored extremal, or from the global search
 /// (without `--from`, or when it reaches no admissible extremal: a warning), and its
-/// seconds; exit 2 for a `--from` file that is no start, 3 for no extremal.
-fn find(a: &SolveArgs, problem: &Problem, quiet: bool) -> Result<(Solution, f64), Failure> {
+/// seconds, its phases told to `progress`; exit 2 for a `--from` file that is no start, 3 for
+/// no extremal.
+fn find(
+    a: &SolveArgs,
+    problem: &Problem,
+    quiet: bool,
+    progress: &Progress,
+) -> Result<(Solution, f64), Failure> {
     let search = &a.problem.search;
     let options = SolveOptions {
         starts: search.starts,
         seed: search.seed,
         ..SolveOptions::default()
     };
-    let progress = Progress::new(
-        search.starts as u64 + 1,
-        "searching {bar:30} {pos} starts ({elapsed})",
-        quiet,
-    );
-    let tick = || progress.tick();
     let warm = match &a.from {
         None => None,
         Some(path) => Some(warm_start(path)?),
     };
     let t0 = Instant::now();
     let result = match &warm {
-        None => solve(problem, &options, &tick),
+        None => solve(problem, &options, progress),
         Some(w) => {
-            let (result, failed) = continuation::solve_from(problem, w, &options, &tick);
+            let (result, failed) = continuation::solve_from(problem, w, &options, progress);
             if let Some(e) = failed {
                 warn(
                     quiet,
@@ -250,7 +259,6 @@ fn find(a: &SolveArgs, problem: &Problem, quiet: bool) -> Result<(Solution, f64)
             result
         }
     };
-    progress.finish();
     let solution = result.map_err(|e| fail(3, format!("{e}\n{}", what_to_try(&e, a, problem))))?;
     Ok((solution, t0.elapsed().as_secs_f64()))
 }

@@ -35,8 +35,14 @@ fn wrote(out: &Path, files: &[(String, Vec<u8>)]) -> String {
     format!("wrote      {}/ ({})\n", out.display(), names.join(", "))
 }
 
-/// `solve`'s summary of `report` (`report.json`), its files written to `out`.
-pub(super) fn solve(report: &Value, out: &Path, files: &[(String, Vec<u8>)]) -> String {
+/// `solve`'s summary of `report` (`report.json`), its files written to `out`, the command
+/// having taken `seconds`.
+pub(super) fn solve(
+    report: &Value,
+    out: &Path,
+    files: &[(String, Vec<u8>)],
+    seconds: f64,
+) -> String {
     let r = report;
     let mut s = String::new();
     let _ = writeln!(
@@ -88,8 +94,8 @@ pub(super) fn solve(report: &Value, out: &Path, files: &[(String, Vec<u8>)]) -> 
             )
         }
     );
-    let seconds = r["solve_seconds"].as_f64().unwrap_or(f64::NAN);
-    let _ = writeln!(s, "time       {seconds:.2} s");
+    let solving = r["solve_seconds"].as_f64().unwrap_or(f64::NAN);
+    let _ = writeln!(s, "time       {seconds:.2} s ({solving:.2} s solving)");
     s + &wrote(out, files)
 }
 
@@ -120,12 +126,18 @@ fn arcs(report: &Value) -> String {
     format!("{} on the joint limit ({})", all.len(), shown.join(", "))
 }
 
-/// `sweep`'s summary of `report` (its `report.json`), its files written to `out`.
-pub(super) fn sweep(report: &Value, out: &Path, files: &[(String, Vec<u8>)]) -> String {
+/// `sweep`'s summary of `report` (its `report.json`), its files written to `out`, the command
+/// having taken `seconds`.
+pub(super) fn sweep(
+    report: &Value,
+    out: &Path,
+    files: &[(String, Vec<u8>)],
+    seconds: f64,
+) -> String {
     let axis = |name: &str| report["axes"][name].as_array().map_or(0, Vec::len);
     format!(
         "targets    {} ({} x, {} y, {} theta), {} solved (sweep.csv's status says how each \
-         went)\ntime       {:.2} s\n{}",
+         went)\ntime       {seconds:.2} s ({:.2} s solving)\n{}",
         report["targets"],
         axis("x"),
         axis("y"),

@@ -10,8 +10,8 @@ use crate::decimal::Decimal;
 use crate::{output, plots};
 use clap::Args;
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::SolveOptions;
 use purcell_solver::solver::continuation::{self, Lattice};
+use purcell_solver::solver::{Progress as _, SolveOptions};
 use serde_json::json;
 use std::time::Instant;
 
@@ -118,6 +118,7 @@ pub fn axis(name: &str, text: &str, q: Quantity) -> Result<Vec<f64>, Failure> {
 /// `sweep`: checks every input, prepares the output, solves every target, writes the files;
 /// the summary (or with `--json` the report) as printed; no progress bar if `quiet`.
 pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
+    let t0 = Instant::now();
     let lattice = Lattice {
         axes: [
             axis("x", &a.x, Length)?,
@@ -145,17 +146,12 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
         starts: a.problem.search.starts,
         ..SolveOptions::default()
     };
-    // Each target ticks once when searched and once when refined.
-    let progress = Progress::new(
-        2 * lattice.len() as u64,
-        "sweeping {bar:30} {pos}/{len} searches and refinements ({elapsed})",
-        quiet,
-    );
-    let t0 = Instant::now();
-    let points = continuation::sweep(&spec, &lattice, &options, &|| progress.tick())
-        .map_err(|e| fail(2, e))?;
-    progress.finish();
-    let seconds = t0.elapsed().as_secs_f64();
+    let progress = Progress::new(t0, quiet);
+    let t1 = Instant::now();
+    let points =
+        continuation::sweep(&spec, &lattice, &options, &progress).map_err(|e| fail(2, e))?;
+    let seconds = t1.elapsed().as_secs_f64();
+    progress.phase("output", 1, "directory");
     let csv = output::sweep_csv(&points);
     let solved = points
         .iter()
@@ -176,13 +172,15 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
     ];
     if !a.no_plots {
         files.extend(
-            plots::sweep_files(&lattice, &points).map_err(|e| fail(1, format!("plotting: {e}")))?,
+            plots::sweep_files(&lattice, &points, a.problem.horizon)
+                .map_err(|e| fail(1, format!("plotting: {e}")))?,
         );
     }
     out.commit(&files).map_err(output_failure(false))?;
+    progress.finish();
     Ok(if a.print.json {
         summary_text
     } else {
-        summary::sweep(&summary, &a.output.out, &files)
+        summary::sweep(&summary, &a.output.out, &files, t0.elapsed().as_secs_f64())
     })
 }

@@ -148,18 +148,33 @@ where
 /// Labels per axis (at most).
 pub const TICKS: usize = 7;
 
-/// Tick labels with the decimals plotters' tick step over `range` needs (it steps by 1, 2
-/// or 5 times a power of ten, at most [`TICKS`] labels), and a true minus sign.
-pub fn tick_formatter((lo, hi): (f64, f64)) -> impl Fn(f64) -> String {
-    let (lo, hi) = (lo.min(hi), lo.max(hi));
+/// The tick step over `(lo, hi)` as plotters picks it: 1, 2 or 5 times a power of ten, the
+/// smallest with at most [`TICKS`] multiples inside the range.
+fn tick_step((lo, hi): (f64, f64)) -> f64 {
     let mut step = 10f64.powf((hi - lo).max(1e-300).log10().floor() - 2.0);
     for m in [2.0, 2.5, 2.0].iter().cycle().take(60) {
-        // The smallest step whose multiples inside the range are few enough.
         if (hi / step).floor() - (lo / step).ceil() + 1.0 <= TICKS as f64 {
             break;
         }
         step *= m;
     }
+    step
+}
+
+/// The round ticks inside `range` (multiples of plotters' tick step), for a colour bar.
+pub fn round_ticks(range: (f64, f64)) -> Vec<f64> {
+    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
+    let step = tick_step((lo, hi));
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|i| i as f64 * step).collect()
+}
+
+/// Tick labels with the decimals plotters' tick step over `range` needs,
+/// and a true minus sign.
+pub fn tick_formatter((lo, hi): (f64, f64)) -> impl Fn(f64) -> String {
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    let step = tick_step((lo, hi));
     let decimals = (-(step.log10() + 1e-9).floor()).max(0.0) as usize;
     move |v| {
         minus(&format!(

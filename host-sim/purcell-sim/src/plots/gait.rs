@@ -146,8 +146,13 @@ impl GaitFigures<'_> {
             snaps.push(states.len() - 1);
         }
         let mut lines = Vec::new();
+        let mut labels = Vec::new();
         for k in snaps {
             let s = &states[k];
+            labels.push((
+                (s.g.x(), s.g.y()),
+                format!("{} s", crate::decimal::time(k as u64, self.problem.h)),
+            ));
             let (a1, a2) = (s.alpha.x, s.alpha.y);
             let at = |x: f64, y: f64| {
                 let q = s.g.act(&Vector2::new(x / scale, y / scale));
@@ -192,9 +197,13 @@ impl GaitFigures<'_> {
                 (Key::Line(GREEN), "front link (α₁)".into()),
                 (Key::Line(BLUE), "rear link (α₂)".into()),
             ],
+            labels,
         };
         PlaneFigure::new(
-            format!("Swimmer every 5 s, links drawn at 1:{}", scale_label(scale)),
+            format!(
+                "Swimmer every 5 s, labelled with its time, links drawn at 1:{}",
+                scale_label(scale)
+            ),
             ("x (m)".into(), "y (m)".into()),
             drawing,
             overlay,

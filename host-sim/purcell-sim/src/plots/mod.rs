@@ -271,12 +271,22 @@ fn field_figure<'a>(
     }
 }
 
-/// The sweep's atlas, `sweep.svg` and `sweep.png` ([`sweep::SweepFigure`]).
+/// The sweep's atlas, `sweep.svg` and `sweep.png` ([`sweep::SweepFigure`]), its problems of
+/// horizon `horizon` seconds.
 pub fn sweep_files(
     lattice: &Lattice,
     points: &[SweepPoint],
+    horizon: f64,
 ) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
-    Ok(render("sweep", &sweep::SweepFigure { lattice, points })?.into())
+    Ok(render(
+        "sweep",
+        &sweep::SweepFigure {
+            lattice,
+            points,
+            horizon,
+        },
+    )?
+    .into())
 }
 
 /// Any figure, so that a list of them renders in parallel.

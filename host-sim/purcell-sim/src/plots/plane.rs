@@ -8,6 +8,7 @@ use super::style::*;
 use super::time::Mark;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, VPos};
 
 /// A path with arrowheads showing its direction of travel.
 pub struct Path {
@@ -192,7 +193,12 @@ pub struct Drawing {
     pub lines: Vec<(Vec<(f64, f64)>, RGBColor)>,
     /// Their legend entries.
     pub legend: Vec<(Key, String)>,
+    /// Text beside points (a snapshot's time).
+    pub labels: Vec<((f64, f64), String)>,
 }
+
+/// Size of [`Drawing::labels`]' text.
+const NOTE_FONT: f64 = 28.0;
 
 /// A plane figure with equal aspect.
 pub struct PlaneFigure {
@@ -297,6 +303,14 @@ impl Figure for PlaneFigure {
             chart
                 .plotting_area()
                 .draw(&PathElement::new(points.clone(), k.line(*color, LINE)))?;
+        }
+        for (at, text) in &self.drawing.labels {
+            let (x, y) = chart.backend_coord(at);
+            root.draw(&Text::new(
+                text.clone(),
+                (x + k.px(10.0), y - k.px(10.0)),
+                k.font(NOTE_FONT, HPos::Left, VPos::Bottom),
+            ))?;
         }
         Ok(())
     }

@@ -18,7 +18,7 @@ pub fn figure(cases: &[CaseReport], h: f64) -> Result<TimeFigure, PlotError> {
                 && c.pose_noise == 0.0
                 && c.shape_noise == 0.0)
     };
-    let colors = [[VERMILLION, BLUE], [ORANGE, SKY]];
+    let colors = [[VERMILLION, BLUE], [PURPLE, GREEN]];
     let mut series = Vec::new();
     let mut steps = 1;
     for (c, [open, closed]) in cases.iter().filter(only_ratio).zip(colors) {

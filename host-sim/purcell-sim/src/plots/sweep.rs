@@ -1,7 +1,7 @@
 //! The gait atlas of a sweep: the cost of the cheapest admissible gait over the plane of two
 //! axes of the target lattice (`sweep`), one cell per target, grey where none was found.
 
-use super::axes::{Axes, colour_bar_tick, tick_formatter};
+use super::axes::{Axes, colour_bar_tick, minus, round_ticks, tick_formatter};
 use super::render::{DrawResult, Figure};
 use super::style::*;
 use plotters::coord::Shift;
@@ -17,6 +17,8 @@ const BAR_GAP: f64 = 24.0;
 const BAR_WIDTH: f64 = 36.0;
 /// See [`BAR_GAP`].
 const BAR_LABELS: f64 = 150.0;
+/// Room above the bar for its label.
+const BAR_TITLE: f64 = 60.0;
 /// Colour steps of the bar.
 const BAR_STEPS: usize = 64;
 /// Cells with no admissible gait.
@@ -28,6 +30,8 @@ pub struct SweepFigure<'a> {
     pub lattice: &'a Lattice,
     /// Its results, in the lattice's order.
     pub points: &'a [SweepPoint],
+    /// The horizon `T` of every target's problem, seconds.
+    pub horizon: f64,
 }
 
 impl SweepFigure<'_> {
@@ -90,14 +94,18 @@ impl Figure for SweepFigure<'_> {
         DB::ErrorType: 'static,
     {
         let k = Scale(scale);
-        let top = draw_heading(
-            root,
-            k,
-            "Cost J of the cheapest admissible gait, per target",
-            &[],
-            PANEL,
-        )?;
         let (a, b) = self.axes();
+        // The lattice's third axis, held at its (first) value, and the horizon.
+        let held = (0..3).find(|&i| i != a && i != b).unwrap_or(2);
+        let unit = if held == 2 { "rad" } else { "m" };
+        let value = self.lattice.axes[held].first().copied().unwrap_or(0.0);
+        let title = format!(
+            "Cost J of the cheapest admissible gait, per target ({} = {} {unit}, T = {} s)",
+            ["x", "y", "θ"][held],
+            minus(&format!("{value}")),
+            self.horizon
+        );
+        let top = draw_heading(root, k, &title, &[], PANEL)?;
         let (va, vb) = (&self.lattice.axes[a], &self.lattice.axes[b]);
         let (ha, hb) = (Self::half(va), Self::half(vb));
         let span = |v: &[f64], h: f64| {
@@ -128,7 +136,9 @@ impl Figure for SweepFigure<'_> {
         // Colour bar beside the plot, J increasing upwards.
         let (_, right) = span(va, ha);
         let (bottom, upper) = span(vb, hb);
-        let (px, py0) = chart.backend_coord(&(right, upper));
+        let (px, top) = chart.backend_coord(&(right, upper));
+        // Room above the bar for its label.
+        let py0 = top + k.px(BAR_TITLE);
         let (_, py1) = chart.backend_coord(&(right, bottom));
         let bx = px + k.px(BAR_GAP);
         let bw = k.px(BAR_WIDTH);
@@ -147,15 +157,14 @@ impl Figure for SweepFigure<'_> {
             k.line(INK, 2.0),
         ))?;
         let fmt = tick_formatter((lo, hi));
-        for i in 0..=4 {
-            let v = lo + (hi - lo) * f64::from(i) / 4.0;
+        for v in round_ticks((lo, hi)) {
             let y = py0 + ((hi - v) / (hi - lo) * height).round() as i32;
             colour_bar_tick(root, k, bx + bw, y, fmt(v))?;
         }
         root.draw(&Text::new(
-            "J",
-            (bx + bw / 2, py0 - k.px(24.0)),
-            k.font(LABEL_FONT, HPos::Center, VPos::Bottom),
+            "J (rad²/s)",
+            (bx, top),
+            k.font(TICK_FONT, HPos::Left, VPos::Top),
         ))?;
         Ok(())
     }

@@ -14,6 +14,7 @@ use super::constraints::joint_limit::Limits;
 use super::direct;
 use super::grid::{self, Grid, Point};
 use super::limits;
+use super::progress::{Progress, Within};
 use super::refinement::{extremal, refine, refine_candidates};
 use super::search::{self, Candidate};
 use super::settings::{self, MIN_WALK_STEP, SAME_TARGET, Settings, SolveOptions, WARM_INSIDE};
@@ -106,7 +107,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         };
     }
     let point = walk(problem, warm.target, &medium, point, &settings)?;
-    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY)
+    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY, &|| ())
         .map_err(|stop| unreachable(stop.defect()))?;
     Ok(extremal(problem, &fine, &run))
 }
@@ -199,13 +200,15 @@ fn walk(
 
 /// `solve --from`: the extremal reached from a stored one, as a solution of one extremal;
 /// or, if none is reached within the admissible shapes, the global search's solution
-/// ([`super::solve`], with `options` and `progress`) and why the warm start failed.
+/// ([`super::solve`], with `options` and `progress`) and why the warm start failed. The
+/// continuation is `progress`'s phase `continuation`, one tick.
 pub fn solve_from(
     problem: &Problem,
     warm: &Warm,
     options: &SolveOptions,
-    progress: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> (Result<Solution, SolveError>, Option<SolveError>) {
+    progress.phase("continuation", 1, "extremal");
     let reached = continue_to(problem, warm).and_then(|x| {
         if x.admissible {
             Ok(x)
@@ -216,6 +219,7 @@ pub fn solve_from(
             })
         }
     });
+    progress.tick();
     match reached {
         Ok(x) => (
             Ok(Solution {
@@ -326,33 +330,40 @@ pub const KEEP: usize = 3;
 /// 3. each target's candidates (its search's and those the passes brought) carried to the
 ///    fine grid as `solve` carries them ([`refine_target`]).
 ///
-/// Targets are solved in parallel within each phase. `progress` is called once per target
-/// searched and once per target refined. [`Atlas`] runs the phases one by one (phases 1 and
-/// 3 elsewhere, e.g. on a cluster), with the same results.
+/// Targets are solved in parallel within each phase. `progress` has the phases `search` (a
+/// tick per target, searched or mapped), `neighbours` (one tick) and `refinement` (a tick per
+/// target). [`Atlas`] runs the phases one by one (phases 1 and 3 elsewhere, e.g. on a
+/// cluster), with the same results.
 pub fn sweep(
     spec: &Spec,
     lattice: &Lattice,
     options: &SolveOptions,
-    progress: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>, crate::problem::InputError> {
     let atlas = Atlas::new(spec, lattice.clone(), options)?;
+    let n = atlas.targets.len();
+    progress.phase("search", n, "targets");
     let searched = atlas
         .searched()
         .into_par_iter()
         .map(|i| {
-            let (list, residual) = search_target(&atlas.problems[i], options);
-            progress();
+            let (list, residual) = search_target(&atlas.problems[i], options, &|| progress.pulse());
+            progress.tick();
             (i, list, residual)
         })
         .collect();
-    let (own, residual) = atlas.spread(searched, progress);
-    let brought = atlas.neighbour_passes(&own);
-    Ok((0..atlas.targets.len())
+    let (own, residual) = atlas.spread(searched, &|| progress.tick());
+    progress.phase("neighbours", 1, "passes");
+    let brought = atlas.neighbour_passes(&own, &|| progress.pulse());
+    progress.tick();
+    progress.phase("refinement", n, "targets");
+    Ok((0..n)
         .into_par_iter()
         .map(|i| {
             let (p, target) = (&atlas.problems[i], atlas.targets[i]);
-            let result = refine_target(p, &own[i], &brought[i], residual[i], options);
-            progress();
+            let within = Within(progress);
+            let result = refine_target(p, &own[i], &brought[i], residual[i], options, &within);
+            progress.tick();
             SweepPoint { target, result }
         })
         .collect())
@@ -360,8 +371,12 @@ pub fn sweep(
 
 /// 1. A target's candidates from its global search and the search's smallest defect (none
 ///    and infinity if it failed).
-pub fn search_target(problem: &Problem, options: &SolveOptions) -> (Vec<Candidate>, f64) {
-    match super::search_coarse(problem, options, &|| {}) {
+pub fn search_target(
+    problem: &Problem,
+    options: &SolveOptions,
+    pulse: &(dyn Fn() + Sync),
+) -> (Vec<Candidate>, f64) {
+    match super::search_coarse(problem, options, pulse) {
         Ok(s) => (s.candidates, s.best_residual),
         Err(_) => (Vec::new(), f64::INFINITY),
     }
@@ -376,10 +391,11 @@ pub fn refine_target(
     brought: &[Candidate],
     residual: f64,
     options: &SolveOptions,
+    progress: &dyn Progress,
 ) -> Result<Extremal, SolveError> {
     let mut candidates = [own, brought].concat();
     candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-    refine_candidates(problem, &candidates, options, residual)
+    refine_candidates(problem, &candidates, options, residual, progress)
         .map(|(best, mut extremals, _)| extremals.swap_remove(best))
 }
 
@@ -477,8 +493,12 @@ impl Atlas {
 
     /// 2. Neighbour passes on the coarse grid from each target's `own` candidates, until no
     ///    target's kept extremals change; the candidates they brought to each target (not
-    ///    among its own).
-    pub fn neighbour_passes(&self, own: &[Vec<Candidate>]) -> Vec<Vec<Candidate>> {
+    ///    among its own). `pulse` is called before each target's pass.
+    pub fn neighbour_passes(
+        &self,
+        own: &[Vec<Candidate>],
+        pulse: &(dyn Fn() + Sync),
+    ) -> Vec<Vec<Candidate>> {
         let n = self.targets.len();
         let mut kept: Vec<Vec<Candidate>> = vec![Vec::new(); n];
         let mut changed = vec![false; n];
@@ -494,7 +514,10 @@ impl Atlas {
         loop {
             let updates: Vec<(usize, Vec<Candidate>)> = (0..n)
                 .into_par_iter()
-                .filter_map(|i| Some((i, self.pass(i, &kept, &changed)?)))
+                .filter_map(|i| {
+                    pulse();
+                    Some((i, self.pass(i, &kept, &changed)?))
+                })
                 .collect();
             if updates.is_empty() {
                 break;

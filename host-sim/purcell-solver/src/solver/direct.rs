@@ -65,12 +65,23 @@ pub struct Run {
 
 /// Newton–SQP from `start` (see the module docs).
 pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Error> {
+    newton_pulsed(grid, start, settings, &|| ())
+}
+
+/// [`newton`], calling `pulse` before each iteration (where the work may be cancelled).
+pub fn newton_pulsed(
+    grid: &Grid,
+    start: Point,
+    settings: &Settings,
+    pulse: &dyn Fn(),
+) -> Result<Run, Error> {
     let h = grid.h();
     let mut pt = start;
     let mut delta_last = 0.0f64;
     let mut iterations = 0;
     let mut filter = Filter::new(grid.terminal.defect(&pt.states).lp_norm(1));
     loop {
+        pulse();
         let c = grid.terminal.defect(&pt.states);
         let lz = Linearisation::new(grid, &pt.states, &pt.u, &pt.nu)?;
         let maps = grid.limits.control_maps(grid.steps);

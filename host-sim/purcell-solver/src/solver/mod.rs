@@ -36,6 +36,7 @@ pub mod filter;
 pub mod grid;
 pub mod limits;
 pub mod linearisation;
+pub mod progress;
 pub mod refinement;
 pub mod riccati;
 pub mod search;
@@ -45,6 +46,7 @@ pub mod stage;
 pub mod starts;
 pub mod symmetry;
 
+pub use progress::Progress;
 pub use refinement::{Stop, refine};
 pub use settings::SolveOptions;
 pub use solution::{Evidence, Extremal, Minimum, Solution, SolveError, Trajectory, Unrefined};
@@ -69,15 +71,23 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
     Some(grid)
 }
 
-/// Solves from many starts (see the module docs); `progress` is called once per start.
+/// Solves from many starts (see the module docs); `progress` has the phases `search` (a
+/// tick per start, the zero loop included) and `refinement` (a tick per candidate).
 pub fn solve(
     problem: &Problem,
     options: &SolveOptions,
-    progress: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
-    let found = search_coarse(problem, options, progress)?;
-    let (best, extremals, unrefined) =
-        refinement::refine_candidates(problem, &found.candidates, options, found.best_residual)?;
+    progress.phase("search", options.starts + 1, "starts");
+    let found = search_coarse(problem, options, &|| progress.tick())?;
+    progress.phase("refinement", found.candidates.len(), "candidates");
+    let (best, extremals, unrefined) = refinement::refine_candidates(
+        problem,
+        &found.candidates,
+        options,
+        found.best_residual,
+        progress,
+    )?;
     Ok(Solution {
         best,
         extremals,

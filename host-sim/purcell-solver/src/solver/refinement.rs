@@ -7,6 +7,7 @@ use super::constraints::joint_limit::Limits;
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits::{self, PolishError};
+use super::progress::Progress;
 use super::search;
 use super::settings::{
     COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, PRUNE, RESCUE_TAUS, Settings, SolveOptions,
@@ -43,17 +44,20 @@ impl Stop {
 /// near the start, the path runs again from larger weights), and on the problem's grid the
 /// active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with
 /// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
+/// `pulse` is called on each grid and, without a joint limit, before each Newton iteration.
 pub fn refine(
     problem: &Problem,
     u: &[Vector2<f64>],
     nu: &Vector5<f64>,
     bound: f64,
+    pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let mut u = u.to_vec();
     let mut nu = *nu;
     // The index in FINE_TAUS of the weight at which the next grid's barrier path starts.
     let mut from = 0;
     loop {
+        pulse();
         let inf = |_| Stop::Defect(f64::INFINITY);
         let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
         let start = Point::new(&grid, grid::prolong(&u, grid.steps), nu).map_err(inf)?;
@@ -64,7 +68,7 @@ pub fn refine(
                 } else {
                     Settings::INTERMEDIATE
                 };
-                direct::newton(&grid, start, &settings).map_err(inf)?
+                direct::newton_pulsed(&grid, start, &settings, pulse).map_err(inf)?
             }
             Some(alpha_max) => {
                 let (reached, run) = barrier_stage(&grid, alpha_max, from, start)?;
@@ -210,12 +214,13 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 /// admissible fine extremal, every distinct one refined, cheapest first (see the comments
 /// for which), and the candidates whose refinement failed ([`Unrefined`], each also logged
 /// at `debug`). `best_residual` is the search's smallest defect, for the error when no
-/// candidate was tried.
+/// candidate was tried. `progress` ticks once per candidate carried and pulses within.
 pub fn refine_candidates(
     problem: &Problem,
     candidates: &[search::Candidate],
     options: &SolveOptions,
     best_residual: f64,
+    progress: &dyn Progress,
 ) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
     let alpha_max = problem.shape_bound();
     // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
@@ -250,7 +255,10 @@ pub fn refine_candidates(
                 break;
             }
             tried += 1;
-            let (fine, run) = match refine(problem, &c.u, &c.nu, settled * (1.0 + PRUNE)) {
+            let pulse = || progress.pulse();
+            let refined = refine(problem, &c.u, &c.nu, settled * (1.0 + PRUNE), &pulse);
+            progress.tick();
+            let (fine, run) = match refined {
                 Ok(r) => r,
                 Err(stop) => {
                     log::debug!(
