@@ -30,11 +30,9 @@ const MAX_FN_LINES: usize = 80;
 /// why. Each must still be found: an allowance nothing needs fails the test.
 #[rustfmt::skip]
 const ALLOWED: &[(&str, &str, &str)] = &[
-    // Issue 33 (the solver's search), issue 36 (the figures), issue 34 (robustness's flags).
+    // Issue 33 (the solver's search).
     ("host-sim/purcell-solver/src/solver/refinement.rs", "fn refine_candidates", PARALLEL),
     ("host-sim/purcell-solver/src/solver/starts.rs", "fn family", PARALLEL),
-    ("host-sim/purcell-sim/src/plots/gait.rs", "fn swimmer", PARALLEL),
-    ("host-sim/purcell-sim/src/cli/robustness.rs", "fn run_robustness", PARALLEL),
 ];
 /// Why the files of [`ALLOWED`] are allowed.
 const PARALLEL: &str = "being edited in parallel; split at merge";
@@ -206,7 +204,7 @@ fn report(findings: &[(String, String)]) {
 }
 
 /// Every `.rs` file under `dir`, skipping hidden folders and build outputs (a cargo target
-/// folder holds a `CACHEDIR.TAG`; `src/output/target/` is source).
+/// folder holds a `CACHEDIR.TAG`).
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     if dir.join("CACHEDIR.TAG").exists() {
         return;

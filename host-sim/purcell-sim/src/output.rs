@@ -1,5 +1,5 @@
 //! Results: `trajectory.csv` ([`path`]), the costate file, `sweep.csv`, a gait as C source
-//! ([`c_array`]), and ([`target`]) where every output goes: never over anything the tool did
+//! ([`c_array`]), and ([`destination`]) where every output goes: never over anything the tool did
 //! not write, checked before the work, atomically.
 
 use purcell_solver::problem::Problem;
@@ -7,9 +7,9 @@ use purcell_solver::solver::Extremal;
 use std::fmt::Write as _;
 
 pub mod c_array;
+pub mod destination;
 pub mod path;
-pub mod target;
-pub use target::{MANIFEST, OutputDir, OutputError, OutputFile, remove_staging_on_interrupt};
+pub use destination::{MANIFEST, OutputDir, OutputError, OutputFile, remove_staging_on_interrupt};
 
 /// `trajectory.csv` of the extremal `x` of `problem`: its path, rows `k = 0..=N`, columns
 /// [`path::HEADER`] (see [`path`]).

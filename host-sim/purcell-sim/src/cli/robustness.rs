@@ -229,19 +229,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     }
     let (path, file) = a.input.costate_file()?;
     let refused = |e: &dyn std::fmt::Display| fail(2, format!("{}: {e}", path.display()));
-    let design = Design {
-        terminal_pose: a.terminal_pose,
-        terminal_alpha: a.terminal_alpha,
-        running_pose: a.running_pose,
-        running_alpha: a.running_alpha,
-        every: a.every,
-        estimate_from: a.estimate_from,
-        tail: a.tail,
-        bound: joint_bound(file.alpha_max),
-        band: a.band,
-        bound_weight: a.bound_weight,
-        plan: a.plan,
-    };
+    let design = design_of(&a, file.alpha_max);
     let bytes = file.to_gait().map_err(|e| refused(&e))?;
     let gait = Gait::from_bytes(&bytes).map_err(|e| refused(&e))?;
     check_stored(path, &gait, a.f32, Work::Tracking, quiet)?;
@@ -309,6 +297,23 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     } else {
         text(&file, nominal_cost, &source, &reports)
     })
+}
+
+/// The tracking law's design from the flags, for a gait within `alpha_max`.
+fn design_of(a: &RobustnessArgs, alpha_max: Option<f64>) -> Design {
+    Design {
+        terminal_pose: a.terminal_pose,
+        terminal_alpha: a.terminal_alpha,
+        running_pose: a.running_pose,
+        running_alpha: a.running_alpha,
+        every: a.every,
+        estimate_from: a.estimate_from,
+        tail: a.tail,
+        bound: joint_bound(alpha_max),
+        band: a.band,
+        bound_weight: a.bound_weight,
+        plan: a.plan,
+    }
 }
 
 /// The flags' values every case takes: noise and weights finite and `>= 0` (exit 2, also

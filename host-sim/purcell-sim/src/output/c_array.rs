@@ -162,7 +162,7 @@ pub fn unincludable(header: &std::ffi::OsStr) -> Option<String> {
 pub fn source(name: &str, header: &str, about: &str, bytes: &[u8]) -> (String, String) {
     let upper = name.to_ascii_uppercase();
     let (len, pair) = (format!("{upper}_LEN"), format!("{upper}_PAIR"));
-    let key = format!("{:#018x}u", crate::output::target::fnv1a64(bytes));
+    let key = format!("{:#018x}u", crate::output::destination::fnv1a64(bytes));
     let banner = format!("{BANNER}: {about}. Do not edit. */\n");
     let c_name = header.strip_suffix(".h").unwrap_or(header);
     let mut c = format!(

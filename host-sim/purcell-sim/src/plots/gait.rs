@@ -140,31 +140,6 @@ impl GaitFigures<'_> {
             (x.1 - x.0).max(y.1 - y.0).max(1e-9)
         };
         let scale = nice_ratio((l0 + l1 + l2) / (extent / 7.0));
-        let every = ((5.0 / self.problem.h).round() as usize).max(1);
-        let mut snaps: Vec<usize> = (0..states.len()).step_by(every).collect();
-        if snaps.last() != Some(&(states.len() - 1)) {
-            snaps.push(states.len() - 1);
-        }
-        let mut lines = Vec::new();
-        let mut labels = Vec::new();
-        for k in snaps {
-            let s = &states[k];
-            labels.push((
-                (s.g.x(), s.g.y()),
-                format!("{} s", crate::decimal::time(k as u64, self.problem.h)),
-            ));
-            let (a1, a2) = (s.alpha.x, s.alpha.y);
-            let at = |x: f64, y: f64| {
-                let q = s.g.act(&Vector2::new(x / scale, y / scale));
-                (q.x, q.y)
-            };
-            let (front, rear) = (at(l0 / 2.0, 0.0), at(-l0 / 2.0, 0.0));
-            let front_tip = at(l0 / 2.0 + l1 * a1.cos(), l1 * a1.sin());
-            let rear_tip = at(-l0 / 2.0 - l2 * a2.cos(), -l2 * a2.sin());
-            lines.push((vec![rear, front], VERMILLION));
-            lines.push((vec![front, front_tip], GREEN));
-            lines.push((vec![rear, rear_tip], BLUE));
-        }
         let (start, end) = (path[0], path[path.len() - 1]);
         let overlay = Overlay {
             paths: vec![Path {
@@ -190,7 +165,48 @@ impl GaitFigures<'_> {
                 },
             ],
         };
-        let drawing = Drawing {
+        PlaneFigure::new(
+            format!(
+                "Swimmer every 5 s, labelled with its time, links drawn at 1:{}",
+                scale_label(scale)
+            ),
+            ("x (m)".into(), "y (m)".into()),
+            self.snapshots(scale),
+            overlay,
+        )
+    }
+
+    /// The swimmer every 5 s (and at the end), its links scaled by `1/scale` about its body,
+    /// each snapshot labelled with its time.
+    fn snapshots(&self, scale: f64) -> Drawing {
+        let states = &self.trajectory.states;
+        let [l0, l1, l2] = self.problem.swimmer.lengths();
+        let every = ((5.0 / self.problem.h).round() as usize).max(1);
+        let mut snaps: Vec<usize> = (0..states.len()).step_by(every).collect();
+        if snaps.last() != Some(&(states.len() - 1)) {
+            snaps.push(states.len() - 1);
+        }
+        let mut lines = Vec::new();
+        let mut labels = Vec::new();
+        for k in snaps {
+            let s = &states[k];
+            labels.push((
+                (s.g.x(), s.g.y()),
+                format!("{} s", crate::decimal::time(k as u64, self.problem.h)),
+            ));
+            let (a1, a2) = (s.alpha.x, s.alpha.y);
+            let at = |x: f64, y: f64| {
+                let q = s.g.act(&Vector2::new(x / scale, y / scale));
+                (q.x, q.y)
+            };
+            let (front, rear) = (at(l0 / 2.0, 0.0), at(-l0 / 2.0, 0.0));
+            let front_tip = at(l0 / 2.0 + l1 * a1.cos(), l1 * a1.sin());
+            let rear_tip = at(-l0 / 2.0 - l2 * a2.cos(), -l2 * a2.sin());
+            lines.push((vec![rear, front], VERMILLION));
+            lines.push((vec![front, front_tip], GREEN));
+            lines.push((vec![rear, rear_tip], BLUE));
+        }
+        Drawing {
             lines,
             legend: vec![
                 (Key::Line(VERMILLION), "middle link".into()),
@@ -198,16 +214,7 @@ impl GaitFigures<'_> {
                 (Key::Line(BLUE), "rear link (α₂)".into()),
             ],
             labels,
-        };
-        PlaneFigure::new(
-            format!(
-                "Swimmer every 5 s, labelled with its time, links drawn at 1:{}",
-                scale_label(scale)
-            ),
-            ("x (m)".into(), "y (m)".into()),
-            drawing,
-            overlay,
-        )
+        }
     }
 
     /// `α1(t)`, `α2(t)` with the bound ([`bound`]: a joint limit always, the overlap limit

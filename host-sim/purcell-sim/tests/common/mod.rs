@@ -11,7 +11,7 @@ pub use solve::Solve;
 
 use std::collections::BTreeMap;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -207,4 +207,42 @@ impl Drop for LockHolder {
         let _ = self.0.kill();
         let _ = self.0.wait();
     }
+}
+
+/// The hidden staging entries in `dir`.
+pub fn staging(dir: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            let n = p.file_name().unwrap().to_string_lossy();
+            n.starts_with(".purcell-sim-") && n.ends_with(".tmp")
+        })
+        .collect()
+}
+
+/// Runs `sh -c script` with the binary as `$0` and `args` after it, within `limit`.
+pub fn shell(script: &str, args: &[&str], limit: Duration) -> Output {
+    let child = Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .arg(env!("CARGO_BIN_EXE_purcell-sim"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait(child, limit, script)
+}
+
+/// The gait at rest (`μ = 0`, `ξ = 0`: it flies every step) of `steps` steps, without
+/// checkpoints, as a gait file.
+pub fn gait_with_steps(steps: u32) -> Vec<u8> {
+    let mut file = purcell_sim::costate_file::CostateFile::parse(fixtures::COSTATE_V2).unwrap();
+    (file.gait.mu, file.gait.xi0) = ([0.0; 3], [0.0; 2]);
+    file.gait.steps = steps;
+    file.gait.checkpoint_every = 0;
+    file.checkpoints.clear();
+    file.to_gait().unwrap()
 }

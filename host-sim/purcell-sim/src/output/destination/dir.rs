@@ -4,12 +4,11 @@
 
 use super::classify::{Existing, classify_dir};
 use super::disk::{
-    create_parents, exchange, keep_permissions, remove_any, remove_empty_dirs, split, sync_dir,
-    walk, write_synced,
+    exchange, keep_permissions, remove_any, remove_empty_dirs, split, sync_dir, walk, write_synced,
 };
 use super::error::{OutputError, io_error};
 use super::manifest::{Entry, MANIFEST, Manifest};
-use super::staging::{Staging, swap_guard};
+use super::staging::{Staging, create_parents, swap_guard};
 use std::fs;
 use std::io;
 use std::path::{Component, Path, PathBuf};

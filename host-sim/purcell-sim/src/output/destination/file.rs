@@ -15,12 +15,11 @@
 
 use super::classify::{Existing, classify_file};
 use super::disk::{
-    create_parents, keep_permissions, remove_empty_dirs, rename_no_replace, split, sync_dir,
-    write_synced,
+    keep_permissions, remove_empty_dirs, rename_no_replace, split, sync_dir, write_synced,
 };
 use super::error::{OutputError, io_error};
 use super::manifest::{Entry, Manifest};
-use super::staging::{Staging, swap_guard};
+use super::staging::{Staging, create_parents, swap_guard};
 use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io;

@@ -1,237 +1,18 @@
-//! Solving from a known extremal: a stored one (`solve --from`) or a neighbour's in a sweep of
-//! targets (`sweep`).
-//!
-//! An extremal of one problem is a start for a nearby one: its shape path, carried to the new
-//! grid (and horizon: `α(t/T)` kept, so controls scale by `T_old/T_new`), with its terminal
-//! multiplier. [`continue_to`] first tries Newton on the target itself; if that fails, it
-//! walks the target from the old one to the new one in steps that halve on failure and grow
-//! on success (natural-parameter continuation), on a medium grid, then refines. Every point
-//! it accepts is admissible (`|α_i| < π`, or within the joint limit): a branch that would
-//! leave the admissible shapes stops there, and [`solve_from`] falls back to the global
-//! search.
+//! Sweeps of targets: every target of a lattice solved at least as well as `solve`, with
+//! neighbours passing their coarse extremals on.
 
-use super::constraints::joint_limit::Limits;
-use super::direct;
-use super::grid::{self, Grid, Point};
-use super::limits;
-use super::progress::{Progress, Within};
-use super::refinement::{extremal, refine, refine_candidates};
-use super::search::{self, Candidate};
-use super::settings::{self, MIN_WALK_STEP, SAME_TARGET, Settings, SolveOptions, WARM_INSIDE};
-use super::solution::{Extremal, Solution, SolveError, Trajectory};
-use super::stage::{Rule, StageState};
-use super::symmetry::{self, Symmetry};
-use super::{coarse_grid, costate};
 use crate::problem::{Problem, Spec};
-use nalgebra::{Vector2, Vector3, Vector5};
+use crate::solver::coarse_grid;
+use crate::solver::direct;
+use crate::solver::grid::{self, Grid, Point};
+use crate::solver::progress::{Progress, Within};
+use crate::solver::refinement::refine_candidates;
+use crate::solver::search::{self, Candidate};
+use crate::solver::settings::{SAME_TARGET, Settings, SolveOptions};
+use crate::solver::solution::{Extremal, SolveError};
+use crate::solver::symmetry::{self, Symmetry};
+use nalgebra::Vector3;
 use rayon::prelude::*;
-
-/// A known extremal as a start: its controls on its own grid, its horizon and terminal
-/// multiplier.
-#[derive(Clone, Debug)]
-pub struct Warm {
-    /// Controls `u_0 … u_{N−1}`.
-    pub u: Vec<Vector2<f64>>,
-    /// Its horizon `T`.
-    pub horizon: f64,
-    /// `ν` (coordinates `(α, x, y, θ)`).
-    pub nu: Vector5<f64>,
-    /// Its target `ḡ`.
-    pub target: Vector3<f64>,
-}
-
-impl Warm {
-    /// From a trajectory with its costates (e.g. a replayed costate file) and `μ`.
-    pub fn from_trajectory(t: &Trajectory, mu: &Vector3<f64>, horizon: f64) -> Option<Self> {
-        let (end, xi) = (t.states.last()?, t.xis.last()?);
-        let s = StageState::new(
-            end.alpha.x,
-            end.alpha.y,
-            end.g.x(),
-            end.g.y(),
-            end.g.theta(),
-        );
-        Some(Warm {
-            u: t.controls.clone(),
-            horizon,
-            nu: costate::multiplier(mu, xi, &s),
-            target: Vector3::new(s[2], s[3], s[4]),
-        })
-    }
-
-    /// The start on `grid` (a grid of `problem` over horizon `horizon`).
-    fn point(&self, grid: &Grid, horizon: f64) -> Result<Point, purcell_core::Error> {
-        let scale = self.horizon / horizon;
-        let u = grid::prolong(&self.u, grid.steps)
-            .into_iter()
-            .map(|v| v * scale)
-            .collect();
-        Point::new(grid, u, self.nu * scale)
-    }
-}
-
-/// Why a warm start reached nothing: Newton's smallest terminal defect.
-fn unreachable(best_residual: f64) -> SolveError {
-    SolveError::Unreachable { best_residual }
-}
-
-/// The extremal of `problem` reached from `warm` (see the module docs).
-pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveError> {
-    let horizon = problem.horizon();
-    // Directly on the problem's own grid (without a joint limit).
-    let fine = Grid::new(problem, problem.steps as usize, Rule::LEFT_POINT)
-        .map_err(|_| unreachable(f64::INFINITY))?;
-    if problem.alpha_max.is_none()
-        && let Ok(p) = warm.point(&fine, horizon)
-    {
-        let settings = Settings::fine(problem, &p.u);
-        if let Ok(run) = direct::newton(&fine, p, &settings)
-            && run.converged
-            && problem.admits(grid::max_abs_alpha(&run.point.states))
-        {
-            return Ok(extremal(problem, &fine, &run));
-        }
-    }
-    // Natural-parameter continuation in the target on a medium grid.
-    let steps = (problem.steps as usize).min(1024);
-    let mut medium = Grid::mimic(problem, steps).map_err(|_| unreachable(f64::INFINITY))?;
-    let mut point = warm
-        .point(&medium, horizon)
-        .map_err(|_| unreachable(f64::INFINITY))?;
-    let settings = Settings::warm(problem.alpha_max.is_some());
-    if let Some(a) = problem.alpha_max {
-        point = within_limit(problem, warm, &medium, point, a, &settings)?;
-        medium.limits = Limits::Barrier {
-            alpha_max: a,
-            tau: settings::COARSE_TAU,
-        };
-    }
-    let point = walk(problem, warm.target, &medium, point, &settings)?;
-    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY, &|| ())
-        .map_err(|stop| unreachable(stop.defect()))?;
-    Ok(extremal(problem, &fine, &run))
-}
-
-/// With a joint limit `alpha_max`: the warm start `point` on `medium` pulled just inside it
-/// (a gait on arcs of the limit rests on it) and to the barrier's minimum at its own target
-/// and the search's last weight; the walk then keeps that weight, its steps stopping short
-/// of the limit.
-fn within_limit(
-    problem: &Problem,
-    warm: &Warm,
-    medium: &Grid,
-    point: Point,
-    alpha_max: f64,
-    settings: &Settings,
-) -> Result<Point, SolveError> {
-    let own = medium.aiming_at(&warm.target);
-    // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
-    // minimum: its last weight only. One beyond it is shrunk into it and walks the path.
-    let within = problem.admits(grid::max_abs_alpha(&point.states));
-    let (inside, path): (_, &[f64]) = if within {
-        let bound = (1.0 - WARM_INSIDE) * alpha_max;
-        let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
-        (u, &[settings::COARSE_TAU])
-    } else {
-        let u = limits::shrink_into(point.u, &problem.alpha0, alpha_max, medium.h());
-        (u, settings::coarse_path(0))
-    };
-    let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
-    let run = limits::barrier_path(&own, alpha_max, path, start, settings)
-        .map_err(|_| unreachable(f64::INFINITY))?;
-    if run.converged {
-        Ok(run.point)
-    } else {
-        Err(unreachable(run.defect))
-    }
-}
-
-/// Natural-parameter continuation on `medium` from `point` (an extremal at the target
-/// `from`) to the problem's target: steps of the way that grow by half on success and halve
-/// on failure, every accepted point admissible; the point at the problem's target, or why
-/// the walk stopped (its step below [`MIN_WALK_STEP`]).
-fn walk(
-    problem: &Problem,
-    from: Vector3<f64>,
-    medium: &Grid,
-    mut point: Point,
-    settings: &Settings,
-) -> Result<Point, SolveError> {
-    let to = problem.target;
-    let (mut s, mut ds) = (0.0f64, 0.25f64);
-    let mut best_residual = f64::INFINITY;
-    // The smallest largest |α_i| of the converged steps refused for leaving the admissible
-    // shapes: why the walk stopped, if it did there.
-    let mut left = f64::INFINITY;
-    while s < 1.0 {
-        if ds < MIN_WALK_STEP {
-            return Err(if left.is_finite() {
-                SolveError::NoneAdmissible {
-                    found: 1,
-                    best_alpha: left,
-                }
-            } else {
-                unreachable(best_residual)
-            });
-        }
-        let next = (s + ds).min(1.0);
-        let grid = medium.aiming_at(&(from + (to - from) * next));
-        let start =
-            Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
-        match direct::newton(&grid, start, settings) {
-            Ok(run) if run.converged && problem.admits(grid::max_abs_alpha(&run.point.states)) => {
-                point = run.point;
-                s = next;
-                ds *= 1.5;
-            }
-            Ok(run) => {
-                if run.converged {
-                    left = left.min(grid::max_abs_alpha(&run.point.states));
-                } else {
-                    best_residual = best_residual.min(run.defect);
-                }
-                ds *= 0.5;
-            }
-            Err(_) => ds *= 0.5,
-        }
-    }
-    Ok(point)
-}
-
-/// `solve --from`: the extremal reached from a stored one, as a solution of one extremal;
-/// or, if none is reached within the admissible shapes, the global search's solution
-/// ([`super::solve`], with `options` and `progress`) and why the warm start failed. The
-/// continuation is `progress`'s phase `continuation`, one tick.
-pub fn solve_from(
-    problem: &Problem,
-    warm: &Warm,
-    options: &SolveOptions,
-    progress: &dyn Progress,
-) -> (Result<Solution, SolveError>, Option<SolveError>) {
-    progress.phase("continuation", 1, "extremal");
-    let reached = continue_to(problem, warm).and_then(|x| {
-        if x.admissible {
-            Ok(x)
-        } else {
-            Err(SolveError::NoneAdmissible {
-                found: 1,
-                best_alpha: x.max_abs_alpha,
-            })
-        }
-    });
-    progress.tick();
-    match reached {
-        Ok(x) => (
-            Ok(Solution {
-                best: 0,
-                extremals: vec![x],
-                search: None,
-            }),
-            None,
-        ),
-        Err(e) => (super::solve(problem, options, progress), Some(e)),
-    }
-}
 
 /// A lattice of targets: every combination of the values on the three axes `x`, `y`, `θ`.
 #[derive(Clone, Debug, PartialEq)]
@@ -319,7 +100,7 @@ pub struct SweepPoint {
 pub const KEEP: usize = 3;
 
 /// Solves every target of `lattice` (the other inputs from `spec`), each at least as well as
-/// [`super::solve`] would:
+/// [`crate::solver::solve`] would:
 /// 1. every target's own global search ([`search_target`], with `options`), run once per
 ///    orbit of the swimmer's symmetries ([`symmetry`]) and mapped onto the other targets of
 ///    the orbit;
@@ -376,7 +157,7 @@ pub fn search_target(
     options: &SolveOptions,
     pulse: &(dyn Fn() + Sync),
 ) -> (Vec<Candidate>, f64) {
-    match super::search_coarse(problem, options, pulse) {
+    match crate::solver::search_coarse(problem, options, pulse) {
         Ok(s) => (s.candidates, s.best_residual),
         Err(_) => (Vec::new(), f64::INFINITY),
     }

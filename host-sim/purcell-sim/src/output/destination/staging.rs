@@ -9,7 +9,7 @@
 //! on NFS, where Linux maps `flock` to byte-range locks, on every host. Where a filesystem
 //! cannot lock at all, an entry is never taken for stale.
 
-use super::disk::remove_any;
+use super::disk::{self, remove_any};
 use std::fs;
 use std::hash::{BuildHasher, Hasher};
 use std::io;
@@ -30,13 +30,15 @@ fn live() -> MutexGuard<'static, Vec<PathBuf>> {
     LIVE.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Records `dirs` (innermost first), created for an output: an interrupt removes those that
-/// are still empty.
-pub(super) fn created(dirs: &[PathBuf]) {
+/// Creates the missing directories of `dir` ([`disk::create_parents`]) and records them
+/// (innermost first): an interrupt removes those that are still empty.
+pub(super) fn create_parents(dir: &Path) -> io::Result<Vec<PathBuf>> {
+    let missing = disk::create_parents(dir)?;
     CREATED
         .lock()
         .unwrap_or_else(PoisonError::into_inner)
-        .extend(dirs.iter().cloned());
+        .extend(missing.iter().cloned());
+    Ok(missing)
 }
 
 /// Held while a commit renames its entries into place; the interrupt handler waits for it.

@@ -54,7 +54,6 @@ pub(super) fn create_parents(dir: &Path) -> io::Result<Vec<PathBuf>> {
             return Err(e);
         }
     }
-    super::staging::created(&missing);
     Ok(missing)
 }
 
