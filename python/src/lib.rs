@@ -5,6 +5,7 @@
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
+use purcell_sim::spec::SpecError;
 use purcell_solver::problem::{Problem, Spec};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -47,12 +48,7 @@ pub(crate) fn input_error(message: impl ToString) -> PyErr {
 /// The start budget `n` as a count: a negative one is refused with the command line's
 /// `--starts` message.
 pub(crate) fn starts(n: i64) -> PyResult<usize> {
-    usize::try_from(n).map_err(|_| {
-        input_error(format!(
-            "--starts must be 1 to {} (got {n})",
-            purcell_sim::cli::MAX_STARTS
-        ))
-    })
+    usize::try_from(n).map_err(|_| input_error(SpecError::Starts(n.into())))
 }
 
 /// Rows of `n` numbers as an `(rows.len(), n)` array.

@@ -3,10 +3,9 @@
 
 use crate::{array1, array2, input_error};
 use numpy::{PyArray1, PyArray2};
-use purcell_core::Gait;
-use purcell_sim::cli::solve::report_json;
 use purcell_sim::costate_file::CostateFile;
 use purcell_sim::output;
+use purcell_sim::report::Solved;
 use purcell_solver::problem::Problem;
 use purcell_solver::solver;
 use pyo3::exceptions::PyOSError;
@@ -191,12 +190,8 @@ pub struct Solution {
     /// `report.json` as a dict.
     #[pyo3(get)]
     report: Py<PyAny>,
-    /// The binary gait file.
-    gait: Vec<u8>,
-    /// The costate file.
-    file: CostateFile,
-    /// `report.json` as the command line writes it.
-    report_text: String,
+    /// Its costate file, gait file and report, as the command line writes them.
+    solved: Solved,
     /// The problem it solves.
     problem: Problem,
 }
@@ -204,11 +199,11 @@ pub struct Solution {
 impl Solution {
     /// The binary gait file.
     pub(crate) fn gait_bytes(&self) -> &[u8] {
-        &self.gait
+        &self.solved.gait
     }
     /// The costate file.
     pub(crate) fn file(&self) -> &CostateFile {
-        &self.file
+        &self.solved.file
     }
 }
 
@@ -216,11 +211,11 @@ impl Solution {
 impl Solution {
     /// The binary gait file (`purcell-sim export`'s bytes), for firmware or `purcell.replay`.
     fn gait<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &self.gait)
+        PyBytes::new(py, &self.solved.gait)
     }
     /// The costate file, JSON text (`costate.json`), for `purcell-sim replay --costate`.
     fn costate(&self) -> String {
-        self.file.to_json()
+        self.solved.file.to_json()
     }
     /// Writes the command line's files to the directory `out` as `purcell-sim solve --out`
     /// does: trajectory.csv, costate.json, report.json and (plots=True) the figures, SVG and
@@ -239,33 +234,12 @@ impl Solution {
     ) -> PyResult<()> {
         let x = &slf.as_super().x;
         let dir = output::OutputDir::prepare(&out, "solve", force, &[]).map_err(input_error)?;
-        let mut files = vec![
-            (
-                "trajectory.csv".to_string(),
-                output::trajectory_csv(&slf.problem, x).into_bytes(),
-            ),
-            ("costate.json".to_string(), slf.file.to_json().into_bytes()),
-            (
-                "report.json".to_string(),
-                slf.report_text.clone().into_bytes(),
-            ),
-        ];
-        let problem = &slf.problem;
-        let file = &slf.file;
+        let (problem, solved) = (&slf.problem, &slf.solved);
         py.detach(|| {
-            if plots {
-                let options = purcell_sim::plots::Options { degrees };
-                let figures = purcell_sim::plots::figures(
-                    problem,
-                    &x.trajectory,
-                    &x.arcs,
-                    &x.mu,
-                    file,
-                    &options,
-                )
-                .map_err(|e| format!("plotting: {e}"))?;
-                files.extend(figures);
-            }
+            let options = purcell_sim::plots::Options { degrees };
+            let files = solved
+                .files(problem, x, plots.then_some(&options))
+                .map_err(|e| e.to_string())?;
             dir.commit(&files).map_err(|e| e.to_string())
         })
         .map_err(PyOSError::new_err)
@@ -292,24 +266,11 @@ pub(crate) fn build(
     seconds: f64,
 ) -> PyResult<Py<Solution>> {
     let best = &solution.extremals[solution.best];
-    let file = output::costate_file(problem, best, every);
-    let failed = |e: purcell_core::Error| {
-        pyo3::exceptions::PyRuntimeError::new_err(format!("the solution's gait: {e}"))
-    };
-    let gait = file.to_gait().map_err(failed)?;
-    let report = report_json(
-        problem,
-        solution,
-        &file,
-        &Gait::from_bytes(&gait).map_err(failed)?,
-        seconds,
-    );
-    let report_text = serde_json::to_string_pretty(&report)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
-        + "\n";
+    let solved = Solved::new(problem, solution, every, seconds)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     let report = py
         .import("json")?
-        .call_method1("loads", (report.to_string(),))?;
+        .call_method1("loads", (solved.report.to_string(),))?;
     let extremals = solution
         .extremals
         .iter()
@@ -320,9 +281,7 @@ pub(crate) fn build(
             best: solution.best,
             extremals,
             report: report.unbind(),
-            gait,
-            file,
-            report_text,
+            solved,
             problem: *problem,
         });
     Py::new(py, init)

@@ -2,9 +2,10 @@
 //! thread of its own while the caller's thread, the GIL released, waits, calls `progress` and
 //! checks for Ctrl-C.
 
-use crate::{InputError, NoSolution, detach, input_error, numbers, solution};
-use purcell_sim::cli::args::{ModelArgs, OutDirArgs, PrintArgs, ProblemArgs};
-use purcell_sim::cli::solve::{SearchArgs, SolveArgs, checked_problem};
+use crate::{NoSolution, detach, input_error, numbers, solution};
+use purcell_sim::report::{SearchWarning, search_warnings};
+use purcell_sim::spec::{self, SolveSpec};
+use purcell_solver::problem::Spec;
 use purcell_solver::solver::continuation::{self, Warm};
 use purcell_solver::solver::{self, SolveError, SolveOptions};
 use pyo3::exceptions::PyUserWarning;
@@ -58,41 +59,28 @@ pub fn solve(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<solution::Solution>> {
     let starts = crate::starts(starts)?;
-    let args = SolveArgs {
-        target: numbers("target", &target)?,
-        problem: ProblemArgs {
+    let spec = SolveSpec {
+        problem: Spec {
+            target: numbers("target", &target)?,
             horizon,
             step,
             alpha0: numbers("alpha0", &alpha0)?,
-            model: ModelArgs {
-                links: numbers("links", &links)?,
-                drag,
-                ratio,
-            },
-            search: SearchArgs { starts, seed },
+            links: numbers("links", &links)?,
+            drag,
+            ratio,
             alpha_max,
         },
-        checkpoint_every,
-        no_plots: true,
-        degrees: false,
-        from: None,
-        output: OutDirArgs {
-            out: Default::default(),
-            force: false,
-        },
-        print: PrintArgs { json: false },
-    };
-    let (problem, every) = checked_problem(&args).map_err(|f| InputError::new_err(f.message))?;
-    let options = SolveOptions {
         starts,
         seed,
-        ..SolveOptions::default()
+        checkpoint_every,
     };
+    let prepared = spec::prepare(&spec).map_err(input_error)?;
+    let (problem, options) = (&prepared.problem, &prepared.options);
     let warm = warm.map(|w| warm_start(&w)).transpose()?;
     let t0 = Instant::now();
     let (found, failed) = detach::run(py, progress.as_ref(), |progress| match &warm {
-        None => (solver::solve(&problem, &options, progress), None),
-        Some(w) => continuation::solve_from(&problem, w, &options, progress),
+        None => (solver::solve(problem, options, progress), None),
+        Some(w) => continuation::solve_from(problem, w, options, progress),
     })?;
     let seconds = t0.elapsed().as_secs_f64();
     if let Some(e) = failed {
@@ -106,30 +94,25 @@ pub fn solve(
     }
     let found = found.map_err(|e| no_solution(py, &e))?;
     warn_search(py, &found)?;
-    solution::build(py, &problem, &found, every, seconds)
+    solution::build(py, problem, &found, prepared.checkpoint_every, seconds)
 }
 
 /// The search's warnings: its budget spent before its stopping rule was met; minima it left
 /// unrefined that may be cheaper (one warning, for the cheapest).
 fn warn_search(py: Python<'_>, found: &solver::Solution) -> PyResult<()> {
-    if let Some(e) = found.search.as_ref().filter(|e| !e.satisfied) {
-        let message = format!(
-            "the search used its budget of {} starts before its stopping rule was met \
-             (estimated chance that another start finds an unseen minimum no dearer than the \
-             gait returned: {:.3}); this is the cheapest gait found: raise starts to search on",
-            e.budget, e.unseen
-        );
+    for w in search_warnings(found) {
+        let message = match w {
+            SearchWarning::BudgetSpent { budget, unseen } => format!(
+                "the search used its budget of {budget} starts before its stopping rule was met \
+                 (estimated chance that another start finds an unseen minimum no dearer than the \
+                 gait returned: {unseen:.3}); this is the cheapest gait found: raise starts to \
+                 search on"
+            ),
+            SearchWarning::Unrefined { cheapest, count } => {
+                format!("{cheapest} ({count} such minima): try another seed or more starts")
+            }
+        };
         warn(py, message)?;
-    }
-    // Cheapest first, as the search's minima: one warning, for the cheapest.
-    let unrefined = found.search.iter().flat_map(|e| &e.unrefined);
-    let cheaper: Vec<_> = unrefined.filter(|u| u.cheaper).collect();
-    if let Some(u) = cheaper.first() {
-        let n = cheaper.len();
-        warn(
-            py,
-            format!("{u} ({n} such minima): try another seed or more starts"),
-        )?;
     }
     Ok(())
 }
@@ -144,15 +127,15 @@ fn warn(py: Python<'_>, message: String) -> PyResult<()> {
 /// replayed) or a costate file's path, of any swimmer.
 fn warm_start(warm: &Bound<'_, PyAny>) -> PyResult<Warm> {
     let found = match warm.cast::<solution::Solution>() {
-        Ok(s) => purcell_sim::cli::solve::warm_of(s.get().file(), "warm"),
+        Ok(s) => spec::warm_of(s.get().file(), "warm"),
         Err(_) => {
             let path: PathBuf = warm.extract().map_err(|_| {
                 input_error("warm takes a Solution or the path of a costate file (costate.json)")
             })?;
-            purcell_sim::cli::solve::warm_start(&path)
+            spec::warm_start(&path)
         }
     };
-    found.map_err(|f| InputError::new_err(f.message))
+    found.map_err(input_error)
 }
 
 /// [`NoSolution`] for `e`, with `best_residual` and `best_alpha`.

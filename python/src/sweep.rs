@@ -4,10 +4,8 @@
 //! batches anywhere, the neighbour passes where the plan is.
 
 use crate::{detach, input_error, numbers};
-use purcell_sim::cli::MAX_SWEEP_TARGETS;
-use purcell_sim::cli::args::{ModelArgs, ProblemArgs, search_limits};
-use purcell_sim::cli::sweep::{SearchArgs, axis};
-use purcell_sim::cli::units::Quantity::{self, Angle, Length};
+use purcell_sim::spec::{self, MAX_SWEEP_TARGETS};
+use purcell_sim::units::Quantity::{self, Angle, Length};
 use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::continuation::{self, Atlas, Lattice, refine_target, search_target};
 use purcell_solver::solver::search::Candidate;
@@ -34,26 +32,17 @@ impl ProblemKw {
     /// The problem (target 0) and search options, with the command line's checks.
     fn checked(&self) -> PyResult<(Spec, SolveOptions)> {
         let starts = crate::starts(self.starts)?;
-        let args = ProblemArgs {
+        let spec = Spec {
             horizon: self.horizon,
             step: self.step,
             alpha0: numbers("alpha0", &self.alpha0)?,
-            model: ModelArgs {
-                links: numbers("links", &self.links)?,
-                drag: self.drag,
-                ratio: self.ratio,
-            },
-            search: SearchArgs { starts },
+            links: numbers("links", &self.links)?,
+            drag: self.drag,
+            ratio: self.ratio,
             alpha_max: self.alpha_max,
+            target: [0.0; 3],
         };
-        let failed = |f: purcell_sim::cli::Failure| input_error(f.message);
-        let spec = args.spec([0.0; 3]);
-        let problem = Problem::new(&spec).map_err(input_error)?;
-        search_limits(&problem, starts).map_err(failed)?;
-        let options = SolveOptions {
-            starts,
-            ..SolveOptions::default()
-        };
+        let options = spec::sweep_options(&spec, starts).map_err(input_error)?;
         Ok((spec, options))
     }
 }
@@ -62,7 +51,7 @@ impl ProblemKw {
 /// number, or a sequence of numbers.
 fn axis_of(name: &str, kind: Quantity, v: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
     if let Ok(text) = v.cast::<PyString>() {
-        return axis(name, text.to_str()?, kind).map_err(|f| input_error(f.message));
+        return spec::axis(name, text.to_str()?, kind).map_err(input_error);
     }
     let values = match v.extract::<f64>() {
         Ok(x) => vec![x],
@@ -86,20 +75,12 @@ fn lattice_of(
     ys: &Bound<'_, PyAny>,
     thetas: &Bound<'_, PyAny>,
 ) -> PyResult<Lattice> {
-    let lattice = Lattice {
-        axes: [
-            axis_of("x", Length, xs)?,
-            axis_of("y", Length, ys)?,
-            axis_of("theta", Angle, thetas)?,
-        ],
-    };
-    if lattice.len() > MAX_SWEEP_TARGETS {
-        return Err(input_error(format!(
-            "{} targets: more than the limit {MAX_SWEEP_TARGETS}",
-            lattice.len()
-        )));
-    }
-    Ok(lattice)
+    spec::lattice([
+        axis_of("x", Length, xs)?,
+        axis_of("y", Length, ys)?,
+        axis_of("theta", Angle, thetas)?,
+    ])
+    .map_err(input_error)
 }
 
 /// One target's record: the columns of `sweep.csv` (numbers None where it has none).

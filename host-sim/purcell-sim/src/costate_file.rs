@@ -38,6 +38,7 @@
 pub use purcell_core::Arc;
 pub use purcell_core::gait::{CheckpointRecord, GaitParams, Model};
 use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
 /// The `format` tag.
 pub const FORMAT: &str = "purcell-costate";
@@ -102,7 +103,67 @@ pub enum CostateFileError {
     Invalid(#[source] purcell_core::Error),
 }
 
+/// Why the costate file at `path` could not be read ([`CostateFile::read`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// Not readable ([`crate::input::read`]).
+    #[error("reading {}: {error}", path.display())]
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A binary gait file instead.
+    #[error(
+        "{}: a binary gait file (export's output), not a costate file (DIR/costate.json); \
+         replay, field and export take it as --gait",
+        path.display()
+    )]
+    GaitFile {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Not UTF-8.
+    #[error("{}: malformed costate file: {error}", path.display())]
+    NotText {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: std::string::FromUtf8Error,
+    },
+    /// Refused by [`CostateFile::parse`].
+    #[error("{}: {error}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: CostateFileError,
+    },
+}
+
 impl CostateFile {
+    /// Reads the costate file at `path` (at most [`crate::input::MAX_INPUT_BYTES`]; a binary
+    /// gait file is refused as such).
+    pub fn read(path: &Path) -> Result<Self, ReadError> {
+        let path_buf = || path.to_path_buf();
+        let bytes = crate::input::read(path).map_err(|error| ReadError::Unreadable {
+            path: path_buf(),
+            error,
+        })?;
+        if bytes.starts_with(&purcell_core::gait::MAGIC) {
+            return Err(ReadError::GaitFile { path: path_buf() });
+        }
+        let text = String::from_utf8(bytes).map_err(|error| ReadError::NotText {
+            path: path_buf(),
+            error,
+        })?;
+        Self::parse(&text).map_err(|error| ReadError::Invalid {
+            path: path_buf(),
+            error,
+        })
+    }
+
     /// Parses and validates.
     pub fn parse(text: &str) -> Result<Self, CostateFileError> {
         use serde_json::Value;

@@ -1,7 +1,9 @@
 //! The `purcell-sim` command line over [`purcell_solver`]: the files it reads and writes and
 //! the figures.
 //!
-//! [`cli`] is the command line; [`costate_file`] the file format the firmware flies (and its
+//! [`cli`] is the command line, over the library layer that every front end (it, the Python
+//! package) calls: [`spec`] checks and prepares a search from plain numbers ([`units`] parses
+//! numbers with units), [`report`] builds what a solve writes; [`costate_file`] the file format the firmware flies (and its
 //! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
 //! [`decimal`] writes times and grid values as exact decimals;
 //! [`replay`] replays a costate file through the core in `f64`/`f32`; [`robustness`] holds what
@@ -18,5 +20,8 @@ pub mod input;
 pub mod output;
 pub mod plots;
 pub mod replay;
+pub mod report;
 pub mod robustness;
+pub mod spec;
 pub mod suite;
+pub mod units;

@@ -84,7 +84,7 @@ pub fn costate_file(
 }
 
 /// `sweep.csv`'s columns, units in their names: the target `x_m`, `y_m`, `theta_rad`, each
-/// printed as the decimal typed where it is one ([`crate::cli::sweep::axis`]); `J`
+/// printed as the decimal typed where it is one ([`crate::spec::axis`]); `J`
 /// (rad²/s); the terminal defect (largest component, m or rad); the largest `|α_i|` (rad);
 /// admissible and strict local minimum (`true`/`false`); the KKT residual (rad/s); `status`.
 pub const SWEEP_HEADER: &str = "x_m,y_m,theta_rad,cost_rad2_per_s,residual,max_abs_alpha_rad,\

@@ -237,7 +237,7 @@ fn grouped(n: u64) -> String {
 /// every flag it names exists.
 #[test]
 fn the_readme_exit_code_table_states_the_binary_limits() {
-    use purcell_sim::cli::{MAX_SOLVE_STEPS, MAX_STARTS, MAX_SWEEP_TARGETS};
+    use purcell_sim::spec::{MAX_SOLVE_STEPS, MAX_STARTS, MAX_SWEEP_TARGETS};
     let readme =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
             .unwrap();
@@ -250,16 +250,13 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
         format!(
             "`solve` ≤ {} steps and ≤ {} checkpoints",
             grouped(u64::from(MAX_SOLVE_STEPS)),
-            grouped(u64::from(purcell_sim::cli::MAX_CHECKPOINTS))
+            grouped(u64::from(purcell_sim::spec::MAX_CHECKPOINTS))
         ),
         format!(
             "`replay`, `export`, `robustness` and `field` ≤ {} steps",
             grouped(purcell_solver::problem::MAX_STEPS)
         ),
-        format!(
-            "a nonzero target ≥ {:e}",
-            purcell_sim::cli::solve::MIN_TARGET
-        ),
+        format!("a nonzero target ≥ {:e}", purcell_sim::spec::MIN_TARGET),
         format!("`sweep` ≤ {} targets", grouped(MAX_SWEEP_TARGETS as u64)),
         format!(
             "input files ≤ {} MiB",
@@ -276,12 +273,12 @@ fn the_readme_exit_code_table_states_the_binary_limits() {
     known.extend([
         grouped(MAX_STARTS as u64),
         grouped(u64::from(MAX_SOLVE_STEPS)),
-        grouped(u64::from(purcell_sim::cli::MAX_CHECKPOINTS)),
+        grouped(u64::from(purcell_sim::spec::MAX_CHECKPOINTS)),
         grouped(purcell_solver::problem::MAX_STEPS),
         grouped(MAX_SWEEP_TARGETS as u64),
     ]);
     // 1e-6: its digits.
-    let min_target = format!("{:e}", purcell_sim::cli::solve::MIN_TARGET);
+    let min_target = format!("{:e}", purcell_sim::spec::MIN_TARGET);
     known.extend(
         min_target
             .split(|c: char| !c.is_ascii_digit())

@@ -6,7 +6,7 @@ use crate::costate_file::CostateFile;
 use crate::{input, output};
 use clap::Args;
 use purcell_core::Gait;
-use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::problem::Spec;
 use purcell_solver::solver;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -21,12 +21,6 @@ Exit codes:
   2  bad input or usage, refused before any work
   3  no solution: solve found no admissible extremal; replay: a replay failed
   130  interrupted (Ctrl-C; 143 SIGTERM, 129 SIGHUP): staging removed, nothing replaced";
-
-/// Largest `--starts` (each start is a Newton–SQP run on the coarse grid, a few ms).
-pub const MAX_STARTS: usize = 4096;
-/// Largest horizon `solve` accepts, in steps (its memory grows by about 0.3 kB per step and
-/// start); `replay` accepts up to [`purcell_solver::problem::MAX_STEPS`].
-pub const MAX_SOLVE_STEPS: u32 = 1_000_000;
 
 // Number flags take values as typed, negative ones included (`--alpha -0.5,0.3`), angles in
 // radians or degrees (`30deg`, [`units`]), and list their defaults as they can be typed back
@@ -178,27 +172,6 @@ pub(super) fn output_failure(before_work: bool) -> impl FnOnce(output::OutputErr
     move |e| fail(if before_work { 2 } else { 1 }, e)
 }
 
-/// The bounds of a search (`solve`, `sweep`): `1 ≤ starts ≤ MAX_STARTS`, at most
-/// `MAX_SOLVE_STEPS` steps (exit 2).
-pub fn search_limits(problem: &Problem, starts: usize) -> Result<(), Failure> {
-    if !(1..=MAX_STARTS).contains(&starts) {
-        return Err(fail(
-            2,
-            format!("--starts must be 1 to {MAX_STARTS} (got {starts})"),
-        ));
-    }
-    if problem.steps > MAX_SOLVE_STEPS {
-        return Err(fail(
-            2,
-            format!(
-                "horizon T/h = {} steps is more than solve's limit of {MAX_SOLVE_STEPS}",
-                problem.steps
-            ),
-        ));
-    }
-    Ok(())
-}
-
 /// The progress of a long command on stderr, phase by phase ([`solver::Progress`]): on a
 /// terminal a bar per phase; otherwise a line as each phase begins and one at the end, with
 /// the time since the command began (as cargo prints); nothing if `quiet`.
@@ -286,27 +259,10 @@ pub(super) fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
     input::read(path).map_err(|e| fail(2, format!("reading {}: {e}", path.display())))
 }
 
-/// Reads a costate file (exit 2 if unreadable or invalid, or a binary gait file: the
-/// message says so).
+/// Reads a costate file (exit 2 if unreadable or invalid, or a binary gait file:
+/// [`CostateFile::read`]).
 pub(super) fn read_costate(path: &Path) -> Result<CostateFile, Failure> {
-    let bytes = read_input(path)?;
-    if bytes.starts_with(&purcell_core::gait::MAGIC) {
-        return Err(fail(
-            2,
-            format!(
-                "{}: a binary gait file (export's output), not a costate file \
-                 (DIR/costate.json); replay, field and export take it as --gait",
-                path.display()
-            ),
-        ));
-    }
-    let text = String::from_utf8(bytes).map_err(|e| {
-        fail(
-            2,
-            format!("{}: malformed costate file: {e}", path.display()),
-        )
-    })?;
-    CostateFile::parse(&text).map_err(|e| fail(2, format!("{}: {e}", path.display())))
+    CostateFile::read(path).map_err(|e| fail(2, e))
 }
 
 /// Reads a binary gait file (exit 2 if unreadable, or a costate file: the message says so;

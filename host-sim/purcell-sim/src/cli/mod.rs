@@ -18,9 +18,7 @@ mod summary;
 pub mod sweep;
 pub mod units;
 
-pub use args::{EXIT_CODES, Failure, MAX_SOLVE_STEPS, MAX_STARTS};
-pub use solve::MAX_CHECKPOINTS;
-pub use sweep::MAX_SWEEP_TARGETS;
+pub use args::{EXIT_CODES, Failure};
 
 use clap::{Parser, Subcommand};
 

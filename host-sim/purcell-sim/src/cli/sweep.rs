@@ -1,16 +1,13 @@
 //! `sweep`: a lattice of targets solved by continuation from neighbours, written as a table,
 //! a summary and a map of the cost.
 
-use super::args::{
-    Failure, OutDirArgs, PrintArgs, ProblemArgs, Progress, fail, output_failure, search_limits,
-};
+use super::args::{Failure, OutDirArgs, PrintArgs, ProblemArgs, Progress, fail, output_failure};
 use super::summary;
-use super::units::{self, Quantity, Quantity::Angle, Quantity::Length};
-use crate::decimal::Decimal;
+use crate::spec;
+use crate::units::{self, Quantity::Angle, Quantity::Length};
 use crate::{output, plots};
 use clap::Args;
-use purcell_solver::problem::Problem;
-use purcell_solver::solver::continuation::{self, Lattice};
+use purcell_solver::solver::continuation;
 use purcell_solver::solver::{Progress as _, SolveOptions};
 use serde_json::json;
 use std::time::Instant;
@@ -19,9 +16,6 @@ use std::time::Instant;
 pub const REPORT_FORMAT: &str = "purcell-sweep-report";
 /// `report.json`'s version: 1 is the first tagged one.
 pub const REPORT_VERSION: u64 = 1;
-
-/// Largest number of targets a sweep accepts.
-pub const MAX_SWEEP_TARGETS: usize = 10_000;
 
 /// `sweep`'s search flags.
 #[derive(Debug, Args)]
@@ -67,85 +61,23 @@ pub struct SweepArgs {
     pub print: PrintArgs,
 }
 
-/// Axis `name` of the lattice: `FROM:TO:COUNT` or a single value, of kind `q` (an angle's
-/// degrees converted to radians). A range's values are the decimals
-/// `FROM + i·(TO − FROM)/(COUNT − 1)` computed exactly from the numbers as typed where they
-/// are decimals in the same unit (`0.05`, not `0.050000000000000044`), so that `sweep.csv`
-/// shows, and the solver uses, the value meant; evenly spaced floats ([`Lattice::spaced`])
-/// otherwise (e.g. thirds).
-pub fn axis(name: &str, text: &str, q: Quantity) -> Result<Vec<f64>, Failure> {
-    let bad = |why: String| {
-        fail(
-            2,
-            format!("--{name} takes a number or FROM:TO:COUNT{why} (got {text:?})"),
-        )
-    };
-    // An end: its value, as a decimal if it is one, and whether it is in degrees.
-    let end = |s: &str| -> Result<(f64, Option<Decimal>, bool), Failure> {
-        let (number, degrees) = units::split_unit(s, q).map_err(|e| bad(format!(": {e}")))?;
-        let v = number.parse::<f64>().ok().filter(|v| v.is_finite());
-        Ok((
-            v.ok_or_else(|| bad(String::new()))?,
-            Decimal::parse(number),
-            degrees,
-        ))
-    };
-    match text.split(':').collect::<Vec<_>>().as_slice() {
-        [v] => {
-            let (v, _, degrees) = end(v)?;
-            Ok(vec![units::radians(v, degrees)])
-        }
-        [a, b, n] => {
-            let ((a, da, deg_a), (b, db, deg_b)) = (end(a)?, end(b)?);
-            let n: usize = n.trim().parse().map_err(|_| bad(String::new()))?;
-            if n == 0 || n > MAX_SWEEP_TARGETS {
-                return Err(bad(String::new()));
-            }
-            let exact = match (da, db) {
-                (Some(da), Some(db)) if deg_a == deg_b => (0..n)
-                    .map(|i| Decimal::lerp(da, db, i, n).map(|d| units::radians(d.to_f64(), deg_a)))
-                    .collect::<Option<Vec<f64>>>(),
-                _ => None,
-            };
-            Ok(exact.unwrap_or_else(|| {
-                Lattice::spaced(units::radians(a, deg_a), units::radians(b, deg_b), n)
-            }))
-        }
-        _ => Err(bad(String::new())),
-    }
-}
-
 /// `sweep`: checks every input, prepares the output, solves every target, writes the files;
 /// the summary (or with `--json` the report) as printed; no progress bar if `quiet`.
 pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
     let t0 = Instant::now();
-    let lattice = Lattice {
-        axes: [
-            axis("x", &a.x, Length)?,
-            axis("y", &a.y, Length)?,
-            axis("theta", &a.theta, Angle)?
-                .into_iter()
-                .map(units::wrap_angle)
-                .collect(),
-        ],
-    };
-    if lattice.len() > MAX_SWEEP_TARGETS {
-        return Err(fail(
-            2,
-            format!(
-                "{} targets: more than the limit {MAX_SWEEP_TARGETS}",
-                lattice.len()
-            ),
-        ));
-    }
+    let axis = |name, text, q| spec::axis(name, text, q).map_err(|e| fail(2, e));
+    let lattice = spec::lattice([
+        axis("x", &a.x, Length)?,
+        axis("y", &a.y, Length)?,
+        axis("theta", &a.theta, Angle)?
+            .into_iter()
+            .map(units::wrap_angle)
+            .collect(),
+    ])
+    .map_err(|e| fail(2, e))?;
     let spec = a.problem.spec([0.0; 3]);
-    let problem = Problem::new(&spec).map_err(|e| fail(2, e))?;
-    search_limits(&problem, a.problem.search.starts)?;
+    let options = spec::sweep_options(&spec, a.problem.search.starts).map_err(|e| fail(2, e))?;
     let out = a.output.prepare("sweep", &[])?;
-    let options = SolveOptions {
-        starts: a.problem.search.starts,
-        ..SolveOptions::default()
-    };
     let progress = Progress::new(t0, quiet);
     let t1 = Instant::now();
     let points =
