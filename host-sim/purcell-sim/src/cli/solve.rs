@@ -15,10 +15,10 @@ use crate::{output, plots, replay};
 use clap::Args;
 use purcell_core::{Arc, Gait};
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::continuation;
 use purcell_solver::solver::{
     Evidence, Extremal, Minimum, Solution, SolveError, SolveOptions, solve,
 };
+use purcell_solver::solver::{continuation, starts};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -250,11 +250,19 @@ fn find(a: &SolveArgs, problem: &Problem, quiet: bool) -> Result<(Solution, f64)
 /// What exit 3's message suggests after `e`, by its cause.
 fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
     let starts = a.problem.search.starts;
+    // More starts than the family holds run no more loops.
+    let family = starts::family(
+        1.0,
+        &problem.alpha0,
+        0,
+        MAX_STARTS,
+        problem.alpha_max.is_none(),
+    );
     let mut tries = Vec::new();
-    if starts < MAX_STARTS {
+    if starts < family.len() {
         tries.push(format!(
             "more starts (--starts {}; {starts} now)",
-            (4 * starts).min(MAX_STARTS)
+            (4 * starts).min(family.len())
         ));
     }
     tries.push(format!("another --seed ({} now)", a.problem.search.seed));
