@@ -22,11 +22,11 @@ fn bench(c: &mut Criterion) {
     let run_search = || {
         search::search(
             &coarse,
-            options.min_starts,
-            options.starts,
+            options.min_starts..=options.starts,
             options.seed,
             None,
             &admissible,
+            &[],
             &|| {},
         )
     };

@@ -37,6 +37,16 @@ fn unreachable_target_exits_3_with_best_residual_and_no_output() {
     );
 }
 
+/// Exit 3's advice never asks for more starts than the family holds (1 128 loops without a
+/// joint limit): up to it from 600, none from it.
+#[test]
+fn exit_3_advises_no_more_starts_than_the_family_holds() {
+    let e = no_solution(Solve::paper().target("40,0,0").horizon("10").starts(600));
+    assert!(e.contains("more starts (--starts 1128; 600 now)"), "{e}");
+    let e = no_solution(Solve::paper().target("40,0,0").horizon("10").starts(1128));
+    assert!(!e.contains("more starts"), "{e}");
+}
+
 /// `ḡ = (0.15, 0.25, −0.6)` on the paper's grid: every extremal the search finds swings a
 /// joint past the links' overlap (`|α_i| ≥ π`), so none is admissible.
 #[test]

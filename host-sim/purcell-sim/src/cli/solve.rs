@@ -14,8 +14,8 @@ use crate::report::{SearchWarning, Solved, search_warnings};
 use crate::spec::{self, MAX_STARTS, Prepared, SolveSpec};
 use clap::Args;
 use purcell_solver::problem::Problem;
-use purcell_solver::solver::continuation;
 use purcell_solver::solver::{Progress as _, Solution, SolveError, SolveOptions, solve};
+use purcell_solver::solver::{continuation, starts};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -181,11 +181,19 @@ fn find(
 /// What exit 3's message suggests after `e`, by its cause.
 fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
     let starts = a.problem.search.starts;
+    // More starts than the family holds run no more loops.
+    let family = starts::family(
+        1.0,
+        &problem.alpha0,
+        0,
+        MAX_STARTS,
+        problem.alpha_max.is_none(),
+    );
     let mut tries = Vec::new();
-    if starts < MAX_STARTS {
+    if starts < family.len() {
         tries.push(format!(
             "more starts (--starts {}; {starts} now)",
-            (4 * starts).min(MAX_STARTS)
+            (4 * starts).min(family.len())
         ));
     }
     tries.push(format!("another --seed ({} now)", a.problem.search.seed));

@@ -101,16 +101,39 @@ pub fn search_coarse(
     options: &SolveOptions,
     progress: &(dyn Fn() + Sync),
 ) -> Result<search::Search, SolveError> {
-    let grid = coarse_grid(problem, options).ok_or(SolveError::Unreachable {
-        best_residual: f64::INFINITY,
-    })?;
+    let grid_of = |p: &Problem| {
+        coarse_grid(p, options).ok_or(SolveError::Unreachable {
+            best_residual: f64::INFINITY,
+        })
+    };
+    let grid = grid_of(problem)?;
+    // With a joint limit, the minima of the problem without it, carried into the limit.
+    let free = match problem.alpha_max {
+        None => Vec::new(),
+        Some(_) => {
+            let free = Problem {
+                alpha_max: None,
+                ..*problem
+            };
+            let found = search::search(
+                &grid_of(&free)?,
+                options.min_starts..=options.starts,
+                options.seed,
+                None,
+                &|a| free.admits(a),
+                &[],
+                &|| {},
+            );
+            found.candidates
+        }
+    };
     Ok(search::search(
         &grid,
-        options.min_starts,
-        options.starts,
+        options.min_starts..=options.starts,
         options.seed,
         problem.alpha_max,
         &|a| problem.admits(a),
+        &free,
         progress,
     ))
 }

@@ -10,7 +10,8 @@ use super::limits::{self, PolishError};
 use super::progress::Progress;
 use super::search;
 use super::settings::{
-    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, PRUNE, RESCUE_TAUS, Settings, SolveOptions,
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, LIMITED_COARSE_COST_ERROR, PRUNE,
+    RESCUE_TAUS, Settings, SolveOptions,
 };
 use super::solution::{Extremal, Minimum, SolveError, Unrefined};
 use super::{certificate, costate, symmetry};
@@ -229,7 +230,9 @@ pub fn refine_candidates(
     // `J`), then the inadmissible ones cheaper than it, for the report. A candidate that
     // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
     // extremal is kept with its candidate's coarse cost. The budget `options.refine` counts
-    // the candidates carried (to the end or to a prune), not those Newton could not carry:
+    // the candidates carried to a new extremal or to a prune, not those that reach one
+    // already found (under a joint limit many coarse minima refine to the same extremal),
+    // nor those Newton could not carry:
     // a coarse grid can hold minima of a family that has ended in a fold before the problem's
     // grid (seen with `α_max = 1.5`, `r = 2.1`: ten coarse minima at J ≈ 1.05, ν_y ≈ −46, of
     // the family that costs 0.83 at `r = 2.2` and folds near `r = 2.147` on the problem's
@@ -238,7 +241,14 @@ pub fn refine_candidates(
     let mut unrefined: Vec<Unrefined> = Vec::new();
     let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
     let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
-    let mut tried = 0;
+    // A joint limit's coarse minima are further from the problem's (arcs on 64 steps), and
+    // many refine to the same extremal.
+    let coarse_error = if problem.alpha_max.is_some() {
+        LIMITED_COARSE_COST_ERROR
+    } else {
+        COARSE_COST_ERROR
+    };
+    let (mut tried, mut repeats) = (0, 0);
     for (pass, list) in [maybe, beyond].into_iter().enumerate() {
         for c in list {
             let settled = extremals
@@ -246,12 +256,8 @@ pub fn refine_candidates(
                 .filter(|(x, _)| x.admissible)
                 .map(|(x, _)| x.cost)
                 .fold(f64::INFINITY, f64::min);
-            let margin = if pass == 0 {
-                1.0 + COARSE_COST_ERROR
-            } else {
-                1.0
-            };
-            if tried - unrefined.len() >= options.refine || c.cost > settled * margin {
+            let margin = if pass == 0 { 1.0 + coarse_error } else { 1.0 };
+            if tried - unrefined.len() - repeats >= options.refine || c.cost > settled * margin {
                 break;
             }
             tried += 1;
@@ -280,9 +286,11 @@ pub fn refine_candidates(
             let mut x = extremal(problem, &fine, &run);
             x.start = c.start;
             x.hits = c.hits;
-            if !extremals.iter().any(|(o, _)| {
+            if extremals.iter().any(|(o, _)| {
                 search::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
             }) {
+                repeats += 1;
+            } else {
                 extremals.push((x, c.cost));
             }
         }
