@@ -29,13 +29,7 @@ const MAX_FN_LINES: usize = 80;
 /// Findings tolerated for now: file, the finding's start (`fn name`, `import circle`) and
 /// why. Each must still be found: an allowance nothing needs fails the test.
 #[rustfmt::skip]
-const ALLOWED: &[(&str, &str, &str)] = &[
-    // Issue 33 (the solver's search).
-    ("host-sim/purcell-solver/src/solver/refinement.rs", "fn refine_candidates", PARALLEL),
-    ("host-sim/purcell-solver/src/solver/starts.rs", "fn family", PARALLEL),
-];
-/// Why the files of [`ALLOWED`] are allowed.
-const PARALLEL: &str = "being edited in parallel; split at merge";
+const ALLOWED: &[(&str, &str, &str)] = &[];
 
 /// A module path inside its crate (`[]` is the crate root).
 type ModPath = Vec<String>;

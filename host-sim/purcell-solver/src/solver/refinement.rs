@@ -212,10 +212,23 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 }
 
 /// Carries coarse `candidates` (cheapest first) to the fine grid: the index of the cheapest
-/// admissible fine extremal, every distinct one refined, cheapest first (see the comments
-/// for which), and the candidates whose refinement failed ([`Unrefined`], each also logged
-/// at `debug`). `best_residual` is the search's smallest defect, for the error when no
-/// candidate was tried. `progress` ticks once per candidate carried and pulses within.
+/// admissible fine extremal, every distinct one refined, cheapest first, and the candidates
+/// whose refinement failed ([`Unrefined`], each also logged at `debug`). `best_residual` is
+/// the search's smallest defect, for the error when no candidate was tried. `progress` ticks
+/// once per candidate carried and pulses within.
+///
+/// Which: admissible candidates (with a margin for the coarse grid's error in `|α|`) until
+/// the cheapest admissible fine extremal is settled (every remaining candidate costs more,
+/// with a margin for the coarse grid's error in `J`), then the inadmissible ones cheaper
+/// than it, for the report. A candidate that costs more than the settled one on an
+/// intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
+/// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal
+/// or to a prune, not those that reach one already found (under a joint limit many coarse
+/// minima refine to the same extremal), nor those Newton could not carry: a coarse grid can
+/// hold minima of a family that has ended in a fold before the problem's grid (seen with
+/// `α_max = 1.5`, `r = 2.1`: ten coarse minima at J ≈ 1.05, ν_y ≈ −46, of the family that
+/// costs 0.83 at `r = 2.2` and folds near `r = 2.147` on the problem's grid), and they would
+/// use it up before the cheapest that exists there.
 pub fn refine_candidates(
     problem: &Problem,
     candidates: &[search::Candidate],
@@ -224,19 +237,6 @@ pub fn refine_candidates(
     progress: &dyn Progress,
 ) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
     let alpha_max = problem.shape_bound();
-    // Carry candidates to the fine grid, cheapest first: admissible ones (with a margin for
-    // the coarse grid's error in `|α|`) until the cheapest admissible fine extremal is settled
-    // (every remaining candidate costs more, with a margin for the coarse grid's error in
-    // `J`), then the inadmissible ones cheaper than it, for the report. A candidate that
-    // costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
-    // extremal is kept with its candidate's coarse cost. The budget `options.refine` counts
-    // the candidates carried to a new extremal or to a prune, not those that reach one
-    // already found (under a joint limit many coarse minima refine to the same extremal),
-    // nor those Newton could not carry:
-    // a coarse grid can hold minima of a family that has ended in a fold before the problem's
-    // grid (seen with `α_max = 1.5`, `r = 2.1`: ten coarse minima at J ≈ 1.05, ν_y ≈ −46, of
-    // the family that costs 0.83 at `r = 2.2` and folds near `r = 2.147` on the problem's
-    // grid), and they would use it up before the cheapest that exists there.
     let mut extremals: Vec<(Extremal, f64)> = Vec::new();
     let mut unrefined: Vec<Unrefined> = Vec::new();
     let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
@@ -295,6 +295,20 @@ pub fn refine_candidates(
             }
         }
     }
+    settle(problem, extremals, unrefined, tried, best_residual)
+}
+
+/// [`refine_candidates`]' outcome from the extremals it found (each with its candidate's
+/// coarse cost) after `tried` candidates: the extremals cheapest first with the index of the
+/// cheapest admissible one, and the candidates not refined (`cheaper` than it on the coarse
+/// grid or not); or why there is none.
+fn settle(
+    problem: &Problem,
+    mut extremals: Vec<(Extremal, f64)>,
+    mut unrefined: Vec<Unrefined>,
+    tried: usize,
+    best_residual: f64,
+) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
     if extremals.is_empty() {
         return Err(if tried == 0 {
             SolveError::Unreachable { best_residual }

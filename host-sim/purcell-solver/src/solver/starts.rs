@@ -214,6 +214,42 @@ pub fn family(
     count: usize,
     boxes: bool,
 ) -> Vec<StartLoop> {
+    let (first, rest) = shapes(size);
+    // A deterministic mix (splitmix64 of the seed and the index) of everything but the
+    // axis-aligned ellipses.
+    let mix = |i: u64| {
+        splitmix64(
+            seed.wrapping_add(i.wrapping_mul(GOLDEN_GAMMA))
+                .wrapping_add(GOLDEN_GAMMA),
+        )
+    };
+    let mixed = |list: Vec<StartLoop>, salt: u64| {
+        let mut keyed: Vec<(u64, StartLoop)> = list
+            .into_iter()
+            .enumerate()
+            .map(|(i, s)| (mix((i as u64) ^ salt), s))
+            .collect();
+        keyed.sort_by_key(|(k, _)| *k);
+        keyed.into_iter().map(|(_, s)| s)
+    };
+    let mut boxes = mixed(if boxes { box_loops(alpha0) } else { Vec::new() }, 1 << 40);
+    let mut scaled = mixed(rest, 0);
+    let mut out = first;
+    while out.len() < count {
+        let before = out.len();
+        out.extend(boxes.by_ref().take(BOX_SHARE));
+        out.extend(scaled.next());
+        if out.len() == before {
+            break;
+        }
+    }
+    out.truncate(count);
+    out
+}
+
+/// The start loops of [`family`] for a loop size `size`, before the mix: the round ellipses
+/// of the given size at `ψ = 0` (first), and every other ellipse, figure-eight and lollipop.
+fn shapes(size: f64) -> (Vec<StartLoop>, Vec<StartLoop>) {
     let pi = core::f64::consts::PI;
     let mut first = Vec::new();
     let mut rest = Vec::new();
@@ -266,36 +302,7 @@ pub fn family(
             }
         }
     }
-    // A deterministic mix (splitmix64 of the seed and the index) of everything but the
-    // axis-aligned ellipses.
-    let mix = |i: u64| {
-        splitmix64(
-            seed.wrapping_add(i.wrapping_mul(GOLDEN_GAMMA))
-                .wrapping_add(GOLDEN_GAMMA),
-        )
-    };
-    let mixed = |list: Vec<StartLoop>, salt: u64| {
-        let mut keyed: Vec<(u64, StartLoop)> = list
-            .into_iter()
-            .enumerate()
-            .map(|(i, s)| (mix((i as u64) ^ salt), s))
-            .collect();
-        keyed.sort_by_key(|(k, _)| *k);
-        keyed.into_iter().map(|(_, s)| s)
-    };
-    let mut boxes = mixed(if boxes { box_loops(alpha0) } else { Vec::new() }, 1 << 40);
-    let mut scaled = mixed(rest, 0);
-    let mut out = first;
-    while out.len() < count {
-        let before = out.len();
-        out.extend(boxes.by_ref().take(BOX_SHARE));
-        out.extend(scaled.next());
-        if out.len() == before {
-            break;
-        }
-    }
-    out.truncate(count);
-    out
+    (first, rest)
 }
 
 /// The increment of SplitMix64's state: `2⁶⁴/φ`, odd.
