@@ -3,7 +3,6 @@
 
 mod common;
 
-use common::fixtures::core_data;
 use common::*;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -51,15 +50,7 @@ fn c_pair(tmp: &Path) -> (PathBuf, PathBuf, PathBuf) {
     let small = tmp.join("small.gait");
     std::fs::write(&small, gait_with_steps(200)).unwrap();
     let big = tmp.join("big.gait");
-    let o = sim(&[
-        "export",
-        "--gait",
-        arg(&core_data("tiny-limit.gait")),
-        "--tracking",
-        "--out",
-        arg(&big),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    export_tracking(&big);
     let c = tmp.join("g.c");
     let o = export_c(&small, &c, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));

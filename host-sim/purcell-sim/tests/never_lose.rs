@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::fixtures::{COSTATE_V2, core_data, data};
+use common::fixtures::{COSTATE_V2, data};
 use common::*;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -78,13 +78,18 @@ fn live_staging_of_a_run_in_another_pid_namespace_is_kept() {
         .spawn()
         .unwrap();
     let live = wait_for_staging(tmp.path());
-    let o = sim(&[
-        "export",
-        "--costate",
-        arg(&data("tiny.costate.json")),
-        "--out",
-        arg(&tmp.path().join("b.gait")),
-    ]);
+    // Another run in the same directory, which cleans up stale staging there.
+    let export_b = || {
+        let b = tmp.path().join("b.gait");
+        sim(&[
+            "export",
+            "--costate",
+            arg(&data("tiny.costate.json")),
+            "--out",
+            arg(&b),
+        ])
+    };
+    let o = export_b();
     let kept = live.exists();
     let _ = run.kill();
     let _ = run.wait();
@@ -103,13 +108,7 @@ fn live_staging_of_a_run_in_another_pid_namespace_is_kept() {
             "a dead run's staging was kept"
         );
         std::thread::sleep(Duration::from_millis(200));
-        let o = sim(&[
-            "export",
-            "--costate",
-            arg(&data("tiny.costate.json")),
-            "--out",
-            arg(&tmp.path().join("b.gait")),
-        ]);
+        let o = export_b();
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     }
 }
@@ -230,15 +229,7 @@ fn export_refuses_a_gait_that_replay_would_refuse() {
 fn non_finite_noise_is_refused_with_digest_too() {
     let tmp = tempfile::tempdir().unwrap();
     let gait = tmp.path().join("t.gait");
-    let o = sim(&[
-        "export",
-        "--gait",
-        arg(&core_data("tiny-limit.gait")),
-        "--tracking",
-        "--out",
-        arg(&gait),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    export_tracking(&gait);
     for (flag, v) in [
         ("--pose-noise", "nan"),
         ("--pose-noise", "inf"),

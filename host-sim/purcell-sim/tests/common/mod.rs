@@ -246,3 +246,18 @@ pub fn gait_with_steps(steps: u32) -> Vec<u8> {
     file.checkpoints.clear();
     file.to_gait().unwrap()
 }
+
+/// `export --tracking` of the core's small joint-limited test gait to `out` (a gait with a
+/// tracking table); panics if it fails.
+pub fn export_tracking(out: &Path) {
+    let gait = fixtures::core_data("tiny-limit.gait");
+    let o = sim(&[
+        "export",
+        "--gait",
+        arg(&gait),
+        "--tracking",
+        "--out",
+        arg(out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
