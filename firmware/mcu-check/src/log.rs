@@ -276,7 +276,7 @@ mod tests {
     use purcell_core::Gait;
 
     const QEMU_LOG: &str = "\
-insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004
+insn_calibration: overhead_ticks=3 0nop+read=1 1000nop+read=1001 2000nop+read=2001
 purcell-mcu: board=mps2-an386 scalar=f32 steps=10000 passes=2 checkpoints=99 arcs=0 gait=0x77b998a7
 insn_per_step: mean=812.5 max=845
 arc_steps: steps=0 mean=0.0 max=0 free_mean=812.5 free_max=845
@@ -324,7 +324,7 @@ result: ok
     #[test]
     fn a_board_log_with_cycles_parses() {
         let board = QEMU_LOG
-            .replace("insn_calibration: overhead_ticks=3 call+0nop=4 call+1000nop=1004 call+2000nop=2004\n", "")
+            .replace("insn_calibration: overhead_ticks=3 0nop+read=1 1000nop+read=1001 2000nop+read=2001\n", "")
             .replace("board=mps2-an386", "board=stm32f4-discovery")
             .replace("insn_per_step: mean=812.5 max=845", "cycles_per_step: mean=1134.2 max=1203")
             .replace("stack_step: bytes=312\n", "");

@@ -11,16 +11,17 @@
 //! Counting: QEMU runs with `-icount shift=6`, so one instruction is 64 ns of virtual time, and
 //! the SysTick, clocked at 25 MHz, advances exactly 8/5 ticks per instruction. The counter is
 //! read before and after each step; differences are taken modulo its 24-bit wrap, so no
-//! interrupt runs inside a measured step. A run of 1 000 `nop`s checks the conversion at
-//! start-up (the firmware fails if QEMU was started without `-icount`). QEMU has no cycle
-//! counter (its DWT reads 0): real hardware counts cycles, see `board-stm32f4-discovery/`.
+//! interrupt runs inside a measured step. Runs of 0, 1 000 and 2 000 `nop`s check the
+//! conversion at start-up (the firmware fails if QEMU was started without `-icount`, see
+//! [`self_test`]). QEMU has no cycle counter (its DWT reads 0): real hardware counts cycles,
+//! see `board-stm32f4-discovery/`.
 
 use core::hint::black_box;
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
 use purcell_core::{Error, Gait, Replay, Sample};
 use purcell_fly::Counter;
-use purcell_mcu::Systick;
+use purcell_mcu::{Systick, TICKS_PER_INSN_DEN, TICKS_PER_INSN_NUM};
 
 /// The gait flown: `$PURCELL_GAIT`, or the committed paper's gait (see `build.rs`).
 static GAIT: &[u8] = include_bytes!(env!("PURCELL_GAIT_FILE"));
@@ -64,8 +65,9 @@ enum Failure {
     Core(Error),
     /// The core peripherals were already taken.
     Peripherals,
-    /// 1 000 extra `nop`s did not count as 1 000 instructions.
-    Counting { nops: u64 },
+    /// `nops` `nop`s and the counter's read after them did not count as `nops + 1`
+    /// instructions (`ticks` SysTick ticks, `insns` instructions).
+    Counting { nops: u32, ticks: u32, insns: u64 },
     /// The stack of a step reached the bottom of the painted window.
     StackWindow,
     /// Two flights of the same gait differed.
@@ -78,16 +80,6 @@ impl From<Error> for Failure {
     }
 }
 
-/// Measures `f` on `input` (both passed through `black_box` inside the measured span, so the
-/// compiler can neither hoist nor sink the work), net of `base`.
-#[inline(always)]
-fn measure<I, R>(base: u32, input: I, f: impl FnOnce(I) -> R) -> (u32, R) {
-    let t0 = Systick::now();
-    let r = black_box(f(black_box(input)));
-    let t1 = Systick::now();
-    (Systick::elapsed(t0, t1).saturating_sub(base), r)
-}
-
 /// One control step: the function whose instructions are counted and whose disassembly is
 /// checked for soft-float helpers (`purcell-mcu-check disasm`).
 #[inline(never)]
@@ -96,30 +88,65 @@ fn purcell_mcu_step<'r>(replay: &'r mut Replay<'_, S>) -> Result<Option<&'r Samp
     replay.step()
 }
 
-/// `N` `nop`s (and the call's own two instructions), to check the counter's conversion.
-#[inline(never)]
-fn nops<const N: usize>() {
-    // SAFETY: `nop` has no effect.
+/// SysTick ticks across `N` `nop`s: one `asm!` block reads the counter, runs the `nop`s and
+/// reads it again, so the span is exactly the `N` `nop`s and the second read, wherever the code
+/// lands and whatever the compiler schedules around the block.
+#[inline(always)]
+fn nop_ticks<const N: u32>() -> u32 {
+    let (t0, t1): (u32, u32);
+    // SAFETY: two reads of the SysTick's current-value register (no side effect) around
+    // `nop`s; no memory written, no stack used, flags kept. `t0` is an `out`, so it is not
+    // given `cvr`'s register.
     unsafe {
-        core::arch::asm!(".rept {n}", "nop", ".endr", n = const N, options(nomem, nostack, preserves_flags));
+        core::arch::asm!(
+            "ldr {t0}, [{cvr}]",
+            ".rept {n}",
+            "nop",
+            ".endr",
+            "ldr {t1}, [{cvr}]",
+            cvr = in(reg) &raw const (*cortex_m::peripheral::SYST::PTR).cvr,
+            t0 = out(reg) t0,
+            t1 = out(reg) t1,
+            n = const N,
+            options(nostack, readonly, preserves_flags),
+        );
     }
+    Systick::elapsed(t0, t1)
 }
 
-/// Checks that each extra 1 000 `nop`s count as 1 000 ± 1 instructions (the call itself
-/// is the same in each measurement and cancels).
-fn self_test(base: u32) -> Result<(), Failure> {
-    let count = |f: fn()| purcell_fly::scaled::<Systick>(u64::from(measure(base, (), |()| f()).0));
-    let (n0, n1, n2) = (count(nops::<0>), count(nops::<1000>), count(nops::<2000>));
+/// Checks the counter's conversion: `N` `nop`s and the read after them (`N + 1` instructions,
+/// `8(N + 1)/5` ticks of virtual time) must read as that many ticks rounded down or up, i.e.
+/// `|5·ticks − 8(N + 1)| < 5`, for `N` = 0, 1 000 and 2 000.
+///
+/// Why a single `asm!` block: QEMU's `-icount` count is exact whatever the code layout (an
+/// MMIO read ends its translation block, so the clock it reads includes every instruction
+/// before it and itself), but a span timed from Rust is whatever the compiler puts between the
+/// two reads. `compiler_fence` orders memory accesses only, so register-only instructions
+/// can move into the span: the calibration used to time `nops::<N>()` calls from Rust, and
+/// when removing `ArcSteps` from `purcell-fly` changed the register allocation of this
+/// function, the `movw`/`movt` that load the next log line's index landed between the
+/// 2 000-`nop` call and its second read (`call+2000nop=2006`, `Counting { nops: 1002 }`), at
+/// any alignment of the `nop`s. Inside one `asm!` block nothing can be scheduled. (A step is
+/// still timed from Rust, by `purcell_fly::fly` as on a board: its count may include the few
+/// instructions the compiler puts around the call, the same in every step.)
+fn self_test(overhead_ticks: u32) -> Result<(), Failure> {
+    let runs = [
+        (0, nop_ticks::<0>()),
+        (1000, nop_ticks::<1000>()),
+        (2000, nop_ticks::<2000>()),
+    ];
+    let insns = runs.map(|(_, ticks)| purcell_fly::scaled::<Systick>(u64::from(ticks)));
     defmt::println!(
-        "insn_calibration: overhead_ticks={=u32} call+0nop={=u64} call+1000nop={=u64} call+2000nop={=u64}",
-        base,
-        n0,
-        n1,
-        n2
+        "insn_calibration: overhead_ticks={=u32} 0nop+read={=u64} 1000nop+read={=u64} 2000nop+read={=u64}",
+        overhead_ticks,
+        insns[0],
+        insns[1],
+        insns[2]
     );
-    for nops in [n1.wrapping_sub(n0), n2.wrapping_sub(n1)] {
-        if nops.abs_diff(1000) > 1 {
-            return Err(Failure::Counting { nops });
+    for ((nops, ticks), insns) in runs.into_iter().zip(insns) {
+        let expected = TICKS_PER_INSN_NUM * u64::from(nops + 1);
+        if (TICKS_PER_INSN_DEN * u64::from(ticks)).abs_diff(expected) >= TICKS_PER_INSN_DEN {
+            return Err(Failure::Counting { nops, ticks, insns });
         }
     }
     Ok(())
