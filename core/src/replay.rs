@@ -390,6 +390,12 @@ impl<'a, T: Real> Replay<'a, T> {
         (self.k > 0).then_some(&self.sample)
     }
 
+    /// The joints at rest on a joint-limit arc at the step [`Replay::step`] did last
+    /// ([`OnArcs::NONE`] before the first step and off the arcs).
+    pub fn on_arcs(&self) -> OnArcs {
+        self.on_arcs
+    }
+
     /// The current shape costate `ξ^{k−1}`.
     pub fn xi(&self) -> &Vector2<T> {
         &self.xi

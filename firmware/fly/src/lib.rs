@@ -25,9 +25,8 @@
 #![no_std]
 #![deny(missing_docs)]
 
-use core::iter::Peekable;
 use purcell_core::gait::Stored;
-use purcell_core::{Arc, Error, Flight, Gait, Replay, Sample};
+use purcell_core::{Error, Flight, Gait, OnArcs, Replay, Sample};
 
 /// The names of the log lines (`<name>: …`), the one definition for the firmware that prints
 /// them and the checker that reads them.
@@ -128,33 +127,6 @@ impl Stats {
     }
 }
 
-/// Which steps have a joint at rest on a joint-limit arc (`first ≤ k < last`): walks a gait's
-/// arc table in step order.
-struct ArcSteps<I: Iterator<Item = Arc>> {
-    arcs: Peekable<I>,
-    /// The last state of each joint's latest arc.
-    ends: [u32; 2],
-}
-
-impl<I: Iterator<Item = Arc>> ArcSteps<I> {
-    fn new(arcs: I) -> Self {
-        ArcSteps {
-            arcs: arcs.peekable(),
-            ends: [0; 2],
-        }
-    }
-
-    /// Whether step `k` (called with increasing `k`) is on an arc.
-    fn at(&mut self, k: u32) -> bool {
-        while let Some(a) = self.arcs.next_if(|a| a.first <= k) {
-            if let Some(end) = self.ends.get_mut(usize::from(a.joint == 2)) {
-                *end = a.last;
-            }
-        }
-        self.ends.iter().any(|&end| k < end)
-    }
-}
-
 /// `raw` counts in `C`'s reported units, rounded to nearest.
 pub fn scaled<C: Counter>(raw: u64) -> u64 {
     let (num, den) = C::SCALE;
@@ -217,18 +189,19 @@ where
         gait.crc()
     );
     let (mut stats, mut free, mut on_arcs) = (Stats::default(), Stats::default(), Stats::default());
-    let mut arc_steps = ArcSteps::new(gait.arcs());
     let flight = replay.fly(|r| {
-        let on_arc = arc_steps.at(r.steps_done());
         let t0 = C::now();
         let item = step(r);
         let t1 = C::now();
-        if let Ok(Some(_)) = item {
+        let stepped = item.map(|sample| sample.is_some());
+        let r: &Replay<'a, S> = r;
+        if let Ok(true) = stepped {
             let units = C::elapsed(t0, t1).saturating_sub(overhead);
             stats.add(units);
+            let on_arc = r.on_arcs() != OnArcs::NONE;
             (if on_arc { &mut on_arcs } else { &mut free }).add(units);
         }
-        item
+        stepped.map(|stepped| r.last_sample().filter(|_| stepped))
     })?;
     let (mean, tenths) = scaled_mean::<C>(&stats);
     defmt::println!(
