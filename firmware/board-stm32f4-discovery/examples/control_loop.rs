@@ -1,9 +1,10 @@
 //! The gait as a control loop on the STM32F4-Discovery at 168 MHz, with RTIC 2: the same loop
-//! as the QEMU example CI runs (`firmware/mcu/examples/control_loop.rs`, both through
-//! [`purcell_fly::pilot`]). The SysTick, on the 168 MHz core clock, expires every `h` (10 ms
-//! for the paper's gait); its handler steps the law once, commands the joints (recorded in
-//! `Status::joints`: drive your motors from them in `tick`, or give `Pilot::tick` your driver)
-//! and flies the gait [`CYCLES`] times in a row. The idle task logs each cycle's digest and pose over RTT, then the ticks in core
+//! as the QEMU example CI runs (`firmware/mcu/examples/control_loop.rs`), both
+//! [`purcell_fly::control_loop!`] over [`purcell_fly::pilot`]. The SysTick, on the 168 MHz
+//! core clock, expires every `h` (10 ms for the paper's gait); its handler steps the law once,
+//! commands the joints (recorded in `Status::joints`; for your motors, write the app out from
+//! the macro and give `Pilot::tick` your driver in its `tick`) and flies the gait three times
+//! in a row. The idle task logs each cycle's digest and pose over RTT, then the ticks in core
 //! cycles (the SysTick counts the core clock, as the DWT does) from the timer's expiry to the
 //! end of its handler, the margin to the period, and the overruns (any fails the run).
 //!
@@ -16,68 +17,20 @@
 use defmt_rtt as _;
 use panic_probe as _;
 
-/// Cycles of the gait flown in a row.
-const CYCLES: u32 = 3;
-
-#[rtic::app(device = stm32f4xx_hal::pac, peripherals = true)]
-mod app {
-    use crate::CYCLES;
-    use purcell_fly::DwtCycles;
-    use purcell_fly::pilot::{self, Pilot, Status, SysTickTimer};
-    use stm32f4xx_hal::prelude::*;
-    use stm32f4xx_hal::rcc::{Config, RccExt};
-
-    /// The gait to fly (`PURCELL_GAIT`, `.cargo/config.toml`: the paper's gait).
-    static GAIT: &[u8] = include_bytes!(env!("PURCELL_GAIT"));
-
-    #[shared]
-    struct Shared {
-        status: Status<f32>,
-    }
-
-    #[local]
-    struct Local {
-        pilot: Pilot<'static, f32>,
-        timer: SysTickTimer,
-        counts: u32,
-    }
-
-    #[init]
-    fn init(cx: init::Context) -> (Shared, Local) {
+// The gait to fly (`PURCELL_GAIT`, `.cargo/config.toml`: the paper's gait), three cycles in a
+// row; the SysTick on the core clock, 168 MHz from the 8 MHz HSE.
+purcell_fly::control_loop! {
+    device: stm32f4xx_hal::pac,
+    peripherals: true,
+    board: "stm32f4-discovery",
+    counter: purcell_fly::DwtCycles,
+    gait: include_bytes!(env!("PURCELL_GAIT")),
+    cycles: 3,
+    exit: semihosting::process::exit,
+    clocks: |cx| {
+        use stm32f4xx_hal::prelude::*;
+        use stm32f4xx_hal::rcc::{Config, RccExt};
         let rcc = cx.device.RCC.freeze(Config::hse(8.MHz()).sysclk(168.MHz()));
-        let mut syst = cx.core.SYST;
-        let clock_hz = rcc.clocks.sysclk().raw();
-        let start = pilot::start::<f32, DwtCycles>(
-            "stm32f4-discovery",
-            GAIT,
-            &mut syst,
-            clock_hz,
-            None,
-            CYCLES,
-        );
-        let (pilot, timer, counts) =
-            start.unwrap_or_else(|e| semihosting::process::exit(purcell_fly::finish(Err(e))));
-        let status = Status::default();
-        (
-            Shared { status },
-            Local {
-                pilot,
-                timer,
-                counts,
-            },
-        )
-    }
-
-    #[idle(shared = [status], local = [counts])]
-    fn idle(mut cx: idle::Context) -> ! {
-        let status = || cx.shared.status.lock(|s| *s);
-        pilot::idle::<f32, DwtCycles>(*cx.local.counts, status, semihosting::process::exit)
-    }
-
-    /// One tick: one step of the law, the joints commanded, timed to the end of the handler.
-    #[task(binds = SysTick, shared = [status], local = [pilot, timer])]
-    fn tick(mut cx: tick::Context) {
-        let (pilot, timer) = (cx.local.pilot, cx.local.timer);
-        cx.shared.status.lock(|s| s.tick(pilot, CYCLES, timer));
-    }
+        (rcc.clocks.sysclk().raw(), None)
+    },
 }

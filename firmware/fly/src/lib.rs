@@ -66,6 +66,7 @@ pub mod line {
     pub const JOINTS: &str = "joints";
 }
 
+mod control_loop;
 pub mod pilot;
 
 /// `f32` or `f64`: the name of `S` in the log lines.
