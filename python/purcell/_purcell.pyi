@@ -1,4 +1,9 @@
-"""Type stubs of the native module (src/*.rs). Units: metres, radians, seconds."""
+"""Type stubs of the native module (src/*.rs). Units: metres, radians, seconds.
+
+The public functions are the package's (purcell/_solve.py, _model.py, _sweep.py), which check
+their arguments' types and counts and call these; the classes are the native module's.
+Arrays are read-only.
+"""
 
 import os
 from collections.abc import Callable, Sequence
@@ -9,22 +14,7 @@ import numpy.typing as npt
 
 F64: TypeAlias = npt.NDArray[np.float64]
 
-class InputError(ValueError):
-    """Bad input, refused before any work, with the command line's message (exit code 2)."""
-
-class NoSolution(RuntimeError):
-    """No admissible extremal (the command line's exit code 3)."""
-
-    best_residual: float | None
-    """Smallest terminal defect any start reached, m / rad (None: extremals, none admissible)."""
-    best_alpha: float | None
-    """Smallest largest |alpha_i| of the inadmissible extremals found, rad."""
-
-class ReplayFailed(RuntimeError):
-    """A replay stopped early (the command line's exit code 3)."""
-
-    step: int | None
-    """The step it failed at (None: before its first step)."""
+__version__: str
 
 class Connection:
     """The local connection at a shape: body velocity xi = -A(alpha) @ alpha_dot."""
@@ -142,30 +132,24 @@ class Replay:
     u: F64
     g: F64
 
+# The native calls behind the package's functions: `problem` is the dict of
+# purcell/_keywords.py's `problem` (with `seed` and `checkpoint_every` for a solve).
+
 def solve(
     target: Sequence[float],
-    *,
-    horizon: float = 100.0,
-    step: float = 0.01,
-    alpha0: Sequence[float] = (0.0, 0.0),
-    links: Sequence[float] = (1.0, 1.0, 1.0),
-    drag: float = 1.0,
-    ratio: float = 2.0,
-    alpha_max: float | None = None,
-    starts: int = 512,
-    seed: int = 0,
-    checkpoint_every: int | None = None,
-    warm: Solution | str | os.PathLike[str] | None = None,
-    progress: Callable[[int, int, str], object] | None = None,
-) -> Solution:
-    """The cheapest admissible gait to target (x m, y m, theta rad) in horizon seconds."""
-
+    problem: dict[str, Any],
+    warm: Solution | str | os.PathLike[str] | None,
+    progress: Callable[[int, int, str], object] | None,
+) -> Solution: ...
 def replay(
     costate_or_gait: Solution | bytes | bytearray | str | os.PathLike[str],
-    precision: Literal["f32", "f64"] = "f32",
+    precision: str = "f32",
     checkpoints: bool = True,
-) -> Replay:
-    """Replays a gait through the core in f32 or f64; digest and terminal error."""
+) -> Replay: ...
+def connection(
+    alpha: Sequence[float], links: Sequence[float], drag: float, ratio: float
+) -> Connection: ...
+def field(links: Sequence[float], drag: float, ratio: float, cells: int) -> Field: ...
 
 class Field:
     """The curvature F of the connection on cells covering ]-pi, pi[^2 (MODEL.md §8)."""
@@ -184,27 +168,8 @@ class Field:
         """Integral of F over the area the closed shape path (M, 2), radians, encloses:
         the leading-order net motion (x m, y m, theta rad)."""
 
-def field(
-    *,
-    links: Sequence[float] = (1.0, 1.0, 1.0),
-    drag: float = 1.0,
-    ratio: float = 2.0,
-    cells: int = 180,
-) -> Field:
-    """The curvature of the connection on cells x cells cells (`purcell-sim field`'s field.csv)."""
-
-def connection(
-    alpha: Sequence[float],
-    *,
-    links: Sequence[float] = (1.0, 1.0, 1.0),
-    drag: float = 1.0,
-    ratio: float = 2.0,
-) -> Connection:
-    """A(alpha) and its derivatives at a shape (radians)."""
-
 # The sweep's native parts; `purcell.sweep` and `purcell.distributed.sweep` (Python) are the
-# documented calls. `problem` is a dict of horizon, step, alpha0, links, drag, ratio,
-# alpha_max and starts (all of them).
+# documented calls.
 
 _Axis: TypeAlias = float | str | Sequence[float]
 _Target: TypeAlias = tuple[float, float, float]

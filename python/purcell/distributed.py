@@ -22,8 +22,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from . import _purcell
-from ._sweep import Axis, Sweep, problem_kwargs
+from . import _keywords, _purcell
+from ._errors import InputError
+from ._sweep import Axis, Sweep
 
 
 def _search(targets: list[tuple[float, float, float]], problem: dict[str, Any]) -> list:
@@ -58,16 +59,31 @@ def sweep(
 ) -> Sweep:
     """`purcell.sweep` on a Dask cluster: the same records, in the same order.
 
-    client: a `distributed.Client`. batch: targets per task (searches and refinements); a
-    task uses all of its worker's cores (the solver's threads), so one worker per machine
-    with one thread is the usual layout. The other arguments are `purcell.sweep`'s (metres,
-    radians, seconds). Raises InputError for bad input before submitting anything.
+    Parameters
+    ----------
+    client : distributed.Client
+        The cluster's client; its workers need `purcell` installed.
+    xs, ys, thetas
+        The lattice, as in `purcell.sweep`.
+    batch : int, default 8
+        Targets per task (searches and refinements). A task uses all of its worker's cores
+        (the solver's threads): one worker per machine with one thread is the usual layout.
+    horizon, step, alpha0, links, drag, ratio, alpha_max, starts
+        The problem, as in `purcell.sweep` (metres, radians, seconds).
+
+    Returns
+    -------
+    Sweep
+        The records of `purcell.sweep`, bit for bit.
+
+    Raises
+    ------
+    InputError
+        Bad input, before anything is submitted.
     """
-    if not isinstance(batch, int) or batch < 1:
-        raise _purcell.InputError(
-            f"batch must be a whole number of targets, 1 or more (got {batch!r})"
-        )
-    kw = problem_kwargs(horizon, step, alpha0, links, drag, ratio, alpha_max, starts)
+    if isinstance(batch, bool) or not isinstance(batch, int) or batch < 1:
+        raise InputError(f"batch must be a whole number of targets, 1 or more (got {batch!r})")
+    kw = _keywords.problem(locals())
     plan = _purcell.SweepPlan(xs, ys, thetas, kw)
     targets = plan.targets
     searched = plan.searched()

@@ -1,9 +1,9 @@
 //! `purcell.field`: the curvature of the connection over the shape plane (MODEL.md §8), as
 //! `purcell-sim field` samples it for its figures and field.csv.
 
-use crate::{array1, input_error, numbers};
+use crate::{array, array1, input_error};
 use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray3, PyReadonlyArray2};
 use purcell_solver::curvature::Field as Sampled;
 use purcell_solver::problem::{Problem, Spec};
 use pyo3::prelude::*;
@@ -15,6 +15,10 @@ const MAX_CELLS: usize = 4096;
 #[pyclass(frozen, module = "purcell")]
 pub struct Field {
     field: Sampled,
+    /// `centres`, read-only.
+    centres: Py<PyArray1<f64>>,
+    /// `F`, read-only.
+    values: Py<PyArray3<f64>>,
 }
 
 #[pymethods]
@@ -23,7 +27,7 @@ impl Field {
     /// shape (n,).
     #[getter]
     fn centres<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, &self.field.centres)
+        self.centres.bind(py).clone()
     }
     /// Width of one cell, radians.
     #[getter]
@@ -36,9 +40,7 @@ impl Field {
     #[getter]
     #[pyo3(name = "F")]
     fn values<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
-        let n = self.field.centres.len();
-        let a = Array3::from_shape_fn((3, n, n), |(r, j, i)| self.field.at(i, j)[r]);
-        a.into_pyarray(py)
+        self.values.bind(py).clone()
     }
     /// The integral of F over the area the closed polygon `path` (shapes, radians, shape
     /// (M, 2)) encloses, counted with its winding number: the leading-order estimate of the
@@ -60,24 +62,19 @@ impl Field {
             .into_iter()
             .map(|r| nalgebra::Vector2::new(r[0], r[1]))
             .collect();
-        Ok(array1(py, self.field.integral_over(&path).as_slice()))
+        array1(py, self.field.integral_over(&path).as_slice())
     }
     fn __repr__(&self) -> String {
         format!("Field(cells={})", self.field.centres.len())
     }
 }
 
-/// The curvature F(alpha) = -(dA2/dalpha1 - dA1/dalpha2) + [A1, A2] of the local connection
-/// over the shape plane (MODEL.md §8), sampled at the centres of cells x cells cells covering
-/// ]-pi, pi[^2: `purcell-sim field`'s field.csv (cells=180, 2-degree cells) as arrays.
-///
-/// links (m), drag and ratio as in `solve`. Raises InputError with the command line's message
-/// for a bad swimmer, or for cells outside 1 to 4096.
+/// `purcell.field` (python/purcell/_model.py documents it): the curvature sampled on
+/// `cells` x `cells` cells, as `purcell-sim field`'s field.csv.
 #[pyfunction]
-#[pyo3(signature = (*, links = vec![1.0, 1.0, 1.0], drag = 1.0, ratio = 2.0, cells = 180))]
 pub fn field(
     py: Python<'_>,
-    links: Vec<f64>,
+    links: [f64; 3],
     drag: f64,
     ratio: f64,
     cells: i64,
@@ -87,7 +84,7 @@ pub fn field(
         .filter(|c| (1..=MAX_CELLS).contains(c))
         .ok_or_else(|| input_error(format!("cells must be 1 to {MAX_CELLS} (got {cells})")))?;
     let spec = Spec {
-        links: numbers("links", &links)?,
+        links,
         drag,
         ratio,
         ..Spec::default()
@@ -96,5 +93,11 @@ pub fn field(
     let field = py
         .detach(|| Sampled::sample(&problem.swimmer, cells))
         .map_err(input_error)?;
-    Ok(Field { field })
+    let n = field.centres.len();
+    let values = Array3::from_shape_fn((3, n, n), |(r, j, i)| field.at(i, j)[r]);
+    Ok(Field {
+        centres: array1(py, &field.centres)?.unbind(),
+        values: array(py, values)?.unbind(),
+        field,
+    })
 }

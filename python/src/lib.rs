@@ -1,72 +1,108 @@
 //! `purcell._purcell`, the native module behind the Python package `purcell`: the solver
 //! (`purcell-solver`), the replay through the core (`purcell-core`) and the connection, with
-//! the command line's defaults, checks and messages (`purcell-sim`). The Python package
-//! (`python/purcell/`) re-exports it with type stubs.
+//! the command line's checks (`purcell-sim`'s library layer, its refusals in Python's words).
+//! The Python package (`python/purcell/`) holds the public signatures, defaults and
+//! docstrings and calls these functions with its arguments checked for type and count; its
+//! exceptions are Python classes (`purcell/_errors.py`) raised from here ([`error`]).
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
-use purcell_sim::spec::SpecError;
+use purcell_sim::words::{Front, Worded};
 use purcell_solver::problem::{Problem, Spec};
-use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 mod detach;
 mod field;
+mod keywords;
 mod replay;
 mod solution;
 mod solve;
 mod sweep;
 
-create_exception!(
-    _purcell,
-    InputError,
-    PyValueError,
-    "Bad input, refused before any work, with the command line's message (its exit code 2)."
-);
-create_exception!(
-    _purcell,
-    NoSolution,
-    PyRuntimeError,
-    "The search reached no admissible extremal (the command line's exit code 3). \
-     Attributes: `best_residual` (smallest terminal defect reached, m / rad, or None) and \
-     `best_alpha` (smallest largest |alpha_i| of the extremals found, rad, or None)."
-);
-create_exception!(
-    _purcell,
-    ReplayFailed,
-    PyRuntimeError,
-    "A replay stopped early (the command line's exit code 3). Attribute: `step`, the step \
-     it failed at (None if it did not start)."
-);
+/// The exception `name` of `purcell` (python/purcell/_errors.py) with `message`, its
+/// attributes the keyword arguments `attrs`.
+pub(crate) fn error(name: &str, message: String, attrs: Option<&Bound<'_, PyDict>>) -> PyErr {
+    Python::attach(|py| {
+        let raised = py
+            .import("purcell._errors")
+            .and_then(|m| m.getattr(name))
+            .and_then(|class| class.call((message,), attrs));
+        match raised {
+            Ok(e) => PyErr::from_value(e),
+            Err(e) => e,
+        }
+    })
+}
 
-/// An [`InputError`] with `message`.
+/// `purcell.InputError` with `message`.
 pub(crate) fn input_error(message: impl ToString) -> PyErr {
-    InputError::new_err(message.to_string())
+    error("InputError", message.to_string(), None)
 }
 
-/// The start budget `n` as a count: a negative one is refused with the command line's
-/// `--starts` message.
+/// `purcell.InputError` with the library's refusal `e` in Python's words.
+pub(crate) fn refused(e: impl Worded) -> PyErr {
+    input_error(e.words(Front::Python))
+}
+
+/// The start budget `n` as a count: a negative one is refused with the library's message.
 pub(crate) fn starts(n: i64) -> PyResult<usize> {
-    usize::try_from(n).map_err(|_| input_error(SpecError::Starts(n.into())))
+    usize::try_from(n).map_err(|_| refused(purcell_sim::spec::SpecError::Starts(n.into())))
 }
 
-/// Rows of `n` numbers as an `(rows.len(), n)` array.
+/// `a`, read-only: what it holds is a result, not the user's to change (an assignment
+/// raises instead of being lost).
+fn frozen<T: pyo3::PyTypeCheck>(a: Bound<'_, T>) -> PyResult<Bound<'_, T>> {
+    let flags = PyDict::new(a.py());
+    flags.set_item("write", false)?;
+    a.as_any().call_method("setflags", (), Some(&flags))?;
+    Ok(a)
+}
+
+/// Rows of `n` numbers as an `(rows.len(), n)` array, read-only.
 pub(crate) fn array2<'py, const N: usize>(
     py: Python<'py>,
     rows: impl ExactSizeIterator<Item = [f64; N]>,
-) -> Bound<'py, PyArray2<f64>> {
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let len = rows.len();
     let flat: Vec<f64> = rows.flatten().collect();
     match Array2::from_shape_vec((len, N), flat) {
-        Ok(a) => a.into_pyarray(py),
+        Ok(a) => frozen(a.into_pyarray(py)),
         Err(_) => unreachable!("every row has N numbers"),
     }
 }
 
-/// A vector as a 1-D array.
-pub(crate) fn array1<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyArray1<f64>> {
-    PyArray1::from_slice(py, v)
+/// A vector as a 1-D array, read-only.
+pub(crate) fn array1<'py>(py: Python<'py>, v: &[f64]) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    frozen(PyArray1::from_slice(py, v))
+}
+
+/// An array of any shape, read-only.
+pub(crate) fn array<'py, D: numpy::ndarray::Dimension>(
+    py: Python<'py>,
+    a: numpy::ndarray::Array<f64, D>,
+) -> PyResult<Bound<'py, numpy::PyArray<f64, D>>> {
+    frozen(a.into_pyarray(py))
+}
+
+/// `name(key=value, ...)` with each value's Python `repr`, as a dataclass shows itself.
+pub(crate) fn repr<'py>(
+    name: &str,
+    fields: impl IntoIterator<Item = (&'static str, PyResult<Bound<'py, PyAny>>)>,
+) -> PyResult<String> {
+    let mut parts = Vec::new();
+    for (key, value) in fields {
+        parts.push(format!("{key}={}", value?.repr()?));
+    }
+    Ok(format!("{name}({})", parts.join(", ")))
+}
+
+/// `v` as a Python object, for [`repr`].
+pub(crate) fn py_any<'py, T: IntoPyObject<'py>>(
+    py: Python<'py>,
+    v: T,
+) -> PyResult<Bound<'py, PyAny>> {
+    pyo3::IntoPyObjectExt::into_bound_py_any(v, py)
 }
 
 /// The local connection at a shape, with its derivatives.
@@ -78,70 +114,53 @@ pub struct Connection {
     a: Py<PyArray2<f64>>,
     /// `[dA/dalpha1, dA/dalpha2]`, shape (2, 3, 2), per radian.
     #[pyo3(name = "dA")]
-    da: Py<PyAny>,
+    da: Py<numpy::PyArray3<f64>>,
 }
 
 #[pymethods]
 impl Connection {
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        Ok(format!("Connection(A={})", self.a.bind(py).repr()?))
+        repr(
+            "Connection",
+            [("A", Ok(self.a.bind(py).clone().into_any()))],
+        )
     }
 }
 
-/// The local connection A(alpha) of the swimmer and its derivatives (MODEL.md §2).
-///
-/// alpha: the shape (alpha1, alpha2), radians, each |alpha_i| < pi. links (m), drag and
-/// ratio as in `solve`. Raises InputError with the command line's message
-/// (`purcell-sim connection`).
+/// The local connection at `alpha` (purcell.connection documents it).
 #[pyfunction]
-#[pyo3(signature = (alpha, *, links = vec![1.0, 1.0, 1.0], drag = 1.0, ratio = 2.0))]
 fn connection(
     py: Python<'_>,
-    alpha: Vec<f64>,
-    links: Vec<f64>,
+    alpha: [f64; 2],
+    links: [f64; 3],
     drag: f64,
     ratio: f64,
 ) -> PyResult<Connection> {
-    let alpha: [f64; 2] = numbers("alpha", &alpha)?;
     let spec = Spec {
-        links: numbers("links", &links)?,
+        links,
         drag,
         ratio,
         alpha0: alpha,
         ..Spec::default()
     };
+    // The shape is the problem's alpha0 here.
     let problem =
         Problem::new(&spec).map_err(|e| input_error(e.to_string().replace("alpha0", "alpha")))?;
     let c = problem
         .swimmer
         .connection_with_derivatives(&nalgebra::Vector2::new(alpha[0], alpha[1]))
         .map_err(input_error)?;
-    let rows = |m: &nalgebra::Matrix3x2<f64>| (0..3).map(|r| [m[(r, 0)], m[(r, 1)]]).collect();
-    let da: Vec<Vec<[f64; 2]>> = vec![rows(&c.da[0]), rows(&c.da[1])];
-    let np = py.import("numpy")?;
+    let da = numpy::ndarray::Array3::from_shape_fn((2, 3, 2), |(i, r, j)| c.da[i][(r, j)]);
     Ok(Connection {
-        a: array2(py, (0..3).map(|r| [c.a[(r, 0)], c.a[(r, 1)]])).unbind(),
-        da: np.call_method1("array", (da,))?.unbind(),
-    })
-}
-
-/// `N` numbers of argument `name`, with the command line's message for another count.
-pub(crate) fn numbers<const N: usize>(name: &str, v: &[f64]) -> PyResult<[f64; N]> {
-    <[f64; N]>::try_from(v).map_err(|_| {
-        input_error(format!(
-            "--{name} takes {N} comma-separated numbers (got {})",
-            v.len()
-        ))
+        a: array2(py, (0..3).map(|r| [c.a[(r, 0)], c.a[(r, 1)]]))?.unbind(),
+        da: array(py, da)?.unbind(),
     })
 }
 
 /// The native module.
 #[pymodule]
 fn _purcell(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    let py = m.py();
-    m.add("InputError", py.get_type::<InputError>())?;
-    m.add("NoSolution", py.get_type::<NoSolution>())?;
-    m.add("ReplayFailed", py.get_type::<ReplayFailed>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<Connection>()?;
     m.add_class::<solution::Extremal>()?;
     m.add_class::<solution::Solution>()?;

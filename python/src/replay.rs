@@ -2,16 +2,15 @@
 //! the digest of `purcell-sim replay`, and the trajectory as arrays.
 
 use crate::solution::Solution;
-use crate::{ReplayFailed, array1, array2, input_error};
+use crate::{array1, array2, error, input_error, py_any, repr};
 use numpy::{PyArray1, PyArray2};
 use purcell_core::gait::Stored;
 use purcell_core::{Gait, Real};
 use purcell_sim::budget::Work;
 use purcell_sim::costate_file::CostateFile;
-use purcell_sim::replay::{ReplayReport, replay_gait};
-use purcell_solver::problem::{Problem, check_gait_precision};
+use purcell_sim::replay::{ReplayReport, check_stored, replay_gait};
 use pyo3::prelude::*;
-use pyo3::types::{PyByteArray, PyBytes};
+use pyo3::types::{PyByteArray, PyBytes, PyDict};
 
 /// One replay of a gait through the core (MODEL.md §6), as `purcell-sim replay --precision`.
 #[pyclass(frozen, get_all, module = "purcell")]
@@ -40,10 +39,16 @@ pub struct Replay {
 
 #[pymethods]
 impl Replay {
-    fn __repr__(&self) -> String {
-        format!(
-            "Replay(precision={:?}, checkpoints={}, digest={:?}, alpha_error={:.2e}, g_error={:.2e})",
-            self.precision, self.checkpoints, self.digest, self.alpha_error, self.g_error
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        repr(
+            "Replay",
+            [
+                ("precision", py_any(py, self.precision)),
+                ("checkpoints", py_any(py, self.checkpoints)),
+                ("digest", py_any(py, &self.digest)),
+                ("alpha_error", py_any(py, self.alpha_error)),
+                ("g_error", py_any(py, self.g_error)),
+            ],
         )
     }
 }
@@ -68,17 +73,18 @@ pub fn replay(
     // The command line's step and memory budget: the replay keeps the whole path.
     purcell_sim::budget::check(u64::from(gait.params().steps), Work::Path)
         .map_err(|e| input_error(format!("{name}: {e}")))?;
-    Problem::of_gait(gait.params()).map_err(refused)?;
-    match precision {
-        "f32" => {
-            check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32")
-                .map_err(refused)?;
-            fly::<f32>(py, &gait, "f32", checkpoints)
+    let f32 = match precision {
+        "f32" => true,
+        "f64" => false,
+        other => {
+            let why = format!("precision must be 'f32' or 'f64' (got '{other}')");
+            return Err(input_error(why));
         }
-        "f64" => fly::<f64>(py, &gait, "f64", checkpoints),
-        other => Err(input_error(format!(
-            "precision must be \"f32\" or \"f64\" (got {other:?})"
-        ))),
+    };
+    check_stored(&gait, f32).map_err(refused)?;
+    match f32 {
+        true => fly::<f32>(py, &gait, "f32", checkpoints),
+        false => fly::<f64>(py, &gait, "f64", checkpoints),
     }
 }
 
@@ -141,33 +147,20 @@ fn fly<T: Stored>(
         final_state_bits: bits,
         alpha_error,
         g_error,
-        t: array1(py, &t).unbind(),
-        alpha: array2(py, path.alpha.into_iter()).unbind(),
-        u: array2(py, path.u.into_iter()).unbind(),
-        g: array2(py, path.g.into_iter()).unbind(),
+        t: array1(py, &t)?.unbind(),
+        alpha: array2(py, path.alpha.into_iter())?.unbind(),
+        u: array2(py, path.u.into_iter())?.unbind(),
+        g: array2(py, path.g.into_iter())?.unbind(),
     })
 }
 
-/// [`ReplayFailed`] with the command line's message and the step it failed at.
+/// `purcell.ReplayFailed` with the command line's message and the step it failed at.
 fn failure(py: Python<'_>, gait: &Gait<'_>, r: &ReplayReport) -> PyErr {
-    let why = r.failure.as_deref().unwrap_or("no result");
-    let which = format!(
-        "{} replay {} checkpoints",
-        r.precision,
-        if r.checkpoints { "with" } else { "without" }
-    );
-    let p = gait.params();
-    let message = match r.failed_at_step {
-        Some(k) => format!(
-            "{which} failed at step {k} of {} (t = {} s): {why}",
-            p.steps,
-            (f64::from(k) * p.h * 1e9).round() / 1e9
-        ),
-        None => format!("{which} failed before its first step: {why}"),
-    };
-    let err = ReplayFailed::new_err(message);
-    match err.value(py).setattr("step", r.failed_at_step) {
-        Ok(()) => err,
+    let message = r.failure_message(gait);
+    let message = message.unwrap_or_else(|| format!("{} replay: no result", r.precision));
+    let attrs = PyDict::new(py);
+    match attrs.set_item("step", r.failed_at_step) {
+        Ok(()) => error("ReplayFailed", message, Some(&attrs)),
         Err(e) => e,
     }
 }

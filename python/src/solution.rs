@@ -1,33 +1,67 @@
 //! `Extremal` and `Solution`: what `purcell.solve` returns, the arrays built from the
-//! solver's trajectory on each access.
+//! solver's trajectory at their first access, read-only, and kept.
 
-use crate::{array1, array2, input_error};
+use crate::{array1, array2, py_any, refused, repr};
 use numpy::{PyArray1, PyArray2};
 use purcell_sim::costate_file::CostateFile;
 use purcell_sim::output;
 use purcell_sim::report::Solved;
+use purcell_sim::words::{Front, Worded};
 use purcell_solver::problem::Problem;
 use purcell_solver::solver;
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyBytes, PyDict};
 
 /// One extremal of the problem on its own grid, with its certificates (MODEL.md §4–§5).
 ///
-/// Arrays are numpy float64, built anew at each access. Units: seconds, radians, metres;
-/// controls in rad/s; costates as MODEL.md §5.
+/// Arrays are numpy float64, read-only, built at their first access. Units: seconds,
+/// radians, metres; controls in rad/s; costates as MODEL.md §5.
 #[pyclass(frozen, subclass, module = "purcell")]
 pub struct Extremal {
     /// The solver's extremal.
     x: solver::Extremal,
     /// Time step `h`, seconds.
     h: f64,
+    /// Its arrays, once built.
+    arrays: Arrays,
+}
+
+/// An [`Extremal`]'s arrays, each built at its first access.
+struct Arrays {
+    mu: PyOnceLock<Py<PyArray1<f64>>>,
+    xi0: PyOnceLock<Py<PyArray1<f64>>>,
+    t: PyOnceLock<Py<PyArray1<f64>>>,
+    alpha: PyOnceLock<Py<PyArray2<f64>>>,
+    u: PyOnceLock<Py<PyArray2<f64>>>,
+    g: PyOnceLock<Py<PyArray2<f64>>>,
+    xi: PyOnceLock<Py<PyArray2<f64>>>,
+}
+
+/// The array in `cell`, made by `make` at the first call.
+fn cached<'py, T>(
+    py: Python<'py>,
+    cell: &PyOnceLock<Py<T>>,
+    make: impl FnOnce() -> PyResult<Bound<'py, T>>,
+) -> PyResult<Bound<'py, T>> {
+    let made = cell.get_or_try_init(py, || make().map(Bound::unbind))?;
+    Ok(made.bind(py).clone())
 }
 
 impl Extremal {
     /// The extremal `x` of a problem with step `h`.
     pub(crate) fn new(x: solver::Extremal, h: f64) -> Self {
-        Extremal { x, h }
+        let arrays = Arrays {
+            mu: PyOnceLock::new(),
+            xi0: PyOnceLock::new(),
+            t: PyOnceLock::new(),
+            alpha: PyOnceLock::new(),
+            u: PyOnceLock::new(),
+            g: PyOnceLock::new(),
+            xi: PyOnceLock::new(),
+        };
+        Extremal { x, h, arrays }
     }
 }
 
@@ -40,47 +74,57 @@ impl Extremal {
     }
     /// The spatial momentum mu, shape (3,).
     #[getter]
-    fn mu<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.x.mu.as_slice())
+    fn mu<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        cached(py, &self.arrays.mu, || array1(py, self.x.mu.as_slice()))
     }
     /// The initial shape costate xi^{-1}, shape (2,).
     #[getter]
-    fn xi0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.x.xi0.as_slice())
+    fn xi0<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        cached(py, &self.arrays.xi0, || array1(py, self.x.xi0.as_slice()))
     }
     /// Times t_k = k h, k = 0..N, seconds, shape (N+1,): the float nearest the decimal k h,
     /// as trajectory.csv prints it (9.9, not 9.900000000000002).
     #[getter]
-    fn t<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+    fn t<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let n = self.x.trajectory.states.len();
-        let t: Vec<f64> = (0..n)
-            .map(|k| purcell_sim::decimal::time_value(k as u64, self.h))
-            .collect();
-        array1(py, &t)
+        cached(py, &self.arrays.t, || {
+            let t: Vec<f64> = (0..n)
+                .map(|k| purcell_sim::decimal::time_value(k as u64, self.h))
+                .collect();
+            array1(py, &t)
+        })
     }
     /// Shapes alpha_k = (alpha1, alpha2), radians, shape (N+1, 2).
     #[getter]
-    fn alpha<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    fn alpha<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = &self.x.trajectory.states;
-        array2(py, s.iter().map(|s| [s.alpha.x, s.alpha.y]))
+        cached(py, &self.arrays.alpha, || {
+            array2(py, s.iter().map(|s| [s.alpha.x, s.alpha.y]))
+        })
     }
     /// Controls u_k = shape velocities, rad/s, shape (N, 2).
     #[getter]
-    fn u<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    fn u<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let c = &self.x.trajectory.controls;
-        array2(py, c.iter().map(|u| [u.x, u.y]))
+        cached(py, &self.arrays.u, || {
+            array2(py, c.iter().map(|u| [u.x, u.y]))
+        })
     }
     /// Positions g_k = (x, y, theta), metres and radians, shape (N+1, 3).
     #[getter]
-    fn g<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    fn g<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = &self.x.trajectory.states;
-        array2(py, s.iter().map(|s| s.g.to_xytheta().into()))
+        cached(py, &self.arrays.g, || {
+            array2(py, s.iter().map(|s| s.g.to_xytheta().into()))
+        })
     }
     /// The costate path xi^{k-1}, k = 0..N (the first is xi0), shape (N+1, 2).
     #[getter]
-    fn xi<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    fn xi<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = &self.x.trajectory.xis;
-        array2(py, s.iter().map(|x| [x.x, x.y]))
+        cached(py, &self.arrays.xi, || {
+            array2(py, s.iter().map(|x| [x.x, x.y]))
+        })
     }
     /// Joint-limit arcs: dicts {joint (1 or 2), sign (+1/-1), first, last} (states on the limit).
     #[getter]
@@ -169,10 +213,16 @@ impl Extremal {
     fn twin_of(&self) -> Option<usize> {
         self.x.twin_of
     }
-    fn __repr__(&self) -> String {
-        format!(
-            "Extremal(cost={:.7}, max_abs_alpha={:.4}, admissible={}, local_min={})",
-            self.x.cost, self.x.max_abs_alpha, self.x.admissible, self.x.local_min
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let x = &self.x;
+        repr(
+            "Extremal",
+            [
+                ("cost", py_any(py, x.cost)),
+                ("max_abs_alpha", py_any(py, x.max_abs_alpha)),
+                ("admissible", py_any(py, x.admissible)),
+                ("local_min", py_any(py, x.local_min)),
+            ],
         )
     }
 }
@@ -217,12 +267,29 @@ impl Solution {
     fn costate(&self) -> String {
         self.solved.file.to_json()
     }
-    /// Writes the command line's files to the directory `out` as `purcell-sim solve --out`
-    /// does: trajectory.csv, costate.json, report.json and (plots=True) the figures, SVG and
-    /// PNG (shape axes in degrees with degrees=True). The same safety rules: `out` must be
-    /// missing, empty or a previous result of `solve` (anything with force=True), the files
-    /// are written next to it and put in its place in one step. Raises InputError (the
-    /// command line's message) for a refused `out`, OSError if writing fails.
+    /// Writes ``purcell-sim solve --out``'s files to the directory `out`.
+    ///
+    /// trajectory.csv, costate.json, report.json and the figures (SVG and PNG), with the
+    /// command line's safety rules: `out` must be missing, empty or a previous result of
+    /// `solve`; the files are written next to it and put in its place in one step.
+    ///
+    /// Parameters
+    /// ----------
+    /// out : str or os.PathLike
+    ///     The directory.
+    /// force : bool, default False
+    ///     Replace whatever `out` holds.
+    /// plots : bool, default True
+    ///     Write the figures.
+    /// degrees : bool, default False
+    ///     The figures' shape axes in degrees.
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     `out` refused (it holds something else, and `force` is not set).
+    /// OSError
+    ///     Writing failed.
     #[pyo3(signature = (out, *, force = false, plots = true, degrees = false))]
     fn save(
         slf: PyRef<'_, Self>,
@@ -233,25 +300,28 @@ impl Solution {
         degrees: bool,
     ) -> PyResult<()> {
         let x = &slf.as_super().x;
-        let dir = output::OutputDir::prepare(&out, "solve", force, &[]).map_err(input_error)?;
+        let dir = output::OutputDir::prepare(&out, "solve", force, &[]).map_err(refused)?;
         let (problem, solved) = (&slf.problem, &slf.solved);
         py.detach(|| {
             let options = purcell_sim::plots::Options { degrees };
             let files = solved
                 .files(problem, x, plots.then_some(&options))
                 .map_err(|e| e.to_string())?;
-            dir.commit(&files).map_err(|e| e.to_string())
+            dir.commit(&files).map_err(|e| e.words(Front::Python))
         })
         .map_err(PyOSError::new_err)
     }
-    fn __repr__(slf: PyRef<'_, Self>) -> String {
+    fn __repr__(slf: PyRef<'_, Self>, py: Python<'_>) -> PyResult<String> {
         let x = &slf.as_super().x;
-        format!(
-            "Solution(cost={:.7}, mu={:?}, xi0={:?}, extremals={})",
-            x.cost,
-            x.mu.as_slice(),
-            x.xi0.as_slice(),
-            slf.extremals.len()
+        repr(
+            "Solution",
+            [
+                ("cost", py_any(py, x.cost)),
+                ("mu", py_any(py, x.mu.as_slice())),
+                ("xi0", py_any(py, x.xi0.as_slice())),
+                ("admissible", py_any(py, x.admissible)),
+                ("extremals", py_any(py, slf.extremals.len())),
+            ],
         )
     }
 }
@@ -270,7 +340,7 @@ pub(crate) fn build(
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     let report = py
         .import("json")?
-        .call_method1("loads", (solved.report.to_string(),))?;
+        .call_method1("loads", (solved.report_text.as_str(),))?;
     let extremals = solution
         .extremals
         .iter()

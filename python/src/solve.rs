@@ -1,80 +1,31 @@
-//! `purcell.solve`: the command line's checks (`purcell-sim solve`), then the solver on a
-//! thread of its own while the caller's thread, the GIL released, waits, calls `progress` and
-//! checks for Ctrl-C.
+//! `purcell.solve`: the library layer's checks (those of `purcell-sim solve`), then the
+//! solver on a thread of its own while the caller's thread, the GIL released, waits, calls
+//! `progress` and checks for Ctrl-C.
 
-use crate::{NoSolution, detach, input_error, numbers, solution};
-use purcell_sim::report::{SearchWarning, search_warnings};
-use purcell_sim::spec::{self, SolveSpec};
-use purcell_solver::problem::Spec;
+use crate::keywords::ProblemKw;
+use crate::{detach, error, input_error, refused, solution};
+use purcell_sim::report::search_warnings;
+use purcell_sim::spec;
+use purcell_sim::words::{Front, Worded};
 use purcell_solver::solver::continuation::{self, Warm};
-use purcell_solver::solver::{self, SolveError, SolveOptions};
+use purcell_solver::solver::{self, SolveError};
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// The cheapest admissible gait that moves the swimmer from the origin to `target`
-/// (MODEL.md §4), as `purcell-sim solve` finds it, with the same defaults and checks.
-///
-/// target: (x, y, theta), metres and radians (theta taken modulo 2 pi into ]-pi, pi]).
-/// horizon: T, seconds, a whole number of steps. step: h, seconds. alpha0: the start and end
-/// shape, radians. links: (L0 middle, L1 front, L2 rear), metres. drag: k. ratio: normal over
-/// tangential drag. alpha_max: joint limit |alpha_i| <= alpha_max, radians, below pi (None:
-/// only the links' overlap). starts: budget of start loops (1 to 4096). seed: orders the
-/// starts. checkpoint_every: costate checkpoint spacing in steps (None: 100; 0: none).
-/// warm: a Solution, or the path of a costate file (costate.json), whose extremal (replayed)
-/// starts the solve (the command line's `--from`): continuation from its target to this one,
-/// or the global search with a UserWarning if that reaches no admissible extremal; the same
-/// swimmer required. progress: called as progress(done, total, phase) every 0.1 s and at the
-/// end with (total, total, phase), from the calling thread: the phases "search" (start loops
-/// finished of starts + 1, the zero loop included; the search may stop sooner) and
-/// "refinement" (candidates carried to the problem's grid), or with warm "continuation"
-/// first, as the command line's progress counts them.
-///
-/// The GIL is released while the solver runs (on all cores); Ctrl-C, or an exception raised
-/// by `progress`, cancels the search. Raises InputError (a ValueError, the command line's
-/// message) for bad input and NoSolution where the command line exits 3.
+/// `purcell.solve` (python/purcell/_solve.py documents it): the problem's keywords checked as
+/// the command line checks its flags, the solve from `warm` or the global search.
 #[pyfunction]
-#[pyo3(signature = (
-    target, *, horizon = 100.0, step = 0.01, alpha0 = vec![0.0, 0.0],
-    links = vec![1.0, 1.0, 1.0], drag = 1.0, ratio = 2.0, alpha_max = None,
-    starts = SolveOptions::default().starts as i64, seed = 0, checkpoint_every = None,
-    warm = None, progress = None
-))]
-#[allow(clippy::too_many_arguments)]
 pub fn solve(
     py: Python<'_>,
-    target: Vec<f64>,
-    horizon: f64,
-    step: f64,
-    alpha0: Vec<f64>,
-    links: Vec<f64>,
-    drag: f64,
-    ratio: f64,
-    alpha_max: Option<f64>,
-    starts: i64,
-    seed: u64,
-    checkpoint_every: Option<u32>,
+    target: [f64; 3],
+    problem: ProblemKw,
     warm: Option<Bound<'_, PyAny>>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<solution::Solution>> {
-    let starts = crate::starts(starts)?;
-    let spec = SolveSpec {
-        problem: Spec {
-            target: numbers("target", &target)?,
-            horizon,
-            step,
-            alpha0: numbers("alpha0", &alpha0)?,
-            links: numbers("links", &links)?,
-            drag,
-            ratio,
-            alpha_max,
-        },
-        starts,
-        seed,
-        checkpoint_every,
-    };
-    let prepared = spec::prepare(&spec).map_err(input_error)?;
+    let prepared = spec::prepare(&problem.solve_spec(target)?).map_err(refused)?;
     let (problem, options) = (&prepared.problem, &prepared.options);
     let warm = warm.map(|w| warm_start(&w)).transpose()?;
     let t0 = Instant::now();
@@ -93,28 +44,10 @@ pub fn solve(
         )?;
     }
     let found = found.map_err(|e| no_solution(py, &e))?;
-    warn_search(py, &found)?;
-    solution::build(py, problem, &found, prepared.checkpoint_every, seconds)
-}
-
-/// The search's warnings: its budget spent before its stopping rule was met; minima it left
-/// unrefined that may be cheaper (one warning, for the cheapest).
-fn warn_search(py: Python<'_>, found: &solver::Solution) -> PyResult<()> {
-    for w in search_warnings(found) {
-        let message = match w {
-            SearchWarning::BudgetSpent { budget, unseen } => format!(
-                "the search used its budget of {budget} starts before its stopping rule was met \
-                 (estimated chance that another start finds an unseen minimum no dearer than the \
-                 gait returned: {unseen:.3}); this is the cheapest gait found: raise starts to \
-                 search on"
-            ),
-            SearchWarning::Unrefined { cheapest, count } => {
-                format!("{cheapest} ({count} such minima): try another seed or more starts")
-            }
-        };
-        warn(py, message)?;
+    for w in search_warnings(&found) {
+        warn(py, w.words(Front::Python))?;
     }
-    Ok(())
+    solution::build(py, problem, &found, prepared.checkpoint_every, seconds)
 }
 
 /// A `UserWarning` with `message`.
@@ -138,20 +71,19 @@ fn warm_start(warm: &Bound<'_, PyAny>) -> PyResult<Warm> {
     found.map_err(input_error)
 }
 
-/// [`NoSolution`] for `e`, with `best_residual` and `best_alpha`.
+/// `purcell.NoSolution` for `e`, with `best_residual` and `best_alpha`.
 fn no_solution(py: Python<'_>, e: &SolveError) -> PyErr {
     let (residual, alpha) = match *e {
         SolveError::Unreachable { best_residual } => (Some(best_residual), None),
         SolveError::NotRefined { best_residual, .. } => (Some(best_residual), None),
         SolveError::NoneAdmissible { best_alpha, .. } => (None, Some(best_alpha)),
     };
-    let err = NoSolution::new_err(e.to_string());
-    let value = err.value(py);
-    match value
-        .setattr("best_residual", residual)
-        .and_then(|()| value.setattr("best_alpha", alpha))
+    let attrs = PyDict::new(py);
+    match attrs
+        .set_item("best_residual", residual)
+        .and_then(|()| attrs.set_item("best_alpha", alpha))
     {
-        Ok(()) => err,
+        Ok(()) => error("NoSolution", e.to_string(), Some(&attrs)),
         Err(e) => e,
     }
 }

@@ -3,55 +3,23 @@
 //! ([`SweepPlan`], [`sweep_search`], [`sweep_refine`]): the searches and refinements as
 //! batches anywhere, the neighbour passes where the plan is.
 
-use crate::{detach, input_error, numbers};
-use purcell_sim::spec::{self, MAX_SWEEP_TARGETS};
+use crate::keywords::ProblemKw;
+use crate::{detach, input_error, refused};
+use purcell_sim::spec::{self, MAX_SWEEP_TARGETS, SpecError};
 use purcell_sim::units::Quantity::{self, Angle, Length};
 use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::continuation::{self, Atlas, Lattice, refine_target, search_target};
 use purcell_solver::solver::search::Candidate;
-use purcell_solver::solver::{Extremal, SolveError, SolveOptions};
+use purcell_solver::solver::{Extremal, SolveError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 use rayon::prelude::*;
-
-/// The problem's keyword arguments of `purcell.sweep` (a dict with all of them).
-#[derive(FromPyObject)]
-#[pyo3(from_item_all)]
-pub(crate) struct ProblemKw {
-    horizon: f64,
-    step: f64,
-    alpha0: Vec<f64>,
-    links: Vec<f64>,
-    drag: f64,
-    ratio: f64,
-    alpha_max: Option<f64>,
-    starts: i64,
-}
-
-impl ProblemKw {
-    /// The problem (target 0) and search options, with the command line's checks.
-    fn checked(&self) -> PyResult<(Spec, SolveOptions)> {
-        let starts = crate::starts(self.starts)?;
-        let spec = Spec {
-            horizon: self.horizon,
-            step: self.step,
-            alpha0: numbers("alpha0", &self.alpha0)?,
-            links: numbers("links", &self.links)?,
-            drag: self.drag,
-            ratio: self.ratio,
-            alpha_max: self.alpha_max,
-            target: [0.0; 3],
-        };
-        let options = spec::sweep_options(&spec, starts).map_err(input_error)?;
-        Ok((spec, options))
-    }
-}
 
 /// One axis of the lattice: `"FROM:TO:COUNT"` or a number as text (the command line's), a
 /// number, or a sequence of numbers.
 fn axis_of(name: &str, kind: Quantity, v: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
     if let Ok(text) = v.cast::<PyString>() {
-        return spec::axis(name, text.to_str()?, kind).map_err(input_error);
+        return spec::axis(name, text.to_str()?, kind).map_err(refused);
     }
     let values = match v.extract::<f64>() {
         Ok(x) => vec![x],
@@ -80,7 +48,7 @@ fn lattice_of(
         axis_of("y", Length, ys)?,
         axis_of("theta", Angle, thetas)?,
     ])
-    .map_err(input_error)
+    .map_err(refused)
 }
 
 /// One target's record: the columns of `sweep.csv` (numbers None where it has none).
@@ -121,12 +89,12 @@ pub fn sweep<'py>(
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let lattice = lattice_of(xs, ys, thetas)?;
-    let (spec, options) = problem.checked()?;
+    let (spec, options) = problem.sweep()?;
     // Each target ticks once when searched and once when refined, as the command line's bar.
     let points = detach::run(py, progress.as_ref(), |progress| {
         continuation::sweep(&spec, &lattice, &options, progress)
     })?
-    .map_err(input_error)?;
+    .map_err(|e| refused(SpecError::from(e)))?;
     points
         .iter()
         .map(|p| record(py, p.target.into(), &p.result))
@@ -201,8 +169,9 @@ impl SweepPlan {
         problem: ProblemKw,
     ) -> PyResult<Self> {
         let lattice = lattice_of(xs, ys, thetas)?;
-        let (spec, options) = problem.checked()?;
-        let atlas = Atlas::new(&spec, lattice, &options).map_err(input_error)?;
+        let (spec, options) = problem.sweep()?;
+        let atlas =
+            Atlas::new(&spec, lattice, &options).map_err(|e| refused(SpecError::from(e)))?;
         Ok(SweepPlan { atlas })
     }
     /// The targets (x m, y m, theta rad), x slowest, theta fastest.
@@ -214,6 +183,11 @@ impl SweepPlan {
     /// Indices of the targets whose global search runs (one per orbit of the symmetries).
     fn searched(&self) -> Vec<usize> {
         self.atlas.searched()
+    }
+    fn __repr__(&self) -> String {
+        let n = self.atlas.targets.len();
+        let searched = self.atlas.searched().len();
+        format!("SweepPlan(targets={n}, searched={searched})")
     }
     /// Phase 2 from the searches' outcomes [(index, extremals, defect)] of `searched()`:
     /// every target's (own extremals, extremals the neighbour passes brought, defect).
@@ -252,7 +226,7 @@ pub fn sweep_search<'py>(
     targets: Vec<[f64; 3]>,
     problem: ProblemKw,
 ) -> PyResult<Vec<(Bound<'py, PyBytes>, f64)>> {
-    let (spec, options) = problem.checked()?;
+    let (spec, options) = problem.sweep()?;
     let problems = problems(&spec, &targets)?;
     let found: Vec<(Vec<u8>, f64)> = py.detach(|| {
         problems
@@ -277,7 +251,7 @@ pub fn sweep_refine<'py>(
     cells: Vec<([f64; 3], Cell<'py>)>,
     problem: ProblemKw,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let (spec, options) = problem.checked()?;
+    let (spec, options) = problem.sweep()?;
     let targets: Vec<[f64; 3]> = cells.iter().map(|c| c.0).collect();
     let problems = problems(&spec, &targets)?;
     let lists = cells
@@ -309,7 +283,7 @@ fn problems(spec: &Spec, targets: &[[f64; 3]]) -> PyResult<Vec<Problem>> {
                 target,
                 ..spec.clone()
             })
-            .map_err(input_error)
+            .map_err(|e| refused(SpecError::from(e)))
         })
         .collect()
 }

@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import subprocess
 from pathlib import Path
 
@@ -57,3 +58,11 @@ def kwargs(problem):
     """The keyword arguments of `purcell.solve` for a problem of public.json."""
     keys = ("horizon", "step", "alpha0", "links", "drag", "ratio", "alpha_max")
     return {k: problem[k] for k in keys if k in problem}
+
+
+def in_python_words(message):
+    """A command-line message with its flags as Python's keyword names: `--alpha-max 0.8`
+    as `alpha_max=0.8`, `--starts` as `starts` (and the solver's `alpha-max` as `alpha_max`)."""
+    message = re.sub(r"--([a-z0-9-]+) (?=[-0-9])", lambda m: m[1].replace("-", "_") + "=", message)
+    message = re.sub(r"--([a-z0-9-]+)", lambda m: m[1].replace("-", "_"), message)
+    return message.replace("alpha-max", "alpha_max")

@@ -59,7 +59,7 @@ def test_save_writes_the_command_line_files(solved, cli, tmp_path):
     other.mkdir()
     (other / "notes.txt").write_text("mine")
     cli("solve", *flags, "--no-plots", "--out", other, code=2)
-    with pytest.raises(purcell.InputError):
+    with pytest.raises(purcell.InputError, match=r"pass force=True to replace it anyway\)$"):
         solved.save(other)
     assert (other / "notes.txt").read_text() == "mine"
     solved.save(other, force=True, plots=False)

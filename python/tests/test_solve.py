@@ -77,9 +77,28 @@ def test_progress_counts_each_phase_to_its_total():
     assert all(0 <= c[0] <= c[1] for c in calls)
 
 
-@pytest.mark.parametrize("phase", ["search", "refinement"])
-def test_an_interrupt_stops_the_solve_within_half_a_second(phase):
-    # 100 000 steps: the refinement takes seconds, the search a few tenths.
+@pytest.fixture(scope="module")
+def warm():
+    """A quick solution to start a continuation from."""
+    return purcell.solve((0.05, 0.05, 0.1), alpha0=(0.3, 0.3))
+
+
+@pytest.mark.parametrize(
+    ("phase", "given"),
+    [
+        ("search", {}),
+        ("refinement", {}),
+        # A joint-limited refinement: its barrier path and active-set rounds (limits.rs).
+        ("refinement", {"alpha_max": 1.5}),
+        # A warm start's Newton and continuation (continue_to).
+        ("continuation", {"warm": True}),
+    ],
+    ids=["search", "refinement", "limited-refinement", "continuation"],
+)
+def test_an_interrupt_stops_the_solve_within_half_a_second(phase, given, request):
+    # 100 000 steps: the refinement and a continuation take seconds, the search a few tenths.
+    if given.get("warm"):
+        given = {"warm": request.getfixturevalue("warm"), "alpha0": (0.3, 0.3)}
     raised = []
 
     def stop(done, total, now):
@@ -88,7 +107,7 @@ def test_an_interrupt_stops_the_solve_within_half_a_second(phase):
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        purcell.solve((0.1, 0.1, 0.0), step=0.001, progress=stop)
+        purcell.solve((0.1, 0.1, 0.0), step=0.001, progress=stop, **given)
     assert raised, f"the solve ended before its {phase} was seen"
     assert time.perf_counter() - raised[0] <= 0.5
 

@@ -3,7 +3,7 @@
 //!
 //! [`cli`] is the command line, over the library layer that every front end (it, the Python
 //! package) calls: [`spec`] checks and prepares a search from plain numbers ([`units`] parses
-//! numbers with units), [`report`] builds what a solve writes; [`costate_file`] the file format the firmware flies (and its
+//! numbers with units; [`words`] words its refusals for each front end), [`report`] builds what a solve writes; [`costate_file`] the file format the firmware flies (and its
 //! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
 //! [`decimal`] writes times and grid values as exact decimals;
 //! [`replay`] replays a costate file through the core in `f64`/`f32`; [`robustness`] holds what
@@ -13,6 +13,7 @@
 #![deny(missing_docs)]
 
 pub mod budget;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod costate_file;
 pub mod decimal;
@@ -25,3 +26,4 @@ pub mod robustness;
 pub mod spec;
 pub mod suite;
 pub mod units;
+pub mod words;

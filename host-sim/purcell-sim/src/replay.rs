@@ -8,31 +8,63 @@ use crate::output::path::{PathCsv, Row};
 use nalgebra::Vector2;
 use purcell_core::gait::Stored;
 use purcell_core::{Flight, Gait, State};
+use purcell_solver::problem::{InputError, Problem, check_gait_precision};
 use purcell_solver::solver::Trajectory;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::{Display, Write as _};
 
-/// One replay of a gait.
+/// One replay of a gait (fields in alphabetical order, the order of the reports that hold it).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ReplayReport {
-    /// `"f64"` or `"f32"`.
-    pub precision: &'static str,
+    /// `max |α_N − ᾱ|`, radians (see `purcell_core::TerminalError`).
+    pub alpha_error: Option<f64>,
     /// Whether the gait's checkpoints were applied (without: only those at the joint-limit
     /// arcs' exits, which the law needs; see `purcell_core::Gait::replay_without_checkpoints`).
     pub checkpoints: bool,
     /// `purcell_core::TrajectoryDigest` as `0x` and 16 hex digits (`null` if the replay failed).
     pub digest: Option<String>,
-    /// Bits of `(α1, α2, x, y, cos θ, sin θ)` at the end, as `0x…` (widened for `f32`).
-    pub final_state_bits: Option<Vec<String>>,
-    /// `max |α_N − ᾱ|`, radians (see `purcell_core::TerminalError`).
-    pub alpha_error: Option<f64>,
-    /// `max |log(ḡ⁻¹ g_N)|` over its components (metres / radians).
-    pub g_error: Option<f64>,
-    /// Why the replay stopped early, if it did.
-    pub failure: Option<String>,
     /// The step `k` it failed at (`null` if it did not start, or did not fail).
     pub failed_at_step: Option<u32>,
+    /// Why the replay stopped early, if it did.
+    pub failure: Option<String>,
+    /// Bits of `(α1, α2, x, y, cos θ, sin θ)` at the end, as `0x…` (widened for `f32`).
+    pub final_state_bits: Option<Vec<String>>,
+    /// `max |log(ḡ⁻¹ g_N)|` over its components (metres / radians).
+    pub g_error: Option<f64>,
+    /// `"f64"` or `"f32"`.
+    pub precision: &'static str,
+}
+
+impl ReplayReport {
+    /// Why the replay of `gait` stopped early, with the step and time it stopped at (`None`
+    /// if it did not): every front end's message.
+    pub fn failure_message(&self, gait: &Gait<'_>) -> Option<String> {
+        let why = self.failure.as_ref()?;
+        let with = if self.checkpoints { "with" } else { "without" };
+        let which = format!("{} replay {with} checkpoints", self.precision);
+        let p = gait.params();
+        Some(match self.failed_at_step {
+            Some(k) => format!(
+                "{which} failed at step {k} of {} (t = {} s): {why}",
+                p.steps,
+                (f64::from(k) * p.h * 1e9).round() / 1e9
+            ),
+            None => format!("{which} failed before its first step: {why}"),
+        })
+    }
+}
+
+/// What every route to a replay checks in a stored `gait`, besides the core's own
+/// validation and the step budget, before any work: its problem as input
+/// ([`Problem::of_gait`]) and, where it is replayed in `f32`, every number there
+/// ([`check_gait_precision`]).
+pub fn check_stored(gait: &Gait<'_>, f32: bool) -> Result<(), InputError> {
+    Problem::of_gait(gait.params())?;
+    if f32 {
+        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32")?;
+    }
+    Ok(())
 }
 
 /// Replays `gait` in `T` (`precision` names it), with or without its checkpoints.

@@ -1,15 +1,17 @@
 //! What a solve writes, for every front end: its costate file, binary gait and
 //! `report.json`, built once ([`Solved`]), the files of its output directory
-//! ([`Solved::files`]), and the warnings of its search ([`search_warnings`]), which each
-//! front end words itself.
+//! ([`Solved::files`]), and the warnings of its search ([`search_warnings`]), worded for
+//! each front end.
 
 use crate::costate_file::CostateFile;
 use crate::plots::{self, PlotError};
+use crate::words::{Front, Worded};
 use crate::{output, replay};
 use purcell_core::{Arc, Gait};
-use purcell_solver::problem::Problem;
+use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::continuation::{Lattice, SweepPoint};
 use purcell_solver::solver::{Evidence, Extremal, Minimum, Solution, Unrefined};
-use serde_json::json;
+use serde::Serialize;
 
 /// Why a solve's outputs could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -32,8 +34,8 @@ pub struct Solved {
     pub file: CostateFile,
     /// The binary gait file of `file`.
     pub gait: Vec<u8>,
-    /// `report.json` ([`report_json`]).
-    pub report: serde_json::Value,
+    /// `report.json`.
+    pub report: SolveReport,
     /// `report.json` as written.
     pub report_text: String,
 }
@@ -51,7 +53,7 @@ impl Solved {
         let file = output::costate_file(problem, best, every);
         let gait = file.to_gait().map_err(SolvedError::Gait)?;
         let parsed = Gait::from_bytes(&gait).map_err(SolvedError::Gait)?;
-        let report = report_json(problem, solution, &file, &parsed, seconds);
+        let report = SolveReport::new(problem, solution, &file, &parsed, seconds);
         let report_text = serde_json::to_string_pretty(&report)? + "\n";
         Ok(Solved {
             file,
@@ -90,7 +92,7 @@ impl Solved {
     }
 }
 
-/// A warning of a search, for its front end to word.
+/// A warning of a search, worded by each front end ([`Worded`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SearchWarning<'a> {
     /// The search used its budget of starts before its stopping rule was met; `unseen`: the
@@ -108,6 +110,31 @@ pub enum SearchWarning<'a> {
         /// How many.
         count: usize,
     },
+}
+
+impl Worded for SearchWarning<'_> {
+    fn words(&self, f: Front) -> String {
+        match *self {
+            SearchWarning::BudgetSpent { budget, unseen } => format!(
+                "the search used its budget of {budget} starts before its stopping rule was met \
+                 (estimated chance that another start finds an unseen minimum no dearer than the \
+                 gait returned: {unseen:.3}); this is the cheapest gait found: raise {} to \
+                 search on",
+                f.arg("starts")
+            ),
+            SearchWarning::Unrefined { cheapest, count } => {
+                let report = match f {
+                    Front::Cli => "report.json's search.unrefined",
+                    Front::Python => "report[\"search\"][\"unrefined\"]",
+                };
+                format!(
+                    "{cheapest} ({count} such minima in {report}): try another {} or {}",
+                    f.arg("seed"),
+                    f.arg("starts")
+                )
+            }
+        }
+    }
 }
 
 /// The warnings of `solution`'s search: a search that gave up early, minima left unrefined
@@ -135,82 +162,351 @@ pub const REPORT_FORMAT: &str = "purcell-solve-report";
 /// `report.json`'s version: 1 is the first tagged one.
 pub const REPORT_VERSION: u64 = 1;
 
-/// `report.json`: the returned extremal of `solution` (whose costate `file` and `gait` are
-/// written), found in `seconds`, then every extremal, the search's evidence and the
-/// standard replays of the gait.
-pub fn report_json(
-    problem: &Problem,
-    solution: &Solution,
-    file: &CostateFile,
-    gait: &Gait<'_>,
-    seconds: f64,
-) -> serde_json::Value {
-    let best = &solution.extremals[solution.best];
-    let extremals: Vec<_> = solution.extremals.iter().map(extremal_json).collect();
-    json!({
-        "format": REPORT_FORMAT, "version": REPORT_VERSION,
-        "cost": best.cost,
-        "residual": best.residual,
-        "terminal_residual": best.terminal_residual,
-        "kkt_residual": best.kkt_residual,
-        "arcs": arcs_json(&best.arcs),
-        "min_eta": best.min_eta,
-        "law_residual": best.law_residual,
-        "local_min": best.local_min,
-        "max_abs_alpha": best.max_abs_alpha,
-        "admissible": best.admissible,
-        "returned": solution.best,
-        "solve_seconds": seconds,
-        "search": solution.search.as_ref().map(evidence_json),
-        "mu": file.mu, "xi0": file.xi0,
-        "problem": {"target": file.target, "horizon": problem.horizon(), "step": problem.h,
-                    "steps": problem.steps, "alpha0": file.alpha0, "links": file.model.links,
-                    "drag": file.model.drag, "ratio": file.model.ratio,
-                    "alpha_max": problem.alpha_max},
-        "extremals": extremals,
-        // Terminal errors of the stored costate replayed through the core, as the firmware
-        // flies it (f32 with checkpoints) beside f64.
-        "replays": replay::standard_replays(gait),
-    })
+/// `report.json` of a solve (schema: `docs/schemas/solve-report.schema.json`): the returned
+/// extremal, found in `solve_seconds`, then every extremal, the search's evidence and the
+/// standard replays of the gait. The fields are in alphabetical order, the order the file
+/// has always had (it was written from a JSON map).
+#[derive(Clone, Debug, Serialize)]
+pub struct SolveReport {
+    /// Whether the returned extremal is admissible.
+    pub admissible: bool,
+    /// Its joint-limit arcs.
+    pub arcs: Vec<ArcReport>,
+    /// Its cost `J`, rad²/s.
+    pub cost: f64,
+    /// Every extremal, cheapest first.
+    pub extremals: Vec<ExtremalReport>,
+    /// [`REPORT_FORMAT`].
+    pub format: &'static str,
+    /// Its KKT residual through the core (`None` if not admissible).
+    pub kkt_residual: Option<f64>,
+    /// Its law residual (`None` if not admissible).
+    pub law_residual: Option<f64>,
+    /// Whether it is a strict local minimum.
+    pub local_min: bool,
+    /// Its largest `|α_i|`, rad.
+    pub max_abs_alpha: f64,
+    /// Its smallest arc multiplier (`None` without arcs).
+    pub min_eta: Option<f64>,
+    /// `μ` of the costate file.
+    pub mu: [f64; 3],
+    /// The problem.
+    pub problem: ProblemReport,
+    /// Terminal errors of the stored costate replayed through the core, as the firmware
+    /// flies it (f32 with checkpoints) beside f64.
+    pub replays: Vec<replay::ReplayReport>,
+    /// Its terminal defect.
+    pub residual: f64,
+    /// Its index in `extremals`.
+    pub returned: usize,
+    /// The global search's evidence (`None` after a warm start).
+    pub search: Option<EvidenceReport>,
+    /// Seconds the solve took.
+    pub solve_seconds: f64,
+    /// Its terminal defect through the core (`None` if not admissible).
+    pub terminal_residual: Option<f64>,
+    /// [`REPORT_VERSION`].
+    pub version: u64,
+    /// `ξ⁰` of the costate file.
+    pub xi0: [f64; 2],
 }
 
-/// One extremal in `report.json`.
-fn extremal_json(x: &Extremal) -> serde_json::Value {
-    json!({
-        "cost": x.cost, "max_abs_alpha": x.max_abs_alpha, "admissible": x.admissible,
-        "local_min": x.local_min, "residual": x.residual,
-        "terminal_residual": x.terminal_residual, "kkt_residual": x.kkt_residual,
-        "arcs": arcs_json(&x.arcs), "min_eta": x.min_eta,
-        "stationarity": x.stationarity, "law_residual": x.law_residual,
-        "newton_iterations": x.iterations, "start": x.start, "hits": x.hits, "twin_of": x.twin_of,
-        "mu": [x.mu.x, x.mu.y, x.mu.z], "xi0": [x.xi0.x, x.xi0.y],
-    })
+/// The problem in `report.json` (fields in alphabetical order).
+#[derive(Clone, Debug, Serialize)]
+pub struct ProblemReport {
+    /// `ᾱ`, rad.
+    pub alpha0: [f64; 2],
+    /// The joint limit, rad.
+    pub alpha_max: Option<f64>,
+    /// `k`.
+    pub drag: f64,
+    /// `T`, s.
+    pub horizon: f64,
+    /// `(L0, L1, L2)`, m.
+    pub links: [f64; 3],
+    /// `r`.
+    pub ratio: f64,
+    /// `h`, s.
+    pub step: f64,
+    /// `N`.
+    pub steps: u32,
+    /// `ḡ` (x m, y m, θ rad).
+    pub target: [f64; 3],
 }
 
-/// The global search's evidence in `report.json` (an infinite estimate as `null`).
-fn evidence_json(e: &Evidence) -> serde_json::Value {
-    let finite = |x: f64| x.is_finite().then_some(x);
-    json!({
-        "starts": e.starts, "budget": e.budget, "rule_met": e.satisfied,
-        "unseen_estimate": e.unseen, "expected_minima": finite(e.expected_minima),
-        "distinct_minima": e.minima.len(),
-        "minima": e.minima.iter().map(minimum_json).collect::<Vec<_>>(),
-        "unrefined": e.unrefined.iter().map(|u| {
-            let mut m = minimum_json(&u.minimum);
-            m["defect"] = json!(finite(u.defect));
-            m["cheaper"] = json!(u.cheaper);
-            m
-        }).collect::<Vec<_>>(),
-    })
+/// A joint-limit arc in `report.json`, as the costate file stores it (`purcell_core::Arc`:
+/// joint 1 or 2, the limit's sign ±1, the first and last state on it; fields in
+/// alphabetical order).
+#[derive(Clone, Debug, Serialize)]
+pub struct ArcReport {
+    /// The first state on the limit.
+    pub first: u32,
+    /// The joint, 1 or 2.
+    pub joint: u8,
+    /// The last state on the limit.
+    pub last: u32,
+    /// The limit's sign, ±1.
+    pub sign: i8,
+}
+
+/// One extremal in `report.json` (fields in alphabetical order).
+#[derive(Clone, Debug, Serialize)]
+#[allow(missing_docs)]
+pub struct ExtremalReport {
+    pub admissible: bool,
+    pub arcs: Vec<ArcReport>,
+    pub cost: f64,
+    pub hits: usize,
+    pub kkt_residual: Option<f64>,
+    pub law_residual: Option<f64>,
+    pub local_min: bool,
+    pub max_abs_alpha: f64,
+    pub min_eta: Option<f64>,
+    pub mu: [f64; 3],
+    pub newton_iterations: usize,
+    pub residual: f64,
+    pub start: usize,
+    pub stationarity: f64,
+    pub terminal_residual: Option<f64>,
+    pub twin_of: Option<usize>,
+    pub xi0: [f64; 2],
+}
+
+/// The global search's evidence in `report.json` (an infinite estimate as `null`; fields
+/// in alphabetical order).
+#[derive(Clone, Debug, Serialize)]
+pub struct EvidenceReport {
+    /// Its budget of starts.
+    pub budget: usize,
+    /// The distinct minima found.
+    pub distinct_minima: usize,
+    /// The estimated number of minima.
+    pub expected_minima: Option<f64>,
+    /// The minima, cheapest first.
+    pub minima: Vec<MinimumReport>,
+    /// Whether the stopping rule was met.
+    pub rule_met: bool,
+    /// The starts run.
+    pub starts: usize,
+    /// The minima left unrefined.
+    pub unrefined: Vec<UnrefinedReport>,
+    /// The estimated chance that another start finds an unseen minimum no dearer.
+    pub unseen_estimate: f64,
 }
 
 /// A minimum of the coarse search in `report.json`.
-fn minimum_json(m: &Minimum) -> serde_json::Value {
-    json!({"cost": m.cost, "max_abs_alpha": m.max_abs_alpha, "hits": m.hits})
+#[derive(Clone, Debug, Serialize)]
+#[allow(missing_docs)]
+pub struct MinimumReport {
+    pub cost: f64,
+    pub hits: usize,
+    pub max_abs_alpha: f64,
 }
 
-/// Joint-limit arcs in `report.json`, as the costate file stores them (`purcell_core::Arc`:
-/// joint 1 or 2, as `α_1`, `α_2`, the limit's sign ±1, the first and last state on it).
-fn arcs_json(arcs: &[Arc]) -> serde_json::Value {
-    arcs.iter().map(|a| json!(a)).collect()
+/// A minimum left unrefined in `report.json`: the minimum, its defect where the refinement
+/// stopped and whether it may be cheaper than the gait returned.
+#[derive(Clone, Debug, Serialize)]
+#[allow(missing_docs)]
+pub struct UnrefinedReport {
+    pub cheaper: bool,
+    pub cost: f64,
+    pub defect: Option<f64>,
+    pub hits: usize,
+    pub max_abs_alpha: f64,
+}
+
+/// An infinite estimate as `None` (`null`).
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl SolveReport {
+    /// The report of `solution` to `problem`, whose returned extremal's costate `file` and
+    /// `gait` are written, found in `seconds`.
+    pub fn new(
+        problem: &Problem,
+        solution: &Solution,
+        file: &CostateFile,
+        gait: &Gait<'_>,
+        seconds: f64,
+    ) -> Self {
+        let best = &solution.extremals[solution.best];
+        SolveReport {
+            admissible: best.admissible,
+            arcs: arcs(&best.arcs),
+            cost: best.cost,
+            extremals: solution.extremals.iter().map(ExtremalReport::new).collect(),
+            format: REPORT_FORMAT,
+            kkt_residual: best.kkt_residual,
+            law_residual: best.law_residual,
+            local_min: best.local_min,
+            max_abs_alpha: best.max_abs_alpha,
+            min_eta: best.min_eta,
+            mu: file.mu,
+            problem: ProblemReport {
+                alpha0: file.alpha0,
+                alpha_max: problem.alpha_max,
+                drag: file.model.drag,
+                horizon: problem.horizon(),
+                links: file.model.links,
+                ratio: file.model.ratio,
+                step: problem.h,
+                steps: problem.steps,
+                target: file.target,
+            },
+            replays: replay::standard_replays(gait),
+            residual: best.residual,
+            returned: solution.best,
+            search: solution.search.as_ref().map(EvidenceReport::new),
+            solve_seconds: seconds,
+            terminal_residual: best.terminal_residual,
+            version: REPORT_VERSION,
+            xi0: file.xi0,
+        }
+    }
+}
+
+impl ExtremalReport {
+    fn new(x: &Extremal) -> Self {
+        ExtremalReport {
+            admissible: x.admissible,
+            arcs: arcs(&x.arcs),
+            cost: x.cost,
+            hits: x.hits,
+            kkt_residual: x.kkt_residual,
+            law_residual: x.law_residual,
+            local_min: x.local_min,
+            max_abs_alpha: x.max_abs_alpha,
+            min_eta: x.min_eta,
+            mu: [x.mu.x, x.mu.y, x.mu.z],
+            newton_iterations: x.iterations,
+            residual: x.residual,
+            start: x.start,
+            stationarity: x.stationarity,
+            terminal_residual: x.terminal_residual,
+            twin_of: x.twin_of,
+            xi0: [x.xi0.x, x.xi0.y],
+        }
+    }
+}
+
+impl EvidenceReport {
+    fn new(e: &Evidence) -> Self {
+        EvidenceReport {
+            budget: e.budget,
+            distinct_minima: e.minima.len(),
+            expected_minima: finite(e.expected_minima),
+            minima: e.minima.iter().map(MinimumReport::new).collect(),
+            rule_met: e.satisfied,
+            starts: e.starts,
+            unrefined: e.unrefined.iter().map(UnrefinedReport::new).collect(),
+            unseen_estimate: e.unseen,
+        }
+    }
+}
+
+impl MinimumReport {
+    fn new(m: &Minimum) -> Self {
+        MinimumReport {
+            cost: m.cost,
+            hits: m.hits,
+            max_abs_alpha: m.max_abs_alpha,
+        }
+    }
+}
+
+impl UnrefinedReport {
+    fn new(u: &Unrefined) -> Self {
+        UnrefinedReport {
+            cheaper: u.cheaper,
+            cost: u.minimum.cost,
+            defect: finite(u.defect),
+            hits: u.minimum.hits,
+            max_abs_alpha: u.minimum.max_abs_alpha,
+        }
+    }
+}
+
+/// Joint-limit arcs as the report holds them.
+fn arcs(arcs: &[Arc]) -> Vec<ArcReport> {
+    arcs.iter()
+        .map(|a| ArcReport {
+            first: a.first,
+            joint: a.joint,
+            last: a.last,
+            sign: a.sign,
+        })
+        .collect()
+}
+
+/// The sweep's `report.json`'s `format` tag (schema: `docs/schemas/sweep-report.schema.json`).
+pub const SWEEP_REPORT_FORMAT: &str = "purcell-sweep-report";
+/// The sweep's `report.json`'s version: 1 is the first tagged one.
+pub const SWEEP_REPORT_VERSION: u64 = 1;
+
+/// `report.json` of a sweep: its lattice, problem, how many targets were solved and in what
+/// time (fields in alphabetical order, the order the file has always had).
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepReport {
+    /// The lattice's axes.
+    pub axes: AxesReport,
+    /// [`SWEEP_REPORT_FORMAT`].
+    pub format: &'static str,
+    /// The problem (its target unused).
+    pub problem: SweepProblemReport,
+    /// Targets with an admissible extremal.
+    pub solved: usize,
+    /// Seconds the sweep took.
+    pub sweep_seconds: f64,
+    /// Targets in all.
+    pub targets: usize,
+    /// [`SWEEP_REPORT_VERSION`].
+    pub version: u64,
+}
+
+/// A sweep's axes: theta rad, x m, y m.
+#[derive(Clone, Debug, Serialize)]
+#[allow(missing_docs)]
+pub struct AxesReport {
+    pub theta: Vec<f64>,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+}
+
+/// A sweep's problem in its `report.json` (fields in alphabetical order).
+#[derive(Clone, Debug, Serialize)]
+#[allow(missing_docs)]
+pub struct SweepProblemReport {
+    pub alpha0: [f64; 2],
+    pub alpha_max: Option<f64>,
+    pub drag: f64,
+    pub horizon: f64,
+    pub links: [f64; 3],
+    pub ratio: f64,
+    pub step: f64,
+}
+
+impl SweepReport {
+    /// The report of a sweep of `spec` over `lattice` that found `points` in `seconds`.
+    pub fn new(spec: &Spec, lattice: &Lattice, points: &[SweepPoint], seconds: f64) -> Self {
+        let [x, y, theta] = lattice.axes.clone();
+        let admissible = |p: &&SweepPoint| p.result.as_ref().is_ok_and(|x| x.admissible);
+        SweepReport {
+            axes: AxesReport { theta, x, y },
+            format: SWEEP_REPORT_FORMAT,
+            problem: SweepProblemReport {
+                alpha0: spec.alpha0,
+                alpha_max: spec.alpha_max,
+                drag: spec.drag,
+                horizon: spec.horizon,
+                links: spec.links,
+                ratio: spec.ratio,
+                step: spec.step,
+            },
+            solved: points.iter().filter(admissible).count(),
+            sweep_seconds: seconds,
+            targets: points.len(),
+            version: SWEEP_REPORT_VERSION,
+        }
+    }
 }

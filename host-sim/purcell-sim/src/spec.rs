@@ -1,12 +1,13 @@
 //! One place that checks and prepares a search from plain numbers, for every front end (the
 //! command line, the Python package): a solve's [`SolveSpec`] ([`prepare`]), a sweep's
 //! problem ([`sweep_options`]) and lattice ([`axis`], [`lattice`]), the limits of a search,
-//! and a stored extremal as a start ([`warm_of`]). Refusals are typed ([`SpecError`]); their
-//! `Display` is the command line's wording, which names its flags.
+//! and a stored extremal as a start ([`warm_of`]). Refusals are typed ([`SpecError`]): the
+//! parameter and its numbers, worded by each front end ([`crate::words`]).
 
 use crate::costate_file::CostateFile;
 use crate::decimal::Decimal;
 use crate::units::{self, Quantity};
+use crate::words::{Front, Worded};
 use purcell_solver::problem::{InputError, Problem, Spec};
 use purcell_solver::solver::SolveOptions;
 use purcell_solver::solver::continuation::{Lattice, Warm};
@@ -27,22 +28,15 @@ pub const MAX_CHECKPOINTS: u32 = 100_000;
 /// Largest number of targets a sweep accepts.
 pub const MAX_SWEEP_TARGETS: usize = 10_000;
 
-/// Why a search's numbers were refused, before any work.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+/// Why a search's numbers were refused, before any work: the parameter and its numbers,
+/// worded by each front end ([`Worded`]; `Display` is the command line's).
+#[derive(Clone, Debug, PartialEq)]
 pub enum SpecError {
     /// A start budget outside `1..=MAX_STARTS`.
-    #[error("--starts must be 1 to {MAX_STARTS} (got {0})")]
     Starts(i128),
     /// More than [`MAX_SOLVE_STEPS`] steps.
-    #[error("horizon T/h = {0} steps is more than solve's limit of {MAX_SOLVE_STEPS}")]
     SolveSteps(u32),
     /// A nonzero target below [`MIN_TARGET`] (the target as given, its largest component).
-    #[error(
-        "--target {},{},{}: a motion this small (largest component {largest:e}) is below what \
-         solve resolves: its terminal tolerance, 1e-10, is more than 1e-4 of any target under \
-         {MIN_TARGET:e} (m or rad); 0,0,0 is the zero gait (J = 0)",
-        target[0], target[1], target[2]
-    )]
     TinyTarget {
         /// The target as given.
         target: [f64; 3],
@@ -50,13 +44,8 @@ pub enum SpecError {
         largest: f64,
     },
     /// The problem's own checks, or a number beyond `f32`.
-    #[error(transparent)]
-    Problem(#[from] InputError),
+    Problem(InputError),
     /// A checkpoint spacing given not below the horizon's steps.
-    #[error(
-        "--checkpoint-every {every} is not below the horizon's {steps} steps: the costate file \
-         would have no checkpoint (0 for none)"
-    )]
     CheckpointsNone {
         /// The spacing.
         every: u32,
@@ -64,10 +53,6 @@ pub enum SpecError {
         steps: u32,
     },
     /// More than [`MAX_CHECKPOINTS`] checkpoints.
-    #[error(
-        "--checkpoint-every {every} gives {} checkpoints over {steps} steps, more than the \
-         limit {MAX_CHECKPOINTS}", (steps - 1) / every
-    )]
     Checkpoints {
         /// The spacing.
         every: u32,
@@ -76,7 +61,6 @@ pub enum SpecError {
     },
     /// An axis of a sweep that is no number nor `FROM:TO:COUNT` (`why` empty, or `: ` and
     /// the reason).
-    #[error("--{name} takes a number or FROM:TO:COUNT{why} (got {text:?})")]
     Axis {
         /// The axis, `x`, `y` or `theta`.
         name: String,
@@ -86,8 +70,77 @@ pub enum SpecError {
         why: String,
     },
     /// A lattice of more than [`MAX_SWEEP_TARGETS`] targets.
-    #[error("{0} targets: more than the limit {MAX_SWEEP_TARGETS}")]
     Targets(usize),
+}
+
+impl Worded for SpecError {
+    fn words(&self, f: Front) -> String {
+        match self {
+            SpecError::Starts(n) => {
+                format!("{} must be 1 to {MAX_STARTS} (got {n})", f.arg("starts"))
+            }
+            SpecError::SolveSteps(n) => {
+                format!("horizon T/h = {n} steps is more than solve's limit of {MAX_SOLVE_STEPS}")
+            }
+            SpecError::TinyTarget { target, largest } => format!(
+                "{}: a motion this small (largest component {largest:e}) is below what solve \
+                 resolves: its terminal tolerance, 1e-10, is more than 1e-4 of any target under \
+                 {MIN_TARGET:e} (m or rad); {} is the zero gait (J = 0)",
+                f.given("target", f.list(target)),
+                match f {
+                    Front::Cli => "0,0,0",
+                    Front::Python => "(0, 0, 0)",
+                },
+            ),
+            // The solver names its fields as the library does, but for the joint limit, which
+            // it spells as the command line does.
+            SpecError::Problem(e) => match f {
+                Front::Cli => e.to_string(),
+                Front::Python => e.to_string().replace("alpha-max", "alpha_max"),
+            },
+            SpecError::CheckpointsNone { every, steps } => format!(
+                "{} is not below the horizon's {steps} steps: the costate file would have no \
+                 checkpoint (0 for none)",
+                f.given("checkpoint_every", every)
+            ),
+            SpecError::Checkpoints { every, steps } => format!(
+                "{} gives {} checkpoints over {steps} steps, more than the limit \
+                 {MAX_CHECKPOINTS}",
+                f.given("checkpoint_every", every),
+                (steps - 1) / every
+            ),
+            SpecError::Axis { name, text, why } => {
+                format!(
+                    "{} takes a number or FROM:TO:COUNT{why} (got {text:?})",
+                    f.arg(name)
+                )
+            }
+            SpecError::Targets(n) => {
+                format!("{n} targets: more than the limit {MAX_SWEEP_TARGETS}")
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for SpecError {
+    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        out.write_str(&self.words(Front::Cli))
+    }
+}
+
+impl std::error::Error for SpecError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SpecError::Problem(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<InputError> for SpecError {
+    fn from(e: InputError) -> Self {
+        SpecError::Problem(e)
+    }
 }
 
 /// A solve, as plain numbers.

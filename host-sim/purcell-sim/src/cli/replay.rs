@@ -6,7 +6,6 @@ use crate::budget::Work;
 use crate::{output, replay};
 use clap::{Args, ValueEnum};
 use purcell_core::Gait;
-use purcell_solver::problem::{InputError, Problem, check_gait_precision};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -51,9 +50,7 @@ pub struct ReplayArgs {
 
 /// What every route to a replay checks in a stored gait of `path` (`replay`, `export`,
 /// `robustness`), besides the core's own validation, before any work: the step and memory
-/// budget of `work` ([`super::args::budget`]), its problem as command-line input ([`Problem::of_gait`]) and, where it is
-/// replayed in `f32`, every number there ([`purcell_solver::problem::check_gait_precision`]);
-/// exit 2.
+/// budget of `work` ([`super::args::budget`]) and [`replay::check_stored`]; exit 2.
 pub(super) fn check_stored(
     path: &Path,
     gait: &Gait<'_>,
@@ -61,13 +58,8 @@ pub(super) fn check_stored(
     work: Work,
     quiet: bool,
 ) -> Result<(), Failure> {
-    let refused = |e: InputError| fail(2, format!("{}: {e}", path.display()));
     super::args::budget(path, gait.params().steps, work, quiet)?;
-    Problem::of_gait(gait.params()).map_err(refused)?;
-    if f32 {
-        check_gait_precision::<f32>(gait.params(), gait.checkpoints(), "f32").map_err(refused)?;
-    }
-    Ok(())
+    replay::check_stored(gait, f32).map_err(|e| fail(2, format!("{}: {e}", path.display())))
 }
 
 /// The `format` tag of the `replay` report.
@@ -123,25 +115,9 @@ pub(super) fn run_replay(a: ReplayArgs, quiet: bool) -> Result<String, Failure> 
             .map_err(output_failure(false))?;
     }
     let text = replay::text(&gait, &results);
-    let p = gait.params();
     let failed: Vec<String> = results
         .iter()
-        .filter_map(|r| {
-            let why = r.failure.as_ref()?;
-            let which = format!(
-                "{} replay {} checkpoints",
-                r.precision,
-                if r.checkpoints { "with" } else { "without" }
-            );
-            Some(match r.failed_at_step {
-                Some(k) => format!(
-                    "{which} failed at step {k} of {} (t = {} s): {why}",
-                    p.steps,
-                    (f64::from(k) * p.h * 1e9).round() / 1e9
-                ),
-                None => format!("{which} failed before its first step: {why}"),
-            })
-        })
+        .filter_map(|r| r.failure_message(&gait))
         .collect();
     if failed.is_empty() {
         Ok(text)

@@ -10,8 +10,9 @@ use super::units::{
     Quantity::{Angle, Length},
 };
 use crate::plots;
-use crate::report::{SearchWarning, Solved, search_warnings};
+use crate::report::{Solved, search_warnings};
 use crate::spec::{self, MAX_STARTS, Prepared, SolveSpec};
+use crate::words::{Front, Worded};
 use clap::Args;
 use purcell_solver::problem::Problem;
 use purcell_solver::solver::{Progress as _, Solution, SolveError, SolveOptions, solve};
@@ -121,24 +122,7 @@ fn solve_spec(a: &SolveArgs) -> SolveSpec {
 /// The warnings of a search that gave up early or left a cheaper minimum unrefined.
 fn warn_search(solution: &Solution, quiet: bool) {
     for w in search_warnings(solution) {
-        match w {
-            SearchWarning::BudgetSpent { budget, unseen } => warn(
-                quiet,
-                format_args!(
-                    "the search used its budget of {budget} starts before its stopping rule was \
-                     met (estimated chance that another start finds an unseen minimum no dearer \
-                     than the gait returned: {unseen:.3}); this is the cheapest gait found: \
-                     raise --starts to search on"
-                ),
-            ),
-            SearchWarning::Unrefined { cheapest, count } => warn(
-                quiet,
-                format_args!(
-                    "{cheapest} ({count} such minima in report.json's search.unrefined): try \
-                     another --seed or --starts"
-                ),
-            ),
-        }
+        warn(quiet, format_args!("{}", w.words(Front::Cli)));
     }
 }
 

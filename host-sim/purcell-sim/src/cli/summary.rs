@@ -1,18 +1,18 @@
 //! The short summaries `solve` and `sweep` print on stdout, read from the report they wrote
 //! (so the two never disagree); `--json` prints the report instead.
 
-use serde_json::Value;
+use crate::report::{SolveReport, SweepReport};
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// A number of the report in `{:.1e}`, `–` where it is `null`.
-fn sci(v: &Value) -> String {
-    v.as_f64().map_or("–".into(), |x| format!("{x:.1e}"))
+fn sci(v: Option<f64>) -> String {
+    v.map_or("–".into(), |x| format!("{x:.1e}"))
 }
 
 /// `said` if the flag `v` of the report is true, else `not said`.
-fn flag(v: &Value, said: &str) -> String {
-    if v.as_bool() == Some(true) {
+fn flag(v: bool, said: &str) -> String {
+    if v {
         said.into()
     } else {
         format!("not {said}")
@@ -38,7 +38,7 @@ fn wrote(out: &Path, files: &[(String, Vec<u8>)]) -> String {
 /// `solve`'s summary of `report` (`report.json`), its files written to `out`, the command
 /// having taken `seconds`.
 pub(super) fn solve(
-    report: &Value,
+    report: &SolveReport,
     out: &Path,
     files: &[(String, Vec<u8>)],
     seconds: f64,
@@ -48,75 +48,66 @@ pub(super) fn solve(
     let _ = writeln!(
         s,
         "cost       J = {:.7}, extremal {} of {} ({}, {}, max |alpha_i| {:.4} rad)",
-        r["cost"].as_f64().unwrap_or(f64::NAN),
-        r["returned"].as_u64().map_or(0, |i| i + 1),
-        r["extremals"].as_array().map_or(0, Vec::len),
-        flag(&r["admissible"], "admissible"),
-        flag(&r["local_min"], "a local minimum"),
-        r["max_abs_alpha"].as_f64().unwrap_or(f64::NAN),
+        r.cost,
+        r.returned + 1,
+        r.extremals.len(),
+        flag(r.admissible, "admissible"),
+        flag(r.local_min, "a local minimum"),
+        r.max_abs_alpha,
     );
     let _ = writeln!(s, "arcs       {}", arcs(r));
-    let f32_replay = r["replays"].as_array().and_then(|v| {
-        v.iter()
-            .find(|x| x["precision"] == "f32" && x["checkpoints"] == true)
-    });
+    let f32_replay = r
+        .replays
+        .iter()
+        .find(|x| x.precision == "f32" && x.checkpoints);
     let _ = writeln!(
         s,
         "residuals  terminal {} (core {}), KKT {}, law {}; f32 replay {}",
-        sci(&r["residual"]),
-        sci(&r["terminal_residual"]),
-        sci(&r["kkt_residual"]),
-        sci(&r["law_residual"]),
+        sci(Some(r.residual)),
+        sci(r.terminal_residual),
+        sci(r.kkt_residual),
+        sci(r.law_residual),
         f32_replay.map_or("–".into(), |x| format!(
             "{} rad, {} in g",
-            sci(&x["alpha_error"]),
-            sci(&x["g_error"])
+            sci(x.alpha_error),
+            sci(x.g_error)
         )),
     );
-    let e = &r["search"];
     let _ = writeln!(
         s,
         "search     {}",
-        if e.is_null() {
-            "none (from --from's extremal)".to_string()
-        } else {
-            format!(
+        match &r.search {
+            None => "none (from --from's extremal)".to_string(),
+            Some(e) => format!(
                 "{} of {} starts, {} distinct minima, stopping rule {} (unseen {:.3})",
-                e["starts"],
-                e["budget"],
-                e["distinct_minima"],
-                if e["rule_met"] == true {
-                    "met"
-                } else {
-                    "not met"
-                },
-                e["unseen_estimate"].as_f64().unwrap_or(f64::NAN),
-            )
+                e.starts,
+                e.budget,
+                e.distinct_minima,
+                if e.rule_met { "met" } else { "not met" },
+                e.unseen_estimate,
+            ),
         }
     );
-    let solving = r["solve_seconds"].as_f64().unwrap_or(f64::NAN);
+    let solving = r.solve_seconds;
     let _ = writeln!(s, "time       {seconds:.2} s ({solving:.2} s solving)");
     s + &wrote(out, files)
 }
 
 /// The joint-limit arcs of `report`, the first two in full.
-fn arcs(report: &Value) -> String {
-    let all = report["arcs"]
-        .as_array()
-        .map(Vec::as_slice)
-        .unwrap_or_default();
+fn arcs(report: &SolveReport) -> String {
+    let all = &report.arcs;
     if all.is_empty() {
         return "none on the joint limit".into();
     }
-    let limit = report["problem"]["alpha_max"].as_f64().unwrap_or(f64::NAN);
+    let limit = report.problem.alpha_max.unwrap_or(f64::NAN);
     let mut shown: Vec<String> = all
         .iter()
         .take(2)
         .map(|a| {
-            let at = limit * a["sign"].as_f64().unwrap_or(f64::NAN);
+            let at = limit * f64::from(a.sign);
             format!(
                 "alpha{} = {at} rad, steps {}..={}",
-                a["joint"], a["first"], a["last"]
+                a.joint, a.first, a.last
             )
         })
         .collect();
@@ -129,21 +120,21 @@ fn arcs(report: &Value) -> String {
 /// `sweep`'s summary of `report` (its `report.json`), its files written to `out`, the command
 /// having taken `seconds`.
 pub(super) fn sweep(
-    report: &Value,
+    report: &SweepReport,
     out: &Path,
     files: &[(String, Vec<u8>)],
     seconds: f64,
 ) -> String {
-    let axis = |name: &str| report["axes"][name].as_array().map_or(0, Vec::len);
+    let axes = &report.axes;
     format!(
         "targets    {} ({} x, {} y, {} theta), {} solved (sweep.csv's status says how each \
          went)\ntime       {seconds:.2} s ({:.2} s solving)\n{}",
-        report["targets"],
-        axis("x"),
-        axis("y"),
-        axis("theta"),
-        report["solved"],
-        report["sweep_seconds"].as_f64().unwrap_or(f64::NAN),
+        report.targets,
+        axes.x.len(),
+        axes.y.len(),
+        axes.theta.len(),
+        report.solved,
+        report.sweep_seconds,
         wrote(out, files)
     )
 }

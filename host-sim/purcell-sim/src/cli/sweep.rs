@@ -3,19 +3,14 @@
 
 use super::args::{Failure, OutDirArgs, PrintArgs, ProblemArgs, Progress, fail, output_failure};
 use super::summary;
+use crate::report::SweepReport;
 use crate::spec;
 use crate::units::{self, Quantity::Angle, Quantity::Length};
 use crate::{output, plots};
 use clap::Args;
 use purcell_solver::solver::continuation;
 use purcell_solver::solver::{Progress as _, SolveOptions};
-use serde_json::json;
 use std::time::Instant;
-
-/// `report.json`'s `format` tag (schema: `docs/schemas/sweep-report.schema.json`).
-pub const REPORT_FORMAT: &str = "purcell-sweep-report";
-/// `report.json`'s version: 1 is the first tagged one.
-pub const REPORT_VERSION: u64 = 1;
 
 /// `sweep`'s search flags.
 #[derive(Debug, Args)]
@@ -85,18 +80,7 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
     let seconds = t1.elapsed().as_secs_f64();
     progress.phase("output", 1, "directory");
     let csv = output::sweep_csv(&points);
-    let solved = points
-        .iter()
-        .filter(|p| p.result.as_ref().is_ok_and(|x| x.admissible))
-        .count();
-    let summary = json!({
-        "format": REPORT_FORMAT, "version": REPORT_VERSION,
-        "targets": points.len(), "solved": solved, "sweep_seconds": seconds,
-        "axes": {"x": lattice.axes[0], "y": lattice.axes[1], "theta": lattice.axes[2]},
-        "problem": {"horizon": a.problem.horizon, "step": a.problem.step, "alpha0": spec.alpha0,
-                    "links": spec.links, "drag": spec.drag, "ratio": spec.ratio,
-                    "alpha_max": spec.alpha_max},
-    });
+    let summary = SweepReport::new(&spec, &lattice, &points, seconds);
     let summary_text = serde_json::to_string_pretty(&summary).map_err(|e| fail(1, e))? + "\n";
     let mut files = vec![
         ("sweep.csv".to_string(), csv.into_bytes()),

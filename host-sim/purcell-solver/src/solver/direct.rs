@@ -68,7 +68,9 @@ pub fn newton(grid: &Grid, start: Point, settings: &Settings) -> Result<Run, Err
     newton_pulsed(grid, start, settings, &|| ())
 }
 
-/// [`newton`], calling `pulse` before each iteration (where the work may be cancelled).
+/// [`newton`], calling `pulse` before each iteration and between its stages (the
+/// linearisation, the factorisation, the line search: each a pass over the grid, tenths of a
+/// second on 10⁵ steps), where the work may be cancelled.
 pub fn newton_pulsed(
     grid: &Grid,
     start: Point,
@@ -93,10 +95,12 @@ pub fn newton_pulsed(
             return Ok(finish(grid, pt, lz, iterations, done, local_min));
         }
         iterations += 1;
+        pulse();
         let Some((factor, delta)) = convex_factor(&lz, h, delta_last, maps) else {
             return Ok(finish(grid, pt, lz, iterations, false, false));
         };
         delta_last = delta;
+        pulse();
         // With the Lagrangian's gradient as the linear term the QP's multiplier is the change
         // of `ν` (the constant `−νᵀGδu = νᵀc` drops out), and near a solution every term of the
         // step is small: no cancellation of O(1) terms in the closed loop.

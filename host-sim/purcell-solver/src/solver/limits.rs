@@ -78,7 +78,7 @@ pub fn barrier_path(
     start: Point,
     settings: &Settings,
 ) -> Result<Run, Error> {
-    walk(grid, alpha_max, taus, start, settings).map(|w| w.run)
+    walk(grid, alpha_max, taus, start, settings, &|| ()).map(|w| w.run)
 }
 
 /// Where a barrier path ended ([`walk`]).
@@ -100,6 +100,7 @@ pub fn walk(
     taus: &[f64],
     start: Point,
     settings: &Settings,
+    pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
     let mut g = grid.clone();
     let mut point = start;
@@ -107,7 +108,7 @@ pub fn walk(
     for (i, &tau) in taus.iter().enumerate() {
         g.limits = Limits::Barrier { alpha_max, tau };
         let p = Point::new(&g, point.u.clone(), point.nu)?;
-        let run = direct::newton(&g, p, settings)?;
+        let run = direct::newton_pulsed(&g, p, settings, pulse)?;
         if !run.converged {
             return Ok(Walk { run, reached });
         }
@@ -135,6 +136,7 @@ pub fn polish(
     alpha_max: f64,
     start: &Point,
     settings: &Settings,
+    pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), PolishError> {
     let mut arcs = arcs_of(&start.states, alpha_max, NEAR);
     let mut point = start.clone();
@@ -147,7 +149,7 @@ pub fn polish(
         let alpha0 = Vector2::new(g.start[0], g.start[1]);
         let start = Point::new(&g, g.limits.snap(&point.u, alpha0, g.h()), point.nu)
             .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
-        let r = direct::newton(&g, start, settings)
+        let r = direct::newton_pulsed(&g, start, settings, pulse)
             .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
         if !r.converged {
             return Err(PolishError::NotConverged(r.defect));
@@ -209,6 +211,7 @@ pub fn patient_barrier_path(
     alpha_max: f64,
     taus: &[f64],
     start: Point,
+    pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
     let path = |patience| {
         walk(
@@ -217,6 +220,7 @@ pub fn patient_barrier_path(
             taus,
             start.clone(),
             &Settings::barrier(patience),
+            pulse,
         )
     };
     let first = path(PATIENCE[0])?;

@@ -45,7 +45,7 @@ impl Stop {
 /// near the start, the path runs again from larger weights), and on the problem's grid the
 /// active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with
 /// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
-/// `pulse` is called on each grid and, without a joint limit, before each Newton iteration.
+/// `pulse` is called on each grid and before each Newton iteration.
 pub fn refine(
     problem: &Problem,
     u: &[Vector2<f64>],
@@ -72,7 +72,7 @@ pub fn refine(
                 direct::newton_pulsed(&grid, start, &settings, pulse).map_err(inf)?
             }
             Some(alpha_max) => {
-                let (reached, run) = barrier_stage(&grid, alpha_max, from, start)?;
+                let (reached, run) = barrier_stage(&grid, alpha_max, from, start, pulse)?;
                 from = reached;
                 run
             }
@@ -85,7 +85,8 @@ pub fn refine(
                 return Ok((grid, run));
             };
             let fine = Settings::fine(problem, &run.point.u);
-            return limits::polish(&grid, alpha_max, &run.point, &fine).map_err(|e| match e {
+            let polished = limits::polish(&grid, alpha_max, &run.point, &fine, pulse);
+            return polished.map_err(|e| match e {
                 PolishError::NotConverged(d) => Stop::Defect(d),
                 PolishError::Unsettled => Stop::Defect(f64::INFINITY),
             });
@@ -114,15 +115,17 @@ fn barrier_stage(
     alpha_max: f64,
     from: usize,
     start: Point,
+    pulse: &dyn Fn(),
 ) -> Result<(usize, Run), Stop> {
-    let walk = limits::patient_barrier_path(grid, alpha_max, &FINE_TAUS[from..], start.clone())
+    let taus = &FINE_TAUS[from..];
+    let walk = limits::patient_barrier_path(grid, alpha_max, taus, start.clone(), pulse)
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
     if walk.run.converged {
         return Ok((FINE_TAUS.len() - 1, walk.run));
     }
     let Some((i, reached)) = walk.reached else {
         let near = grid.cost(&walk.run.point.u) <= grid.cost(&start.u) * (1.0 + COARSE_COST_ERROR);
-        if near && let Some(rescued) = rescue(grid, alpha_max, start) {
+        if near && let Some(rescued) = rescue(grid, alpha_max, start, pulse) {
             return Ok(rescued);
         }
         return Ok((from, walk.run));
@@ -147,9 +150,9 @@ fn barrier_stage(
 /// stationarity 0.4 at a cost 0.1 % below the coarse one, and converged from `τ = 1e-4`).
 /// The index in [`FINE_TAUS`] of the last weight that converged, with its run; `None` if
 /// none of them did.
-fn rescue(grid: &Grid, alpha_max: f64, start: Point) -> Option<(usize, Run)> {
+fn rescue(grid: &Grid, alpha_max: f64, start: Point, pulse: &dyn Fn()) -> Option<(usize, Run)> {
     let taus: Vec<f64> = RESCUE_TAUS.iter().chain(&FINE_TAUS).copied().collect();
-    let walk = limits::patient_barrier_path(grid, alpha_max, &taus, start).ok()?;
+    let walk = limits::patient_barrier_path(grid, alpha_max, &taus, start, pulse).ok()?;
     if walk.run.converged {
         return Some((FINE_TAUS.len() - 1, walk.run));
     }

@@ -1,14 +1,14 @@
 //! Why an output was refused or could not be written.
 
+use crate::words::{Front, Worded};
 use std::io;
 use std::path::{Path, PathBuf};
 
-/// Why an output was refused or could not be written.
+/// Why an output was refused or could not be written (`Display`: the command line's words).
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The path holds something the tool did not write (or must never replace).
-    #[error("{}: {reason}; refusing to replace it ({})", .path.display(),
-        if *.force_overrides { "pass --force to replace it anyway" } else { "even with --force" })]
+    #[error("{}", self.words(Front::Cli))]
     Refused {
         /// The output path.
         path: PathBuf,
@@ -28,6 +28,29 @@ pub enum OutputError {
         #[source]
         source: io::Error,
     },
+}
+
+impl Worded for OutputError {
+    fn words(&self, f: Front) -> String {
+        match self {
+            OutputError::Refused {
+                path,
+                reason,
+                force_overrides,
+            } => {
+                let force = f.on("force");
+                let remedy = match force_overrides {
+                    true => format!("pass {force} to replace it anyway"),
+                    false => format!("even with {force}"),
+                };
+                format!(
+                    "{}: {reason}; refusing to replace it ({remedy})",
+                    path.display()
+                )
+            }
+            OutputError::Io { .. } => self.to_string(),
+        }
+    }
 }
 
 pub(super) fn io_error(path: &Path, what: &'static str) -> impl FnOnce(io::Error) -> OutputError {

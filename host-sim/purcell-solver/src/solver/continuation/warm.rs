@@ -65,6 +65,16 @@ fn unreachable(best_residual: f64) -> SolveError {
 
 /// The extremal of `problem` reached from `warm` (see the module docs).
 pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveError> {
+    continue_to_pulsed(problem, warm, &|| ())
+}
+
+/// [`continue_to`], calling `pulse` before each Newton iteration (where the work may be
+/// cancelled).
+fn continue_to_pulsed(
+    problem: &Problem,
+    warm: &Warm,
+    pulse: &dyn Fn(),
+) -> Result<Extremal, SolveError> {
     let horizon = problem.horizon();
     // Directly on the problem's own grid (without a joint limit).
     let fine = Grid::new(problem, problem.steps as usize, Rule::LEFT_POINT)
@@ -73,7 +83,7 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
         && let Ok(p) = warm.point(&fine, horizon)
     {
         let settings = Settings::fine(problem, &p.u);
-        if let Ok(run) = direct::newton(&fine, p, &settings)
+        if let Ok(run) = direct::newton_pulsed(&fine, p, &settings, pulse)
             && run.converged
             && problem.admits(grid::max_abs_alpha(&run.point.states))
         {
@@ -94,8 +104,8 @@ pub fn continue_to(problem: &Problem, warm: &Warm) -> Result<Extremal, SolveErro
             tau: settings::COARSE_TAU,
         };
     }
-    let point = walk(problem, warm.target, &medium, point, &settings)?;
-    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY, &|| ())
+    let point = walk(problem, warm.target, &medium, point, &settings, pulse)?;
+    let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY, pulse)
         .map_err(|stop| unreachable(stop.defect()))?;
     Ok(extremal(problem, &fine, &run))
 }
@@ -137,13 +147,14 @@ fn within_limit(
 /// Natural-parameter continuation on `medium` from `point` (an extremal at the target
 /// `from`) to the problem's target: steps of the way that grow by half on success and halve
 /// on failure, every accepted point admissible; the point at the problem's target, or why
-/// the walk stopped (its step below [`MIN_WALK_STEP`]).
+/// the walk stopped (its step below [`MIN_WALK_STEP`]). `pulse` before each Newton iteration.
 fn walk(
     problem: &Problem,
     from: Vector3<f64>,
     medium: &Grid,
     mut point: Point,
     settings: &Settings,
+    pulse: &dyn Fn(),
 ) -> Result<Point, SolveError> {
     let to = problem.target;
     let (mut s, mut ds) = (0.0f64, 0.25f64);
@@ -166,7 +177,7 @@ fn walk(
         let grid = medium.aiming_at(&(from + (to - from) * next));
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
-        match direct::newton(&grid, start, settings) {
+        match direct::newton_pulsed(&grid, start, settings, pulse) {
             Ok(run) if run.converged && problem.admits(grid::max_abs_alpha(&run.point.states)) => {
                 point = run.point;
                 s = next;
@@ -189,7 +200,7 @@ fn walk(
 /// `solve --from`: the extremal reached from a stored one, as a solution of one extremal;
 /// or, if none is reached within the admissible shapes, the global search's solution
 /// ([`crate::solver::solve`], with `options` and `progress`) and why the warm start failed. The
-/// continuation is `progress`'s phase `continuation`, one tick.
+/// continuation is `progress`'s phase `continuation`, one tick, pulsing within.
 pub fn solve_from(
     problem: &Problem,
     warm: &Warm,
@@ -197,7 +208,7 @@ pub fn solve_from(
     progress: &dyn Progress,
 ) -> (Result<Solution, SolveError>, Option<SolveError>) {
     progress.phase("continuation", 1, "extremal");
-    let reached = continue_to(problem, warm).and_then(|x| {
+    let reached = continue_to_pulsed(problem, warm, &|| progress.pulse()).and_then(|x| {
         if x.admissible {
             Ok(x)
         } else {

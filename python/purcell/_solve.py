@@ -1,0 +1,111 @@
+"""`purcell.solve`: the cheapest admissible gait to a target."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+
+from . import _keywords, _purcell
+from ._purcell import Solution
+
+
+def solve(
+    target: Sequence[float],
+    *,
+    horizon: float = 100.0,
+    step: float = 0.01,
+    alpha0: Sequence[float] = (0.0, 0.0),
+    links: Sequence[float] = (1.0, 1.0, 1.0),
+    drag: float = 1.0,
+    ratio: float = 2.0,
+    alpha_max: float | None = None,
+    starts: int = 512,
+    seed: int = 0,
+    checkpoint_every: int | None = None,
+    warm: Solution | str | os.PathLike[str] | None = None,
+    progress: Callable[[int, int, str], object] | None = None,
+) -> Solution:
+    """The cheapest admissible gait that moves the swimmer from the origin to `target`.
+
+    The optimal control problem of MODEL.md §4, solved as ``purcell-sim solve`` solves it,
+    with the same defaults and checks: a global search over start loops, its minima refined
+    on the problem's grid and certified (MODEL.md §5).
+
+    Parameters
+    ----------
+    target : sequence of 3 floats
+        The final position (x, y, theta), metres and radians (theta taken modulo 2 pi into
+        ]-pi, pi]).
+    horizon : float, default 100.0
+        The duration T, seconds: a whole number of steps.
+    step : float, default 0.01
+        The time step h, seconds.
+    alpha0 : sequence of 2 floats, default (0.0, 0.0)
+        The start and end shape (alpha1, alpha2), radians.
+    links : sequence of 3 floats, default (1.0, 1.0, 1.0)
+        Link lengths (L0 middle, L1 front, L2 rear), metres.
+    drag : float, default 1.0
+        The drag coefficient k.
+    ratio : float, default 2.0
+        Normal over tangential drag.
+    alpha_max : float or None, default None
+        Joint limit ``|alpha_i| <= alpha_max``, radians, below pi (None: only the links'
+        overlap at pi).
+    starts : int, default 512
+        Budget of start loops of the global search, 1 to 4096 (it may stop sooner: its
+        stopping rule).
+    seed : int, default 0
+        Orders the starts.
+    checkpoint_every : int or None, default None
+        Costate checkpoint spacing in steps in the costate file (None: 100; 0: none).
+    warm : Solution, str, os.PathLike or None, default None
+        A Solution, or the path of a costate file (costate.json), whose extremal (replayed)
+        starts the solve (the command line's ``--from``): continuation from its target to
+        this one, of any swimmer; the global search, with a UserWarning, if that reaches no
+        admissible extremal.
+    progress : callable or None, default None
+        Called as ``progress(done, total, phase)`` every 0.1 s and at the end with
+        ``(total, total, phase)``, from the calling thread. Phases: "search" (start loops
+        finished of starts + 1, the zero loop included; the search may stop sooner),
+        "refinement" (candidates carried to the problem's grid); with `warm`,
+        "continuation" first. An exception it raises cancels the solve.
+
+    Returns
+    -------
+    Solution
+        The returned extremal (its attributes are the Solution's), every extremal found,
+        the report (report.json) and the costate and gait files.
+
+    Raises
+    ------
+    InputError
+        Bad input, before any work (a ValueError): the message names the keyword.
+    NoSolution
+        No admissible extremal (the command line's exit code 3).
+    TypeError
+        An argument of the wrong type.
+    KeyboardInterrupt
+        Ctrl-C, honoured within 0.5 s in every phase.
+
+    Warns
+    -----
+    UserWarning
+        The search spent its budget before its stopping rule was met, or left unrefined a
+        minimum that may be cheaper; `warm` reached no admissible extremal.
+
+    Notes
+    -----
+    The GIL is released while the solver runs (on all cores).
+
+    Examples
+    --------
+    >>> s = purcell.solve((0.1, 0.1, 0.0))  # doctest: +SKIP
+    >>> s.cost, s.alpha.shape  # doctest: +SKIP
+    (0.0179..., (10001, 2))
+    """
+    problem = _keywords.problem(locals())
+    problem["seed"] = _keywords.count("seed", seed)
+    if checkpoint_every is not None:
+        problem["checkpoint_every"] = _keywords.count("checkpoint_every", checkpoint_every)
+    target = _keywords.numbers_of("target", target, 3)
+    return _purcell.solve(target, problem, warm, progress)
