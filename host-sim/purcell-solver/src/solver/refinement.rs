@@ -57,12 +57,17 @@ pub fn refine(
     let mut nu = *nu;
     // The index in FINE_TAUS of the weight at which the next grid's barrier path starts.
     let mut from = 0;
+    // The zero control keeps every state at `ᾱ`, inside the limit: no arc to find, and the
+    // barrier would push it off the zero target's exact minimum (`J = 0`).
+    let barrier = problem
+        .alpha_max
+        .filter(|_| u.iter().any(|v| *v != Vector2::zeros()));
     loop {
         pulse();
         let inf = |_| Stop::Defect(f64::INFINITY);
         let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
         let start = Point::new(&grid, grid::prolong(&u, grid.steps), nu).map_err(inf)?;
-        let run = match problem.alpha_max {
+        let run = match barrier {
             None => {
                 let settings = if last {
                     Settings::fine(problem, &start.u)
