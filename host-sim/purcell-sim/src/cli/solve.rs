@@ -14,7 +14,8 @@ use crate::report::{Solved, search_warnings};
 use crate::spec::{self, MAX_STARTS, Prepared, SolveSpec};
 use crate::words::{Front, Worded};
 use clap::Args;
-use purcell_solver::problem::Problem;
+use purcell_solver::problem::{OVERLAP, Problem};
+use purcell_solver::solver::settings::OVERLAP_MARGIN;
 use purcell_solver::solver::{Progress as _, Solution, SolveError, SolveOptions, solve};
 use purcell_solver::solver::{continuation, starts};
 use std::path::{Path, PathBuf};
@@ -80,11 +81,11 @@ pub struct SolveArgs {
 pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
     let t0 = Instant::now();
     let prepared = spec::prepare(&solve_spec(&a)).map_err(|e| fail(2, e))?;
-    let problem = &prepared.problem;
     let inputs: Vec<&Path> = a.from.iter().map(PathBuf::as_path).collect();
     let out = a.output.prepare("solve", &inputs)?;
     let progress = Progress::new(t0, quiet);
-    let (solution, seconds) = find(&a, &prepared, quiet, &progress)?;
+    let (solution, problem, seconds) = find(&a, &prepared, quiet, &progress)?;
+    let problem = &problem;
     progress.phase("output", 1, "directory");
     progress.suspend(|| warn_search(&solution, quiet));
     let best = &solution.extremals[solution.best];
@@ -127,15 +128,17 @@ fn warn_search(solution: &Solution, quiet: bool) {
 }
 
 /// The solution of `problem` from `a.from`'s stored extremal, or from the global search
-/// (without `--from`, or when it reaches no admissible extremal: a warning), and its
-/// seconds, its phases told to `progress`; exit 2 for a `--from` file that is no start, 3 for
-/// no extremal.
+/// (without `--from`, or when it reaches no admissible extremal: a warning), the problem it
+/// solves and its seconds, its phases told to `progress`; exit 2 for a `--from` file that is
+/// no start, 3 for no extremal. Without a joint limit, when every extremal found crosses the
+/// links' overlap, the cheapest gait within [`OVERLAP_MARGIN`] of it (the problem with
+/// `--alpha-max π − OVERLAP_MARGIN`, a warning), if there is one.
 fn find(
     a: &SolveArgs,
     prepared: &Prepared,
     quiet: bool,
     progress: &Progress,
-) -> Result<(Solution, f64), Failure> {
+) -> Result<(Solution, Problem, f64), Failure> {
     let (problem, options) = (&prepared.problem, prepared.options);
     let warm = match &a.from {
         None => None,
@@ -158,8 +161,31 @@ fn find(
             result
         }
     };
-    let solution = result.map_err(|e| fail(3, format!("{e}\n{}", what_to_try(&e, a, problem))))?;
-    Ok((solution, t0.elapsed().as_secs_f64()))
+    let failure = |e: SolveError| fail(3, format!("{e}\n{}", what_to_try(&e, a, problem)));
+    let solution = match result {
+        Ok(s) => s,
+        Err(e @ SolveError::NoneAdmissible { .. }) if problem.alpha_max.is_none() => {
+            let alpha_max = OVERLAP - OVERLAP_MARGIN;
+            let margin = Problem {
+                alpha_max: Some(alpha_max),
+                ..*problem
+            };
+            progress.suspend(|| {
+                warn(
+                    quiet,
+                    format_args!(
+                        "{e}: no gait found inside the links' overlap; solving for the cheapest \
+                         within {OVERLAP_MARGIN} rad of it (--alpha-max {alpha_max:.4}); the gait \
+                         returned rests on that bound where it has arcs (report.json: alpha_max)"
+                    ),
+                )
+            });
+            let solution = solve(&margin, &options, progress).map_err(|_| failure(e))?;
+            return Ok((solution, margin, t0.elapsed().as_secs_f64()));
+        }
+        Err(e) => return Err(failure(e)),
+    };
+    Ok((solution, *problem, t0.elapsed().as_secs_f64()))
 }
 
 /// What exit 3's message suggests after `e`, by its cause.

@@ -43,6 +43,7 @@
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
 //! ([`Search::expected_minima`]).
 
+use super::constraints::joint_limit::Limits;
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits;
@@ -213,8 +214,8 @@ pub fn search(
     }
 }
 
-/// Start `index` (the loop `start_loop`; `None`: the zero loop) through Newton on `grid`;
-/// with a joint limit `limit`, shrunk into it and along its barrier path.
+/// Start `index` (the loop `start_loop`; `None`: the zero loop, [`zero_loop`]) through Newton
+/// on `grid`; with a joint limit `limit`, shrunk into it and along its barrier path.
 fn run_start(
     grid: &Grid,
     limit: Option<f64>,
@@ -222,7 +223,10 @@ fn run_start(
     index: usize,
     start_loop: Option<StartLoop>,
 ) -> Result<Run, Error> {
-    let u = start_loop.map_or_else(|| vec![Vector2::zeros(); grid.steps], |s| s.controls(grid));
+    let Some(start_loop) = start_loop else {
+        return zero_loop(grid, settings);
+    };
+    let u = start_loop.controls(grid);
     match limit {
         None => {
             Point::new(grid, u, Vector5::zeros()).and_then(|p| direct::newton(grid, p, settings))
@@ -235,6 +239,19 @@ fn run_start(
             })
         }
     }
+}
+
+/// The zero loop through Newton on `grid` without the joint limit's barrier: its states stay
+/// at `ᾱ`, inside any limit, and when the target is the start it is the exact global minimum
+/// (`J = 0`), which the barrier's gradient at a bent `ᾱ` would push it off; for any other
+/// target its Newton step is singular and it stops at once.
+fn zero_loop(grid: &Grid, settings: &Settings) -> Result<Run, Error> {
+    let free = Grid {
+        limits: Limits::None,
+        ..grid.clone()
+    };
+    let p = Point::new(&free, vec![Vector2::zeros(); free.steps], Vector5::zeros())?;
+    direct::newton(&free, p, settings)
 }
 
 impl Search {

@@ -268,6 +268,11 @@ pub const SAME_PATH: f64 = 1e-6;
 /// an admissible extremal (largest `|α_i|` about 3.03 in the cases that needed it) is that
 /// extremal, which Newton then reaches without the barrier.
 pub const PULL: f64 = 0.97;
+/// Without a joint limit, when every extremal found crosses the links' overlap, `solve`
+/// returns the cheapest gait within `|α_i| ≤ π − OVERLAP_MARGIN` (radians), with a warning:
+/// on the far and turning targets whose extremals all cross it ((0.3, −0.25, 1), (0.15, 0.25,
+/// −0.6), (0, 0.4, 0), (0, 0, 2.8)), that limit's search finds a gait for each.
+pub const OVERLAP_MARGIN: f64 = 0.1;
 /// A start whose terminal defect is within this share of the displacement asked for came
 /// near the target (with a joint limit, the search then runs again with more patience).
 pub const NEAR_TARGET: f64 = 1e-3;
