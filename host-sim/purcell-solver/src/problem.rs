@@ -3,6 +3,7 @@
 //! Minimise `J = Σ_{k<N} h/2·|u_k|²` subject to the exact kinematics, `α_0 = α_N = ᾱ`,
 //! `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of steps.
 
+use crate::solver::cost::Cost;
 use nalgebra::{Vector2, Vector3};
 use purcell_core::gait::{CheckpointRecord, GaitParams};
 use purcell_core::{Kinematics, Real, Se2, Swimmer};
@@ -196,6 +197,8 @@ pub struct Problem {
     /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, in `]0, π[`; `None`: only the
     /// links' overlap, `|α_i| <` [`OVERLAP`].
     pub alpha_max: Option<f64>,
+    /// The running cost minimised (MODEL.md §11); [`Cost::Effort`] from [`Problem::new`].
+    pub cost: Cost,
 }
 
 impl Problem {
@@ -273,7 +276,13 @@ impl Problem {
             alpha0: Vector2::new(a1, a2),
             target: Vector3::from(spec.target),
             alpha_max: spec.alpha_max,
+            cost: Cost::Effort,
         })
+    }
+
+    /// The same problem minimising `cost`.
+    pub fn with_cost(self, cost: Cost) -> Self {
+        Problem { cost, ..self }
     }
 
     /// The problem a stored gait (a costate or gait file) belongs to, validated like

@@ -16,7 +16,7 @@
 //! The second-order check (no conjugate point) is the inertia of the direct method's own
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
 
-use super::cost::{Effort, StageCost};
+use super::cost::StageCost;
 use super::settings::ON_LIMIT;
 use super::solution::Trajectory;
 use super::stage::coordinates;
@@ -100,6 +100,7 @@ pub fn kkt(
     let mut active = 0;
     let n = t.controls.len();
     let limit = problem.alpha_max;
+    let costs = problem.cost.of(problem.swimmer);
     for (k, (s, u)) in t.states.iter().zip(&t.controls).enumerate().rev() {
         let [a1, a2, px, py, th] = coordinates(s);
         let x = [a1, a2, px, py, th, u.x, u.y];
@@ -109,8 +110,10 @@ pub fn kkt(
             g: Se2::new(w(2), w(3), w(4)),
         };
         let next = kin.step(&st, &Vector2::new(w(5), w(6)))?;
-        // ∂J/∂u_k, the cost's share of ∂L/∂u_k.
-        let cost = Effort.gradient(problem.h, u);
+        // ∂J/∂u_k, the cost's share of ∂L/∂u_k (and ∂J/∂α_k, of ∂L/∂α_k).
+        let sk = SVector::<f64, 5>::from([a1, a2, px, py, th]);
+        let cost = costs.gradient(problem.h, &sk, u);
+        let shape = costs.shape_terms(problem.h, &sk, u).map(|t| t.gradient);
         let out = coordinates(&next);
         let mut grad = [0.0; 7];
         for (o, a) in out.iter().zip(adj.iter()) {
@@ -138,6 +141,10 @@ pub fn kkt(
         }
         let gu = cost + Vector2::new(grad[5], grad[6]);
         worst = worst.max(gu.amax() / problem.h);
+        if let Some(ga) = shape {
+            grad[0] += ga.x;
+            grad[1] += ga.y;
+        }
         adj = SVector::<f64, 5>::from_fn(|i, _| grad[i]);
     }
     Ok(Kkt {

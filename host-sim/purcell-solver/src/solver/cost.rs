@@ -1,26 +1,112 @@
 //! The running cost of the discrete problem, behind one interface ([`StageCost`]), as acados
-//! keeps its cost modules apart from its dynamics and constraints.
+//! keeps its cost modules apart from its dynamics and constraints (MODEL.md §11).
 //!
-//! The solver's cost is the control effort ([`Effort`], MODEL.md §4),
-//! `J = Σ_{k<N} h/2·|u_k|²`. Every other module reaches it through [`StageCost`]: the value
-//! ([`super::grid::Grid::cost`]), its slope along a step (the line search), the gradient
-//! of each stage (the Lagrangian's gradient and the certificate's KKT residual) and the
-//! Hessian of each stage (the Riccati step). The core's law `u = ξ − Aᵀζ` is this cost's
-//! stationarity condition: a new cost is a new type implementing [`StageCost`], and a law of
-//! its own.
+//! A cost is `J = Σ_{k<N} ℓ(α_k, u_k)` on a grid of step `h`. Every other module reaches it
+//! through [`StageCost`]: the value ([`super::grid::Grid::cost`]), its slope along a step
+//! (the line search), the gradient of each stage in the control and in the shape (the
+//! Lagrangian's gradient, the costates, the certificate's KKT residual) and the Hessian of each
+//! stage (the Riccati step and its inertia). [`Cost`] names the costs a problem can have; the
+//! solver holds it as [`Costs`], the cost with what it needs to be evaluated.
+//!
+//! - [`Effort`]: `ℓ = h/2·|u|²` (MODEL.md §4), the paper's; it does not depend on the shape.
 
+use super::stage::StageState;
 use nalgebra::{Matrix2, Vector2};
 
-/// A running cost `J = Σ_k ℓ(u_k)` on a grid of step `h`, stage by stage.
+/// A running cost `J = Σ_k ℓ(α_k, u_k)` on a grid of step `h`, stage by stage; `states` are
+/// the stage states `s_k = (α, x, y, θ)` of the controls `u` (at least `u.len()` of them).
 pub trait StageCost {
-    /// `J` of the controls `u`.
-    fn value(&self, h: f64, u: &[Vector2<f64>]) -> f64;
-    /// The derivative of `J` along the step `du`: `Σ_k ∇ℓ(u_k)·du_k`.
-    fn slope(&self, h: f64, u: &[Vector2<f64>], du: &[Vector2<f64>]) -> f64;
-    /// `∇ℓ(u_k)`.
-    fn gradient(&self, h: f64, u: &Vector2<f64>) -> Vector2<f64>;
-    /// `∇²ℓ` (the effort's is the same at every stage).
-    fn hessian(&self, h: f64) -> Matrix2<f64>;
+    /// `J` of the controls `u` along `states`.
+    fn value(&self, h: f64, states: &[StageState], u: &[Vector2<f64>]) -> f64;
+    /// The derivative of `J` along the step `du` (the shapes moving with it,
+    /// `δα_{k+1} = δα_k + h·du_k`, `δα_0 = 0`).
+    fn slope(&self, h: f64, states: &[StageState], u: &[Vector2<f64>], du: &[Vector2<f64>]) -> f64;
+    /// `∇_u ℓ(α_k, u_k)`.
+    fn gradient(&self, h: f64, s: &StageState, u: &Vector2<f64>) -> Vector2<f64>;
+    /// `∇²_uu ℓ(α_k, u_k)`.
+    fn hessian(&self, h: f64, s: &StageState, u: &Vector2<f64>) -> Matrix2<f64>;
+    /// The shape terms `(∇_α ℓ, ∇²_αα ℓ, ∇²_αu ℓ)`, or `None` for a cost of the controls alone.
+    fn shape_terms(&self, h: f64, s: &StageState, u: &Vector2<f64>) -> Option<ShapeTerms>;
+}
+
+/// The derivatives of a stage cost in the shape `α` (MODEL.md §11).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeTerms {
+    /// `∇_α ℓ`.
+    pub gradient: Vector2<f64>,
+    /// `∇²_αα ℓ`.
+    pub haa: Matrix2<f64>,
+    /// `∇²_αu ℓ` (row `i`: `∂/∂α_i`).
+    pub hau: Matrix2<f64>,
+}
+
+/// The costs a problem can minimise (`solve --cost`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Cost {
+    /// The joints' effort, `Σ h/2·|u_k|²` (the paper's).
+    #[default]
+    Effort,
+}
+
+impl Cost {
+    /// Every cost, in the order the CLI lists them.
+    pub const ALL: [Cost; 1] = [Cost::Effort];
+
+    /// Its name on the command line and in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cost::Effort => "effort",
+        }
+    }
+
+    /// The cost of that name.
+    pub fn parse(name: &str) -> Option<Cost> {
+        Cost::ALL.into_iter().find(|c| c.name() == name)
+    }
+
+    /// The cost ready to evaluate for `swimmer`.
+    pub fn of(self, _swimmer: purcell_core::Swimmer<f64>) -> Costs {
+        match self {
+            Cost::Effort => Costs::Effort(Effort),
+        }
+    }
+}
+
+/// A [`Cost`] with what it needs to be evaluated; dispatches [`StageCost`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Costs {
+    /// [`Effort`].
+    Effort(Effort),
+}
+
+impl Costs {
+    fn inner(&self) -> &dyn StageCost {
+        match self {
+            Costs::Effort(c) => c,
+        }
+    }
+}
+
+impl StageCost for Costs {
+    fn value(&self, h: f64, states: &[StageState], u: &[Vector2<f64>]) -> f64 {
+        self.inner().value(h, states, u)
+    }
+
+    fn slope(&self, h: f64, states: &[StageState], u: &[Vector2<f64>], du: &[Vector2<f64>]) -> f64 {
+        self.inner().slope(h, states, u, du)
+    }
+
+    fn gradient(&self, h: f64, s: &StageState, u: &Vector2<f64>) -> Vector2<f64> {
+        self.inner().gradient(h, s, u)
+    }
+
+    fn hessian(&self, h: f64, s: &StageState, u: &Vector2<f64>) -> Matrix2<f64> {
+        self.inner().hessian(h, s, u)
+    }
+
+    fn shape_terms(&self, h: f64, s: &StageState, u: &Vector2<f64>) -> Option<ShapeTerms> {
+        self.inner().shape_terms(h, s, u)
+    }
 }
 
 /// The control effort `ℓ(u) = h/2·|u|²`.
@@ -29,22 +115,27 @@ pub struct Effort;
 
 impl StageCost for Effort {
     /// `J = h/2·Σ_k |u_k|²` (`h/2` taken out of the sum).
-    fn value(&self, h: f64, u: &[Vector2<f64>]) -> f64 {
+    fn value(&self, h: f64, _: &[StageState], u: &[Vector2<f64>]) -> f64 {
         0.5 * h * u.iter().map(|v| v.norm_squared()).sum::<f64>()
     }
 
     /// `h·Σ_k u_k·du_k`.
-    fn slope(&self, h: f64, u: &[Vector2<f64>], du: &[Vector2<f64>]) -> f64 {
+    fn slope(&self, h: f64, _: &[StageState], u: &[Vector2<f64>], du: &[Vector2<f64>]) -> f64 {
         h * u.iter().zip(du).map(|(a, b)| a.dot(b)).sum::<f64>()
     }
 
     /// `h·u_k`.
-    fn gradient(&self, h: f64, u: &Vector2<f64>) -> Vector2<f64> {
+    fn gradient(&self, h: f64, _: &StageState, u: &Vector2<f64>) -> Vector2<f64> {
         u * h
     }
 
     /// `h·I`.
-    fn hessian(&self, h: f64) -> Matrix2<f64> {
+    fn hessian(&self, h: f64, _: &StageState, _: &Vector2<f64>) -> Matrix2<f64> {
         Matrix2::identity() * h
+    }
+
+    /// None: the effort does not depend on the shape.
+    fn shape_terms(&self, _: f64, _: &StageState, _: &Vector2<f64>) -> Option<ShapeTerms> {
+        None
     }
 }

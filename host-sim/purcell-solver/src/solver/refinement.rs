@@ -90,7 +90,7 @@ pub fn refine(
                 PolishError::Unsettled => Stop::Defect(f64::INFINITY),
             });
         }
-        if grid.cost(&run.point.u) > bound {
+        if grid.cost(&run.point.u, &run.point.states) > bound {
             return Err(Stop::Dearer);
         }
         u = run.point.u;
@@ -121,7 +121,8 @@ fn barrier_stage(
         return Ok((FINE_TAUS.len() - 1, walk.run));
     }
     let Some((i, reached)) = walk.reached else {
-        let near = grid.cost(&walk.run.point.u) <= grid.cost(&start.u) * (1.0 + COARSE_COST_ERROR);
+        let near = grid.cost(&walk.run.point.u, &walk.run.point.states)
+            <= grid.cost(&start.u, &start.states) * (1.0 + COARSE_COST_ERROR);
         if near && let Some(rescued) = rescue(grid, alpha_max, start) {
             return Ok(rescued);
         }
@@ -175,7 +176,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let max_abs_alpha = grid::max_abs_alpha(&p.states);
     let physical = max_abs_alpha < OVERLAP;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
-    let cost = grid.cost(&p.u);
+    let cost = grid.cost(&p.u, &p.states);
     let kkt = certificate::kkt(problem, &trajectory, &mu)
         .ok()
         .filter(|_| physical);
