@@ -9,6 +9,11 @@
 //! solver holds it as [`Costs`], the cost with what it needs to be evaluated.
 //!
 //! - [`Effort`]: `ℓ = h/2·|u|²` (MODEL.md §4), the paper's; it does not depend on the shape.
+//! - [`Power`]: `ℓ = h/2·uᵀG(α)u`, the power the fluid dissipates (MODEL.md §11).
+
+mod power;
+
+pub use power::{Metric, Power};
 
 use super::stage::StageState;
 use nalgebra::{Matrix2, Vector2};
@@ -46,16 +51,19 @@ pub enum Cost {
     /// The joints' effort, `Σ h/2·|u_k|²` (the paper's).
     #[default]
     Effort,
+    /// The power the fluid dissipates, `Σ h/2·u_kᵀG(α_k)u_k`.
+    Power,
 }
 
 impl Cost {
     /// Every cost, in the order the CLI lists them.
-    pub const ALL: [Cost; 1] = [Cost::Effort];
+    pub const ALL: [Cost; 2] = [Cost::Effort, Cost::Power];
 
     /// Its name on the command line and in files.
     pub fn name(self) -> &'static str {
         match self {
             Cost::Effort => "effort",
+            Cost::Power => "power",
         }
     }
 
@@ -65,9 +73,10 @@ impl Cost {
     }
 
     /// The cost ready to evaluate for `swimmer`.
-    pub fn of(self, _swimmer: purcell_core::Swimmer<f64>) -> Costs {
+    pub fn of(self, swimmer: purcell_core::Swimmer<f64>) -> Costs {
         match self {
             Cost::Effort => Costs::Effort(Effort),
+            Cost::Power => Costs::Power(Power::new(&swimmer)),
         }
     }
 }
@@ -77,12 +86,15 @@ impl Cost {
 pub enum Costs {
     /// [`Effort`].
     Effort(Effort),
+    /// [`Power`].
+    Power(Power),
 }
 
 impl Costs {
     fn inner(&self) -> &dyn StageCost {
         match self {
             Costs::Effort(c) => c,
+            Costs::Power(c) => c,
         }
     }
 }
