@@ -62,8 +62,8 @@ pub fn power_law_residual(
     let mut scale = 0.0f64;
     for ((s, u), xi) in t.states.iter().zip(&t.controls).zip(&t.xis) {
         let c = problem.swimmer.connection_with_derivatives(&s.alpha)?;
-        let zeta = purcell_core::se2::dexp(&(c.a * u * -h)).transpose()
-            * s.g.adjoint_transpose_mul(mu);
+        let zeta =
+            purcell_core::se2::dexp(&(c.a * u * -h)).transpose() * s.g.adjoint_transpose_mul(mu);
         let m = power.metric(s.alpha.x, s.alpha.y);
         let bu = Vector2::new(zeta.dot(&(c.da[0] * u)), zeta.dot(&(c.da[1] * u)));
         let cu = Vector2::new(u.dot(&(m.dg[0] * u)), u.dot(&(m.dg[1] * u)));

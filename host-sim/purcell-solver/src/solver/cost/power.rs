@@ -55,7 +55,13 @@ impl Power {
         let ((s1, c1), (s2, c2)) = (a1.sin_cos(), a2.sin_cos());
         // Per link: centre c, direction (cos φ, sin φ), ∂c/∂α_j, which joint turns it.
         let links = [
-            (l0, (T::zero(), T::zero()), (T::zero(), T::one()), (T::zero(), T::zero()), None),
+            (
+                l0,
+                (T::zero(), T::zero()),
+                (T::zero(), T::one()),
+                (T::zero(), T::zero()),
+                None,
+            ),
             (
                 l1,
                 (half * l0 + half * l1 * c1, half * l1 * s1),
@@ -121,9 +127,8 @@ fn schur<T: Real>(r: &[[T; 5]; 5]) -> [[T; 2]; 2] {
     };
     let det = m(0, 0) * cof(0, 0) + m(0, 1) * cof(0, 1) + m(0, 2) * cof(0, 2);
     // X = R_ξξ⁻¹ R_ξu, (R_ξξ⁻¹)_ij = cof(j, i)/det.
-    let x = |i: usize, c: usize| {
-        (0..3).fold(T::zero(), |acc, j| acc + cof(j, i) * m(j, 3 + c)) / det
-    };
+    let x =
+        |i: usize, c: usize| (0..3).fold(T::zero(), |acc, j| acc + cof(j, i) * m(j, 3 + c)) / det;
     let xs = [[x(0, 0), x(0, 1)], [x(1, 0), x(1, 1)], [x(2, 0), x(2, 1)]];
     core::array::from_fn(|a| {
         core::array::from_fn(|b| {
@@ -144,13 +149,7 @@ impl StageCost for Power {
     }
 
     /// `Σ_k (h·G u_k·du_k + (h/2)·c_k·δα_k)`, `c_{k,i} = u_kᵀ∂G/∂α_i u_k`.
-    fn slope(
-        &self,
-        h: f64,
-        states: &[StageState],
-        u: &[Vector2<f64>],
-        du: &[Vector2<f64>],
-    ) -> f64 {
+    fn slope(&self, h: f64, states: &[StageState], u: &[Vector2<f64>], du: &[Vector2<f64>]) -> f64 {
         let mut da = Vector2::zeros();
         let mut sum = 0.0;
         for ((s, u), du) in states.iter().zip(u).zip(du) {
@@ -269,7 +268,8 @@ mod tests {
         let p = Power::new(&Swimmer::purcell());
         let (h, u) = (0.01, Vector2::new(0.7, -1.1));
         let s = StageState::new(0.4, -0.8, 0.0, 0.0, 0.0);
-        let ell = |a: [f64; 2], u: Vector2<f64>| 0.5 * h * u.dot(&(p.metric_at(&Vector2::from(a)) * u));
+        let ell =
+            |a: [f64; 2], u: Vector2<f64>| 0.5 * h * u.dot(&(p.metric_at(&Vector2::from(a)) * u));
         let t = p.shape_terms(h, &s, &u).unwrap();
         let e = 1e-6;
         for i in 0..2 {
