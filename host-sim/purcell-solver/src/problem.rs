@@ -1,7 +1,8 @@
 //! The discrete optimal-control problem (MODEL.md §4) and the validation of its inputs.
 //!
-//! Minimise `J = Σ_{k<N} h/2·|u_k|²` subject to the exact kinematics, `α_0 = α_N = ᾱ`,
-//! `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of steps.
+//! Minimise `J = Σ_{k<N} h/2·|u_k|²` (or another [`Cost`], MODEL.md §11) subject to the
+//! exact kinematics, `α_0 = α_N = ᾱ`, `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of
+//! steps.
 
 use crate::solver::cost::Cost;
 use nalgebra::{Vector2, Vector3};

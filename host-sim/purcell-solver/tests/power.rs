@@ -11,46 +11,16 @@ use purcell_solver::solver::certificate::law_residual;
 use purcell_solver::solver::cost::Cost;
 use purcell_solver::solver::settings::LAW_TOL;
 use purcell_solver::solver::{Extremal, SolveOptions, solve};
-use purcell_solver::testkit::{check_extremal, small};
+use purcell_solver::testkit::{self, check_extremal, small};
 
 /// `Σ_k h/2·P(α_k, u_k)` from the controls alone: the shapes integrated from `ᾱ` by the core,
-/// `ξ = −A(α)u` from its connection, and each link's `k·l·v∥² + r·k·l·v⊥² + r·k·l³/12·w²`
-/// from its own centre's velocity (MODEL.md §2).
+/// the power of each step from the links' velocities ([`testkit::dissipated`]).
 fn dissipated(p: &Problem, controls: &[Vector2<f64>]) -> f64 {
-    let sw = p.swimmer;
-    let kin = Kinematics::new(sw, p.h).unwrap();
-    let [l0, l1, l2] = sw.lengths();
-    let (k, r) = (sw.drag(), sw.ratio());
+    let kin = Kinematics::new(p.swimmer, p.h).unwrap();
     let mut s = State::at_origin(p.alpha0);
     let mut sum = 0.0;
     for u in controls {
-        let (a1, a2) = (s.alpha.x, s.alpha.y);
-        let xi = -(sw.connection(&s.alpha).unwrap() * u);
-        // Centre, its velocity from the joint, direction angle, turning rate of each link.
-        let links = [
-            (l0, (0.0, 0.0), (0.0, 0.0), 0.0, 0.0),
-            (
-                l1,
-                (l0 / 2.0 + l1 / 2.0 * a1.cos(), l1 / 2.0 * a1.sin()),
-                (-l1 / 2.0 * a1.sin() * u.x, l1 / 2.0 * a1.cos() * u.x),
-                a1,
-                u.x,
-            ),
-            (
-                l2,
-                (-l0 / 2.0 - l2 / 2.0 * a2.cos(), -l2 / 2.0 * a2.sin()),
-                (l2 / 2.0 * a2.sin() * u.y, -l2 / 2.0 * a2.cos() * u.y),
-                a2,
-                u.y,
-            ),
-        ];
-        for (l, c, dc, phi, rate) in links {
-            let v = (xi.x - xi.z * c.1 + dc.0, xi.y + xi.z * c.0 + dc.1);
-            let par = v.0 * phi.cos() + v.1 * phi.sin();
-            let perp = -v.0 * phi.sin() + v.1 * phi.cos();
-            let w = xi.z + rate;
-            sum += k * l * par * par + r * k * l * perp * perp + r * k * l.powi(3) / 12.0 * w * w;
-        }
+        sum += testkit::dissipated(&p.swimmer, &s.alpha, u);
         s = kin.step(&s, u).unwrap();
     }
     0.5 * p.h * sum

@@ -199,47 +199,40 @@ impl StageCost for Power {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testkit::dissipated;
     use approx::assert_relative_eq;
 
-    /// The power from the links' velocities directly, `ξ = −A(α)u` from the core's closed-form
-    /// connection: `Σ_links k·l·v∥² + r·k·l·v⊥² + r·k·l³/12·w²` (MODEL.md §2, §11).
-    fn dissipated(sw: &Swimmer<f64>, alpha: &Vector2<f64>, u: &Vector2<f64>) -> f64 {
-        let xi = -(sw.connection(alpha).unwrap() * u);
-        let [l0, l1, l2] = sw.lengths();
-        let (k, r) = (sw.drag(), sw.ratio());
-        let one = |l: f64, c: (f64, f64), phi: f64, dc: (f64, f64), rate: f64| {
-            let v = (xi.x - xi.z * c.1 + dc.0, xi.y + xi.z * c.0 + dc.1);
-            let (par, perp) = (
-                v.0 * phi.cos() + v.1 * phi.sin(),
-                -v.0 * phi.sin() + v.1 * phi.cos(),
-            );
-            let w = xi.z + rate;
-            k * l * par * par + r * k * l * perp * perp + r * k * l.powi(3) / 12.0 * w * w
-        };
-        let (a1, a2) = (alpha.x, alpha.y);
-        one(l0, (0.0, 0.0), 0.0, (0.0, 0.0), 0.0)
-            + one(
-                l1,
-                (l0 / 2.0 + l1 / 2.0 * a1.cos(), l1 / 2.0 * a1.sin()),
-                a1,
-                (-l1 / 2.0 * a1.sin() * u.x, l1 / 2.0 * a1.cos() * u.x),
-                u.x,
-            )
-            + one(
-                l2,
-                (-l0 / 2.0 - l2 / 2.0 * a2.cos(), -l2 / 2.0 * a2.sin()),
-                a2,
-                (l2 / 2.0 * a2.sin() * u.y, -l2 / 2.0 * a2.cos() * u.y),
-                u.y,
-            )
-    }
-
     #[test]
-    fn metric_at_the_straight_shape_is_the_model_s_test_vector() {
+    fn metric_matches_the_model_s_test_vectors() {
         let p = Power::new(&Swimmer::purcell());
         let g = p.metric_at(&Vector2::zeros());
         let want = Matrix2::new(16.0, -11.0, -11.0, 16.0) / 81.0;
         assert_relative_eq!(g, want, epsilon = 1e-15);
+        // MODEL.md §11's vectors, from the CasADi peer's own drag matrices
+        // (peers/casadi_ipopt.py, `metric`).
+        for (a, want) in [
+            (
+                (0.5, -0.3),
+                Matrix2::new(
+                    0.2232094378997902,
+                    -0.15079310098990872,
+                    -0.15079310098990872,
+                    0.21112142840784293,
+                ),
+            ),
+            (
+                (2.5, -2.9),
+                Matrix2::new(
+                    0.39429893291851664,
+                    0.04572239362945119,
+                    0.04572239362945119,
+                    0.44027145297025383,
+                ),
+            ),
+        ] {
+            let g = p.metric_at(&Vector2::new(a.0, a.1));
+            assert_relative_eq!(g, want, epsilon = 1e-14);
+        }
     }
 
     #[test]
