@@ -4,7 +4,6 @@
 //! exact kinematics, `α_0 = α_N = ᾱ`, `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of
 //! steps.
 
-use crate::solver::cost::Cost;
 use nalgebra::{Vector2, Vector3};
 use purcell_core::gait::{CheckpointRecord, GaitParams};
 use purcell_core::{Kinematics, Real, Se2, Swimmer};
@@ -171,6 +170,30 @@ impl Default for Spec {
             drag: 1.0,
             ratio: 2.0,
             alpha_max: None,
+        }
+    }
+}
+
+/// The costs a problem can minimise (MODEL.md §11); their evaluation is
+/// `crate::solver::cost`'s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Cost {
+    /// The joints' effort, `Σ h/2·|u_k|²` (the paper's).
+    #[default]
+    Effort,
+    /// The power the fluid dissipates, `Σ h/2·u_kᵀG(α_k)u_k`.
+    Power,
+}
+
+impl Cost {
+    /// Every cost.
+    pub const ALL: [Cost; 2] = [Cost::Effort, Cost::Power];
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cost::Effort => "effort",
+            Cost::Power => "power",
         }
     }
 }

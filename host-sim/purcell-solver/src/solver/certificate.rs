@@ -16,7 +16,7 @@
 //! The second-order check (no conjugate point) is the inertia of the direct method's own
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
 
-use super::cost::{Cost, Power, StageCost};
+use super::cost::{Cost, Costs, Power, StageCost};
 use super::settings::ON_LIMIT;
 use super::solution::Trajectory;
 use super::stage::coordinates;
@@ -132,7 +132,7 @@ pub fn kkt(
     let mut active = 0;
     let n = t.controls.len();
     let limit = problem.alpha_max;
-    let costs = problem.cost.of(problem.swimmer);
+    let costs = Costs::of(problem.cost, problem.swimmer);
     for (k, (s, u)) in t.states.iter().zip(&t.controls).enumerate().rev() {
         let [a1, a2, px, py, th] = coordinates(s);
         let x = [a1, a2, px, py, th, u.x, u.y];

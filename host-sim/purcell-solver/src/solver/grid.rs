@@ -45,7 +45,7 @@ impl Grid {
                 target: StageState::new(a.x, a.y, t.x, t.y, t.z),
             },
             limits: Limits::None,
-            cost: problem.cost.of(problem.swimmer),
+            cost: Costs::of(problem.cost, problem.swimmer),
         })
     }
 

@@ -60,7 +60,6 @@ impl Linearisation {
         for k in (0..n).rev() {
             let mut l = grid.model.linearise(&states[k], &u[k], &lambda[k + 1])?;
             let cost = grid.cost.gradient(h, &states[k], &u[k]);
-            l.huu += grid.cost.hessian(h, &states[k], &u[k]);
             let mut g = cost + l.b.transpose() * lambda[k + 1];
             // A control tied by an arc (fixed, or an entry) is stationary by the multiplier η
             // of the limit at state k+1: λ^α_{k+1,i} jumps so that h·u_{k,i} + (B_kᵀλ_{k+1})_i = 0
@@ -90,16 +89,7 @@ impl Linearisation {
             lambda[k] = l.a.transpose() * lambda[k + 1];
             beta = l.a.transpose() * beta;
             psi = l.a.transpose() * psi;
-            if let Some(t) = grid.cost.shape_terms(h, &states[k], &u[k]) {
-                for i in 0..2 {
-                    lambda[k][i] += t.gradient[i];
-                    beta[i] += t.gradient[i];
-                    for j in 0..2 {
-                        l.hss[(i, j)] += t.haa[(i, j)];
-                        l.hsu[(i, j)] += t.hau[(i, j)];
-                    }
-                }
-            }
+            add_cost(grid, (&states[k], &u[k]), &mut l, &mut lambda[k], &mut beta);
             if k > 0
                 && let Some((dphi, ddphi)) = grid.limits.barrier_derivatives(h, &states[k])
             {
@@ -121,5 +111,29 @@ impl Linearisation {
             kkt,
             nu_ls,
         })
+    }
+}
+
+/// The cost's share of stage `k` at `(s_k, u_k)`: its control Hessian in `l.huu`, and where it
+/// depends on the shape, its shape gradient in `λ_k` and `β_k` and its shape Hessians in
+/// `l.hss`, `l.hsu`.
+fn add_cost(
+    grid: &Grid,
+    (s, u): (&StageState, &Vector2<f64>),
+    l: &mut Linearised,
+    lambda: &mut StageState,
+    beta: &mut Vector5<f64>,
+) {
+    let h = grid.h();
+    l.huu += grid.cost.hessian(h, s, u);
+    if let Some(t) = grid.cost.shape_terms(h, s, u) {
+        for i in 0..2 {
+            lambda[i] += t.gradient[i];
+            beta[i] += t.gradient[i];
+            for j in 0..2 {
+                l.hss[(i, j)] += t.haa[(i, j)];
+                l.hsu[(i, j)] += t.hau[(i, j)];
+            }
+        }
     }
 }

@@ -5,8 +5,9 @@
 //! through [`StageCost`]: the value ([`super::grid::Grid::cost`]), its slope along a step
 //! (the line search), the gradient of each stage in the control and in the shape (the
 //! Lagrangian's gradient, the costates, the certificate's KKT residual) and the Hessian of each
-//! stage (the Riccati step and its inertia). [`Cost`] names the costs a problem can have; the
-//! solver holds it as [`Costs`], the cost with what it needs to be evaluated.
+//! stage (the Riccati step and its inertia). [`Cost`] names the costs a problem can have
+//! ([`crate::problem`]); the solver holds it as [`Costs`], the cost with what it needs to be
+//! evaluated.
 //!
 //! - [`Effort`]: `ℓ = h/2·|u|²` (MODEL.md §4), the paper's; it does not depend on the shape.
 //! - [`Power`]: `ℓ = h/2·uᵀG(α)u`, the power the fluid dissipates (MODEL.md §11).
@@ -14,6 +15,8 @@
 mod power;
 
 pub use power::{Metric, Power};
+
+pub use crate::problem::Cost;
 
 use super::stage::StageState;
 use nalgebra::{Matrix2, Vector2};
@@ -45,42 +48,6 @@ pub struct ShapeTerms {
     pub hau: Matrix2<f64>,
 }
 
-/// The costs a problem can minimise (`solve --cost`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Cost {
-    /// The joints' effort, `Σ h/2·|u_k|²` (the paper's).
-    #[default]
-    Effort,
-    /// The power the fluid dissipates, `Σ h/2·u_kᵀG(α_k)u_k`.
-    Power,
-}
-
-impl Cost {
-    /// Every cost, in the order the CLI lists them.
-    pub const ALL: [Cost; 2] = [Cost::Effort, Cost::Power];
-
-    /// Its name on the command line and in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Cost::Effort => "effort",
-            Cost::Power => "power",
-        }
-    }
-
-    /// The cost of that name.
-    pub fn parse(name: &str) -> Option<Cost> {
-        Cost::ALL.into_iter().find(|c| c.name() == name)
-    }
-
-    /// The cost ready to evaluate for `swimmer`.
-    pub fn of(self, swimmer: purcell_core::Swimmer<f64>) -> Costs {
-        match self {
-            Cost::Effort => Costs::Effort(Effort),
-            Cost::Power => Costs::Power(Power::new(&swimmer)),
-        }
-    }
-}
-
 /// A [`Cost`] with what it needs to be evaluated; dispatches [`StageCost`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Costs {
@@ -91,6 +58,14 @@ pub enum Costs {
 }
 
 impl Costs {
+    /// `cost` ready to evaluate for `swimmer`.
+    pub fn of(cost: Cost, swimmer: purcell_core::Swimmer<f64>) -> Costs {
+        match cost {
+            Cost::Effort => Costs::Effort(Effort),
+            Cost::Power => Costs::Power(Power::new(&swimmer)),
+        }
+    }
+
     fn inner(&self) -> &dyn StageCost {
         match self {
             Costs::Effort(c) => c,
