@@ -7,7 +7,7 @@ use crate::costate_file::CostateFile;
 use crate::plots::{self, PlotError};
 use crate::{output, replay};
 use purcell_core::{Arc, Gait};
-use purcell_solver::problem::Problem;
+use purcell_solver::problem::{Cost, Problem};
 use purcell_solver::solver::{Evidence, Extremal, Minimum, Solution, Unrefined};
 use serde_json::json;
 
@@ -150,6 +150,7 @@ pub fn report_json(
     json!({
         "format": REPORT_FORMAT, "version": REPORT_VERSION,
         "cost": best.cost,
+        "costs": costs_json(best),
         "residual": best.residual,
         "terminal_residual": best.terminal_residual,
         "kkt_residual": best.kkt_residual,
@@ -174,10 +175,21 @@ pub fn report_json(
     })
 }
 
+/// An extremal's cost under each cost the solver knows, by name (`{"effort": …, "power": …}`).
+fn costs_json(x: &Extremal) -> serde_json::Value {
+    Cost::ALL
+        .into_iter()
+        .zip(x.costs)
+        .map(|(c, j)| (c.name().to_owned(), json!(j)))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}
+
 /// One extremal in `report.json`.
 fn extremal_json(x: &Extremal) -> serde_json::Value {
     json!({
-        "cost": x.cost, "max_abs_alpha": x.max_abs_alpha, "admissible": x.admissible,
+        "cost": x.cost, "costs": costs_json(x), "max_abs_alpha": x.max_abs_alpha,
+        "admissible": x.admissible,
         "local_min": x.local_min, "residual": x.residual,
         "terminal_residual": x.terminal_residual, "kkt_residual": x.kkt_residual,
         "arcs": arcs_json(&x.arcs), "min_eta": x.min_eta,

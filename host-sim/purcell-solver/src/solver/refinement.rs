@@ -4,6 +4,7 @@
 //! fine extremals with their certificates, cheapest first.
 
 use super::constraints::joint_limit::Limits;
+use super::cost::{Costs, StageCost};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits::{self, PolishError};
@@ -15,7 +16,7 @@ use super::settings::{
 };
 use super::solution::{Extremal, Minimum, SolveError, Unrefined};
 use super::{certificate, costate, symmetry};
-use crate::problem::{OVERLAP, Problem};
+use crate::problem::{Cost, OVERLAP, Problem};
 use nalgebra::{Vector2, Vector5};
 
 /// Why a refinement stopped short of the problem's grid.
@@ -177,6 +178,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let physical = max_abs_alpha < OVERLAP;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
     let cost = grid.cost(&p.u, &p.states);
+    let costs = Cost::ALL.map(|c| Costs::of(c, problem.swimmer).value(grid.h(), &p.states, &p.u));
     let kkt = certificate::kkt(problem, &trajectory, &mu)
         .ok()
         .filter(|_| physical);
@@ -190,6 +192,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     };
     Extremal {
         cost,
+        costs,
         mu,
         xi0: trajectory.xis.first().copied().unwrap_or_default(),
         max_abs_alpha,
