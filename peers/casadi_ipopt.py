@@ -7,6 +7,7 @@ CasADi + IPOPT (the paper's method), multi-start, next to purcell-sim's result. 
     python3 peers/casadi_ipopt.py PROBLEMS.json [--only a,b] [--starts 8] [--guard A] \
         [--jsonl FILE] [--ours BENCH.md] [--max-cpu 400] [--max-iter 3000]
     python3 peers/casadi_ipopt.py PROBLEMS.json --table --jsonl FILE [--ours BENCH.md]
+    python3 peers/casadi_ipopt.py --cost power [--starts 4]        # the power cost (MODEL.md 11)
 
 PROBLEMS.json is a list in the format of the public suite (tests/problems/public.json):
 `name`, `target`, and where given `horizon` (default 100), `step` (0.01), `alpha0` (0,0),
@@ -29,7 +30,8 @@ to BENCH.md). Admissible: IPOPT converged (Solve_Succeeded), max |alpha_i| < pi,
 Decision variables: the states x_k = (alpha_k, g_k) (k = 0..N, g = (x, y, theta)) and the
 controls u_k (k = 0..N-1). Equality constraints: the exact step alpha_{k+1} = alpha_k + h u_k,
 g_{k+1} = g_k exp(-h A(alpha_k) u_k). Bounds: alpha_0 = alpha_N = alpha0, g_0 = e, g_N = target,
-and |alpha_i| <= alpha_max on every alpha_k when given. Cost sum h/2 |u_k|^2. The connection A
+and |alpha_i| <= alpha_max on every alpha_k when given. Cost sum h/2 |u_k|^2, or with --cost
+power sum h/2 u_k^T G(alpha_k) u_k (G from the same drag matrices, MODEL.md 11). The connection A
 is the resistive-force-theory one of MODEL.md section 2, written out here independently. The
 NLP depends on the problem only through N, h, the links, the drag and the ratio (the rest are
 bounds), so one IPOPT instance serves all the problems and starts that share them.
@@ -59,6 +61,12 @@ PAPER = {"name": "paper", "target": [0.1, 0.1, 0.0], "ref": 0.6817478081948872}
 
 def connection(a1, a2, links, drag, ratio):
     """A(alpha) (3x2, rows x, y, theta) from W_xi xi + W_alpha alpha_dot = 0 (MODEL.md 2)."""
+    W, cols = drag_matrices(a1, a2, links, drag, ratio)
+    return ca.solve(W, cols)
+
+
+def drag_matrices(a1, a2, links, drag, ratio):
+    """W_xi (3x3) and W_alpha (3x2) of the balance W_xi xi + W_alpha alpha_dot = 0 (MODEL.md 2)."""
     l0, l1, l2 = links
     k, r = drag, ratio
     h0 = l0 / 2
@@ -75,7 +83,27 @@ def connection(a1, a2, links, drag, ratio):
     nu1, nu2 = parts[1][2], parts[2][2]
     col1 = k * r * l1**2 * (nu1 / 2 + ca.vertcat(0, 0, l1 / 12))
     col2 = k * r * l2**2 * (-nu2 / 2 + ca.vertcat(0, 0, l2 / 12))
-    return ca.solve(W, ca.horzcat(col1, col2))
+    return W, ca.horzcat(col1, col2)
+
+
+def metric(a1, a2, links, drag, ratio):
+    """G(alpha) of the power cost (MODEL.md 11): the Schur complement R_uu - W_alpha^T W_xi^-1
+    W_alpha of the 5x5 resistance matrix; R_uu = diag(k r L_i^3 / 3) (an outer link turning
+    about its hinge, its centre at L_i/2: k r L_i (L_i/2)^2 + k r L_i^3/12)."""
+    W, cols = drag_matrices(a1, a2, links, drag, ratio)
+    k, r = drag, ratio
+    ruu = ca.diag(ca.vertcat(k * r * links[1] ** 3 / 3, k * r * links[2] ** 3 / 3))
+    return ruu - cols.T @ ca.solve(W, cols)
+
+
+def stage_cost(h, links, drag, ratio, cost):
+    """l(x_k, u_k): h/2 |u|^2 (effort) or h/2 u^T G(alpha) u (power)."""
+    x, u = ca.SX.sym("x", 5), ca.SX.sym("u", 2)
+    if cost == "power":
+        ell = h / 2 * (u.T @ metric(x[0], x[1], links, drag, ratio) @ u)
+    else:
+        ell = h / 2 * ca.sumsqr(u)
+    return ca.Function("cost", [x, u], [ell])
 
 
 def se2_exp(v):
@@ -116,15 +144,16 @@ def steps_of(p):
 class Transcription:
     """One IPOPT instance for every problem with the same N, h, links, drag and ratio."""
 
-    def __init__(self, n, h, links, drag, ratio, max_cpu, max_iter):
+    def __init__(self, n, h, links, drag, ratio, max_cpu, max_iter, cost="effort"):
         self.n, self.h = n, h
         t0 = time.time()
         self.step = step_function(h, links, drag, ratio)
+        self.stage = stage_cost(h, links, drag, ratio, cost).map(n)
         X = ca.MX.sym("X", 5, n + 1)
         U = ca.MX.sym("U", 2, n)
         w = ca.vertcat(ca.vec(X), ca.vec(U))
         defects = X[:, 1:] - self.step.map(n)(X[:, :-1], U)
-        nlp = {"x": w, "f": h / 2 * ca.sumsqr(U), "g": ca.vec(defects)}
+        nlp = {"x": w, "f": ca.sum2(self.stage(X[:, :-1], U)), "g": ca.vec(defects)}
         opts = {"expand": True, "print_time": False,
                 "ipopt": {"print_level": 0, "max_iter": max_iter, "max_cpu_time": max_cpu,
                           # A defect of 1e-8 per step (IPOPT's default) adds up to ~1e-6 at the
@@ -181,7 +210,9 @@ class Transcription:
         return np.array(sol["x"]).flatten(), self.solver.stats()
 
     def cost(self, w):
-        return float(self.h / 2 * np.sum(w[5 * (self.n + 1):] ** 2))
+        X = w[: 5 * (self.n + 1)].reshape((self.n + 1, 5)).T
+        U = w[5 * (self.n + 1):].reshape((self.n, 2)).T
+        return float(np.sum(np.array(self.stage(X[:, :-1], U))))
 
 
 # Start family, in mirror pairs: (kind, a, b, phi, turns, direction). An ellipse through
@@ -261,7 +292,7 @@ def run(problems, args):
                 if key not in cache:
                     cache.clear()  # one instance at a time: each holds the whole NLP
                     cache[key] = Transcription(n, p["step"], p["links"], p["drag"], p["ratio"],
-                                               args.max_cpu, args.max_iter)
+                                               args.max_cpu, args.max_iter, args.cost)
                     print(f"(IPOPT instance for N={n}, h={p['step']}: built in "
                           f"{cache[key].build_seconds:.1f} s)", flush=True)
                 r = {"problem": p["name"], "start": i, "label": label}
@@ -372,6 +403,8 @@ def main():
     ap.add_argument("--guard", type=float, metavar="A",
                     help="also run every start in two phases: with |alpha_i| <= A, then without (problems without alpha_max)")
     ap.add_argument("--check", action="store_true", help="check the transcription on the paper's problem")
+    ap.add_argument("--cost", choices=["effort", "power"], default="effort",
+                    help="the running cost (MODEL.md 11): effort h/2 |u|^2 or power h/2 u^T G(alpha) u")
     args = ap.parse_args()
     if args.table and not args.jsonl:
         ap.error("--table reads the --jsonl file")
@@ -380,6 +413,8 @@ def main():
     if args.check:
         raise SystemExit(0 if check(args) else 1)
     problems = json.load(open(args.problems)) if args.problems else [PAPER]
+    if args.cost != "effort":  # the suite's references are effort costs
+        problems = [{k: v for k, v in p.items() if k != "ref"} for p in problems]
     if args.only:
         names = args.only.split(",")
         problems = [p for p in problems if p["name"] in names]

@@ -8,7 +8,7 @@ use crate::plots::{self, PlotError};
 use crate::words::{Front, Worded};
 use crate::{output, replay};
 use purcell_core::{Arc, Gait};
-use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::problem::{Cost, Problem, Spec};
 use purcell_solver::solver::continuation::{Lattice, SweepPoint};
 use purcell_solver::solver::{Evidence, Extremal, Minimum, Solution, Unrefined};
 use serde::Serialize;
@@ -174,6 +174,8 @@ pub struct SolveReport {
     pub arcs: Vec<ArcReport>,
     /// Its cost `J`, rad²/s.
     pub cost: f64,
+    /// Its cost under each cost the solver knows, by name.
+    pub costs: Costs,
     /// Every extremal, cheapest first.
     pub extremals: Vec<ExtremalReport>,
     /// [`REPORT_FORMAT`].
@@ -256,6 +258,7 @@ pub struct ExtremalReport {
     pub admissible: bool,
     pub arcs: Vec<ArcReport>,
     pub cost: f64,
+    pub costs: Costs,
     pub hits: usize,
     pub kkt_residual: Option<f64>,
     pub law_residual: Option<f64>,
@@ -320,6 +323,18 @@ fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+/// An extremal's cost under each cost the solver knows, by name (`{"effort": …, "power": …}`).
+pub type Costs = std::collections::BTreeMap<&'static str, f64>;
+
+/// The costs of `x` ([`Costs`]).
+fn costs(x: &Extremal) -> Costs {
+    Cost::ALL
+        .into_iter()
+        .map(|c| c.name())
+        .zip(x.costs)
+        .collect()
+}
+
 impl SolveReport {
     /// The report of `solution` to `problem`, whose returned extremal's costate `file` and
     /// `gait` are written, found in `seconds`.
@@ -335,6 +350,7 @@ impl SolveReport {
             admissible: best.admissible,
             arcs: arcs(&best.arcs),
             cost: best.cost,
+            costs: costs(best),
             extremals: solution.extremals.iter().map(ExtremalReport::new).collect(),
             format: REPORT_FORMAT,
             kkt_residual: best.kkt_residual,
@@ -372,6 +388,7 @@ impl ExtremalReport {
             admissible: x.admissible,
             arcs: arcs(&x.arcs),
             cost: x.cost,
+            costs: costs(x),
             hits: x.hits,
             kkt_residual: x.kkt_residual,
             law_residual: x.law_residual,

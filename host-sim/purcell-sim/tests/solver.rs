@@ -252,7 +252,7 @@ fn a_refinement_stops_early_once_dearer_than_the_bound() {
         Some(Stop::Dearer)
     );
     let (fine, run) = refine(&p, &c.u, &c.nu, f64::INFINITY, &|| ()).unwrap();
-    assert!(fine.cost(&run.point.u) > bound * (1.0 + PRUNE));
+    assert!(fine.cost(&run.point.u, &run.point.states) > bound * (1.0 + PRUNE));
 }
 
 /// A looser joint limit never costs more. On the paper's target from 2.443 rad through 140°

@@ -1,7 +1,8 @@
 //! The discrete optimal-control problem (MODEL.md §4) and the validation of its inputs.
 //!
-//! Minimise `J = Σ_{k<N} h/2·|u_k|²` subject to the exact kinematics, `α_0 = α_N = ᾱ`,
-//! `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of steps.
+//! Minimise `J = Σ_{k<N} h/2·|u_k|²` (or another [`Cost`], MODEL.md §11) subject to the
+//! exact kinematics, `α_0 = α_N = ᾱ`, `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of
+//! steps.
 
 use nalgebra::{Vector2, Vector3};
 use purcell_core::gait::{CheckpointRecord, GaitParams};
@@ -173,6 +174,30 @@ impl Default for Spec {
     }
 }
 
+/// The costs a problem can minimise (MODEL.md §11); their evaluation is
+/// `crate::solver::cost`'s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Cost {
+    /// The joints' effort, `Σ h/2·|u_k|²` (the paper's).
+    #[default]
+    Effort,
+    /// The power the fluid dissipates, `Σ h/2·u_kᵀG(α_k)u_k`.
+    Power,
+}
+
+impl Cost {
+    /// Every cost.
+    pub const ALL: [Cost; 2] = [Cost::Effort, Cost::Power];
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cost::Effort => "effort",
+            Cost::Power => "power",
+        }
+    }
+}
+
 /// Relative excess over the joint limit counted as rounding ([`Problem::admits`]).
 pub const LIMIT_ROUNDING: f64 = 1e-13;
 
@@ -196,6 +221,8 @@ pub struct Problem {
     /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, in `]0, π[`; `None`: only the
     /// links' overlap, `|α_i| <` [`OVERLAP`].
     pub alpha_max: Option<f64>,
+    /// The running cost minimised (MODEL.md §11); [`Cost::Effort`] from [`Problem::new`].
+    pub cost: Cost,
 }
 
 impl Problem {
@@ -273,7 +300,13 @@ impl Problem {
             alpha0: Vector2::new(a1, a2),
             target: Vector3::from(spec.target),
             alpha_max: spec.alpha_max,
+            cost: Cost::Effort,
         })
+    }
+
+    /// The same problem minimising `cost`.
+    pub fn with_cost(self, cost: Cost) -> Self {
+        Problem { cost, ..self }
     }
 
     /// The problem a stored gait (a costate or gait file) belongs to, validated like

@@ -1,11 +1,15 @@
 //! What the test crates share (behind the `test-kit` feature, as nalgebra exports its
 //! proptest strategies behind one): a small problem that solves in a moment ([`small`]), the
 //! extremal a solve returns ([`cheapest`]), and the contract every returned extremal is held
-//! to ([`check_extremal`], with the certificates' bounds of [`crate::solver::settings`]).
+//! to ([`check_extremal`], with the certificates' bounds of [`crate::solver::settings`]), and
+//! the power a swimmer dissipates computed link by link ([`dissipated`]), independently of the
+//! power cost's metric.
 
 use crate::problem::{Problem, Spec};
 use crate::solver::settings::{KKT_TOL, LAW_TOL, TERMINAL_TOL};
 use crate::solver::{Extremal, SolveOptions, solve};
+use nalgebra::Vector2;
+use purcell_core::Swimmer;
 
 /// The small problem: the displacement `ḡ = (0.001, 0, 0)` in `T = 10 s` of `h = 0.01 s`,
 /// otherwise the paper's, with the joint limit `alpha_max`.
@@ -72,4 +76,45 @@ pub fn check_extremal(name: &str, problem: &Problem, x: &Extremal, reference: Op
         x.local_min,
         "{name}: returned extremal is not a strict local minimum"
     );
+}
+
+/// The power `P(α, u)` the fluid dissipates, from the links' velocities directly (MODEL.md §2,
+/// §11): `ξ = −A(α)u` from the core's closed-form connection, each link's centre velocity and
+/// turning rate, `Σ_links k·l·v∥² + r·k·l·v⊥² + r·k·l³/12·w²`.
+///
+/// # Panics
+/// If the connection cannot be computed at `α`.
+pub fn dissipated(sw: &Swimmer<f64>, alpha: &Vector2<f64>, u: &Vector2<f64>) -> f64 {
+    let xi = -(sw.connection(alpha).expect("an admissible shape") * u);
+    let [l0, l1, l2] = sw.lengths();
+    let (k, r) = (sw.drag(), sw.ratio());
+    let (a1, a2) = (alpha.x, alpha.y);
+    // Length, centre, the centre's velocity from the joint, direction angle, joint rate.
+    let links = [
+        (l0, (0.0, 0.0), (0.0, 0.0), 0.0, 0.0),
+        (
+            l1,
+            (l0 / 2.0 + l1 / 2.0 * a1.cos(), l1 / 2.0 * a1.sin()),
+            (-l1 / 2.0 * a1.sin() * u.x, l1 / 2.0 * a1.cos() * u.x),
+            a1,
+            u.x,
+        ),
+        (
+            l2,
+            (-l0 / 2.0 - l2 / 2.0 * a2.cos(), -l2 / 2.0 * a2.sin()),
+            (l2 / 2.0 * a2.sin() * u.y, -l2 / 2.0 * a2.cos() * u.y),
+            a2,
+            u.y,
+        ),
+    ];
+    links
+        .into_iter()
+        .map(|(l, c, dc, phi, rate)| {
+            let v = (xi.x - xi.z * c.1 + dc.0, xi.y + xi.z * c.0 + dc.1);
+            let par = v.0 * phi.cos() + v.1 * phi.sin();
+            let perp = -v.0 * phi.sin() + v.1 * phi.cos();
+            let w = xi.z + rate;
+            k * l * par * par + r * k * l * perp * perp + r * k * l.powi(3) / 12.0 * w * w
+        })
+        .sum()
 }

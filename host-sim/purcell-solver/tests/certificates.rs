@@ -225,7 +225,7 @@ fn local_min_is_false_on_a_saddle() {
         },
     )
     .unwrap();
-    let cost = grid.cost(&away.point.u);
+    let cost = grid.cost(&away.point.u, &away.point.states);
     eprintln!(
         "from a hair off the saddle: J {cost}, converged {}, local min {}",
         away.converged, away.local_min

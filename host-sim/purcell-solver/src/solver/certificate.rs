@@ -16,7 +16,7 @@
 //! The second-order check (no conjugate point) is the inertia of the direct method's own
 //! Riccati factorisation with the exact Hessian ([`super::riccati::Factor::convex`]).
 
-use super::cost::{Effort, StageCost};
+use super::cost::{Cost, Costs, Power, StageCost};
 use super::settings::ON_LIMIT;
 use super::solution::Trajectory;
 use super::stage::coordinates;
@@ -27,11 +27,15 @@ use purcell_core::{OnArcs, Real, Se2, State};
 
 /// `max_k |u_law(α_k, g_k, ξ^{k−1}, μ) − u_k|_∞`, relative to `max_k |u_k|_∞` (absolute when
 /// the controls are zero). Errors if the law refuses a state (e.g. past the overlap limit).
+/// For the power cost, the residual of its law's equations instead ([`power_law_residual`]).
 pub fn law_residual(
     problem: &Problem,
     t: &Trajectory,
     mu: &Vector3<f64>,
 ) -> Result<f64, purcell_core::Error> {
+    if problem.cost == Cost::Power {
+        return power_law_residual(problem, t, mu);
+    }
     let kin = problem.kinematics::<f64>()?;
     let mut worst = 0.0f64;
     let mut scale = 0.0f64;
@@ -39,6 +43,34 @@ pub fn law_residual(
         let step = kin.law_step(s, xi, mu, OnArcs::NONE, f64::PASSES)?;
         worst = worst.max((step.u - u).amax());
         scale = scale.max(u.amax());
+    }
+    Ok(if scale > 0.0 { worst / scale } else { worst })
+}
+
+/// The power cost's law (MODEL.md §11) at every step, from the trajectory's state, control
+/// and `ξ^{k−1}`, through the core's connection, `Ad` and `dexp`: `ζ^k = dexp_{X_k}ᵀAd_{g_k}ᵀμ`,
+/// `ξ^k = ξ^{k−1} + hB_ku_k + (h/2)c_k`, and `max_k |G(α_k)u_k − ξ^k + A(α_k)ᵀζ^k|_∞`
+/// relative to `max_k |G(α_k)u_k|_∞`.
+pub fn power_law_residual(
+    problem: &Problem,
+    t: &Trajectory,
+    mu: &Vector3<f64>,
+) -> Result<f64, purcell_core::Error> {
+    let power = Power::new(&problem.swimmer);
+    let h = problem.h;
+    let mut worst = 0.0f64;
+    let mut scale = 0.0f64;
+    for ((s, u), xi) in t.states.iter().zip(&t.controls).zip(&t.xis) {
+        let c = problem.swimmer.connection_with_derivatives(&s.alpha)?;
+        let zeta =
+            purcell_core::se2::dexp(&(c.a * u * -h)).transpose() * s.g.adjoint_transpose_mul(mu);
+        let m = power.metric(s.alpha.x, s.alpha.y);
+        let bu = Vector2::new(zeta.dot(&(c.da[0] * u)), zeta.dot(&(c.da[1] * u)));
+        let cu = Vector2::new(u.dot(&(m.dg[0] * u)), u.dot(&(m.dg[1] * u)));
+        let xi_k = xi + bu * h + cu * (0.5 * h);
+        let gu = m.g * u;
+        worst = worst.max((gu - xi_k + c.a.transpose() * zeta).amax());
+        scale = scale.max(gu.amax());
     }
     Ok(if scale > 0.0 { worst / scale } else { worst })
 }
@@ -100,6 +132,7 @@ pub fn kkt(
     let mut active = 0;
     let n = t.controls.len();
     let limit = problem.alpha_max;
+    let costs = Costs::of(problem.cost, problem.swimmer);
     for (k, (s, u)) in t.states.iter().zip(&t.controls).enumerate().rev() {
         let [a1, a2, px, py, th] = coordinates(s);
         let x = [a1, a2, px, py, th, u.x, u.y];
@@ -109,8 +142,10 @@ pub fn kkt(
             g: Se2::new(w(2), w(3), w(4)),
         };
         let next = kin.step(&st, &Vector2::new(w(5), w(6)))?;
-        // ∂J/∂u_k, the cost's share of ∂L/∂u_k.
-        let cost = Effort.gradient(problem.h, u);
+        // ∂J/∂u_k, the cost's share of ∂L/∂u_k (and ∂J/∂α_k, of ∂L/∂α_k).
+        let sk = SVector::<f64, 5>::from([a1, a2, px, py, th]);
+        let cost = costs.gradient(problem.h, &sk, u);
+        let shape = costs.shape_terms(problem.h, &sk, u).map(|t| t.gradient);
         let out = coordinates(&next);
         let mut grad = [0.0; 7];
         for (o, a) in out.iter().zip(adj.iter()) {
@@ -138,6 +173,10 @@ pub fn kkt(
         }
         let gu = cost + Vector2::new(grad[5], grad[6]);
         worst = worst.max(gu.amax() / problem.h);
+        if let Some(ga) = shape {
+            grad[0] += ga.x;
+            grad[1] += ga.y;
+        }
         adj = SVector::<f64, 5>::from_fn(|i, _| grad[i]);
     }
     Ok(Kkt {

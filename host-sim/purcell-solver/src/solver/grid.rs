@@ -6,7 +6,7 @@
 
 use super::constraints::joint_limit::Limits;
 use super::constraints::terminal::Terminal;
-use super::cost::{Effort, StageCost};
+use super::cost::{Costs, StageCost};
 use super::stage::{Rule, StageModel, StageState};
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector3, Vector5};
@@ -25,6 +25,8 @@ pub struct Grid {
     pub terminal: Terminal,
     /// How the joint limit `|α_i| ≤ α_max` enters, if at all.
     pub limits: Limits,
+    /// The running cost.
+    pub cost: Costs,
 }
 
 impl Grid {
@@ -43,6 +45,7 @@ impl Grid {
                 target: StageState::new(a.x, a.y, t.x, t.y, t.z),
             },
             limits: Limits::None,
+            cost: Costs::of(problem.cost, problem.swimmer),
         })
     }
 
@@ -80,6 +83,7 @@ impl Grid {
             start: self.start,
             terminal: self.terminal,
             limits: Limits::None,
+            cost: self.cost,
         })
     }
 
@@ -124,15 +128,16 @@ impl Grid {
         Ok(out)
     }
 
-    /// The cost `J` of the controls `u` ([`Effort`]).
-    pub fn cost(&self, u: &[Vector2<f64>]) -> f64 {
-        Effort.value(self.h(), u)
+    /// The cost `J` of the controls `u` along their rollout `states` ([`Grid::cost`]'s field).
+    pub fn cost(&self, u: &[Vector2<f64>], states: &[StageState]) -> f64 {
+        self.cost.value(self.h(), states, u)
     }
 
     /// What the direct method minimises: `J`, plus the barrier if there is one
     /// ([`Limits::objective`]).
     pub fn objective(&self, u: &[Vector2<f64>], states: &[StageState]) -> f64 {
-        self.limits.objective(self.h(), self.cost(u), states)
+        self.limits
+            .objective(self.h(), self.cost(u, states), states)
     }
 
     /// The derivative of [`Grid::objective`] along the step `du`.
@@ -144,7 +149,7 @@ impl Grid {
     ) -> f64 {
         let h = self.h();
         self.limits
-            .objective_slope(h, Effort.slope(h, u, du), states, du)
+            .objective_slope(h, self.cost.slope(h, states, u, du), states, du)
     }
 }
 

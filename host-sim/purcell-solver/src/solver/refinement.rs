@@ -4,6 +4,7 @@
 //! fine extremals with their certificates, cheapest first.
 
 use super::constraints::joint_limit::Limits;
+use super::cost::{Costs, StageCost};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits::{self, PolishError};
@@ -15,7 +16,7 @@ use super::settings::{
 };
 use super::solution::{Extremal, Minimum, SolveError, Unrefined};
 use super::{certificate, costate, symmetry};
-use crate::problem::{OVERLAP, Problem};
+use crate::problem::{Cost, OVERLAP, Problem};
 use nalgebra::{Vector2, Vector5};
 
 /// Why a refinement stopped short of the problem's grid.
@@ -96,7 +97,7 @@ pub fn refine(
                 PolishError::Unsettled => Stop::Defect(f64::INFINITY),
             });
         }
-        if grid.cost(&run.point.u) > bound {
+        if grid.cost(&run.point.u, &run.point.states) > bound {
             return Err(Stop::Dearer);
         }
         u = run.point.u;
@@ -129,7 +130,8 @@ fn barrier_stage(
         return Ok((FINE_TAUS.len() - 1, walk.run));
     }
     let Some((i, reached)) = walk.reached else {
-        let near = grid.cost(&walk.run.point.u) <= grid.cost(&start.u) * (1.0 + COARSE_COST_ERROR);
+        let near = grid.cost(&walk.run.point.u, &walk.run.point.states)
+            <= grid.cost(&start.u, &start.states) * (1.0 + COARSE_COST_ERROR);
         if near && let Some(rescued) = rescue(grid, alpha_max, start, pulse) {
             return Ok(rescued);
         }
@@ -183,7 +185,8 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     let max_abs_alpha = grid::max_abs_alpha(&p.states);
     let physical = max_abs_alpha < OVERLAP;
     let check = |r: Result<f64, purcell_core::Error>| r.ok().filter(|_| physical);
-    let cost = grid.cost(&p.u);
+    let cost = grid.cost(&p.u, &p.states);
+    let costs = Cost::ALL.map(|c| Costs::of(c, problem.swimmer).value(grid.h(), &p.states, &p.u));
     let kkt = certificate::kkt(problem, &trajectory, &mu)
         .ok()
         .filter(|_| physical);
@@ -197,6 +200,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
     };
     Extremal {
         cost,
+        costs,
         mu,
         xi0: trajectory.xis.first().copied().unwrap_or_default(),
         max_abs_alpha,

@@ -7,8 +7,9 @@
 //! subject to δs_{k+1} = A_k δs_k + B_k δu_k,   δs_0 = 0,   δs_N = e
 //! ```
 //!
-//! `Q_k` is the Hessian of the Lagrangian at stage `k` (from [`super::stage`]) plus
-//! `(h + δ)·I` on the controls (the cost, and a regularisation `δ ≥ 0`). For a terminal
+//! `Q_k` is the Hessian of the Lagrangian at stage `k` (from [`super::stage`], the cost's
+//! included by [`super::linearisation`]) plus `δ·I` on the controls (a regularisation
+//! `δ ≥ 0`). For a terminal
 //! multiplier `ν` the problem without the terminal constraint but with the extra cost `νᵀδs_N`
 //! has the value function `½δsᵀP_kδs + p_kᵀδs`, `p_k = p⁰_k + Π_k ν`, computed backwards from
 //! `P_N = 0, p⁰_N = 0, Π_N = I`:
@@ -33,7 +34,6 @@
 //! Hessian and the step is zero) exactly when the KKT matrix has `m = 5` negative eigenvalues,
 //! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
 
-use super::cost::{Effort, StageCost};
 use super::settings::{PIVOT, REFINE_GAIN, REFINE_MISS, REFINE_PASSES, SINGULAR};
 use super::stage::Linearised;
 use nalgebra::{
@@ -114,19 +114,18 @@ struct Stage {
 }
 
 impl Stage {
-    /// Stage `l` with linear term `r`, cost step `h` and regularisation `delta`; with a
+    /// Stage `l` with linear term `r` and regularisation `delta`; with a
     /// substitution `δu = Sδv + Lδa` (`sub`), in `(δa, δv)`: dynamics `A + BL`, `BS`, the
     /// costs transformed, the linear term `rᵀδu = (Sr)ᵀδv + (Lᵀr)ᵀδa`.
     fn new(
         l: &Linearised,
         r: Vector2<f64>,
-        h: f64,
         delta: f64,
         sub: Option<(Matrix2<f64>, Matrix2x3<f64>)>,
     ) -> Self {
         let mut stage = Stage {
             split: Split::new(l),
-            huu: l.huu + Effort.hessian(h),
+            huu: l.huu,
             reg: Matrix2::identity() * delta,
             fixed_pivot: Matrix2::zeros(),
             r,
@@ -267,7 +266,7 @@ impl Factor {
                 fixed_pivot,
                 r: ri,
                 qa,
-            } = Stage::new(&lin[i], r[i], h, delta, subs.as_ref().map(|v| v[i]));
+            } = Stage::new(&lin[i], r[i], delta, subs.as_ref().map(|v| v[i]));
             let (a, b) = (&st.a, &st.b);
             let pa = p * a;
             let pb = p * b;
@@ -396,7 +395,8 @@ mod tests {
                     b,
                     hss: q + q.transpose(),
                     hsu,
-                    huu: huu + huu.transpose(),
+                    // The stage's Hessian with the effort's `h·I` (MODEL.md §4).
+                    huu: huu + huu.transpose() + Matrix2::identity() * h,
                 }
             })
             .collect();
@@ -412,7 +412,6 @@ mod tests {
         lin: &[Linearised],
         r: &[Vector2<f64>],
         e: &Vector5<f64>,
-        h: f64,
         maps: Option<&[ControlMap]>,
     ) -> (DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
         let n = lin.len();
@@ -440,8 +439,7 @@ mod tests {
             q.view_mut((0, 5), (5, 2)).copy_from(&lin[k].hsu);
             q.view_mut((5, 0), (2, 5))
                 .copy_from(&lin[k].hsu.transpose());
-            q.view_mut((5, 5), (2, 2))
-                .copy_from(&(lin[k].huu + Effort.hessian(h)));
+            q.view_mut((5, 5), (2, 2)).copy_from(&lin[k].huu);
             hm += z.transpose() * q * &z;
             g[2 * k] += r[k].x;
             g[2 * k + 1] += r[k].y;
@@ -483,7 +481,7 @@ mod tests {
         let (lin, r, e) = random_problem(n, h, 7);
         let f = Factor::new(&lin, &r, h, 0.0, None).unwrap();
         let (du, nu) = f.solve(&lin, &e, true).unwrap();
-        let (kkt, rhs, hm) = dense(&lin, &r, &e, h, None);
+        let (kkt, rhs, hm) = dense(&lin, &r, &e, None);
         let nv = 2 * n;
         let sol = kkt.clone().lu().solve(&rhs).unwrap();
         for k in 0..n {
@@ -530,7 +528,7 @@ mod tests {
         }
         let f = Factor::new(&lin, &r, h, 0.0, Some(&maps)).unwrap();
         let (du, nu) = f.solve(&lin, &e, true).unwrap();
-        let (kkt, rhs, _) = dense(&lin, &r, &e, h, Some(&maps));
+        let (kkt, rhs, _) = dense(&lin, &r, &e, Some(&maps));
         let sol = kkt.clone().lu().solve(&rhs).unwrap();
         let nv = 2 * n;
         for k in 0..n {

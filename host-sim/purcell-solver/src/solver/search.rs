@@ -329,7 +329,7 @@ impl Search {
             self.unresolved += 1;
             return None;
         }
-        let cost = grid.cost(&run.point.u);
+        let cost = grid.cost(&run.point.u, &run.point.states);
         let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
         self.candidates.push(Candidate {
             u: run.point.u,

@@ -21,8 +21,11 @@ pub struct Trajectory {
 /// One extremal of the fine problem, with its certificates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Extremal {
-    /// `J = Σ h/2 |u_k|²`.
+    /// `J` of the problem's cost ([`crate::problem::Problem::cost`]).
     pub cost: f64,
+    /// `J` of its controls under each cost of [`crate::problem::Cost::ALL`] (effort, power),
+    /// whichever the problem minimises.
+    pub costs: [f64; 2],
     /// Spatial momentum `μ`.
     pub mu: Vector3<f64>,
     /// `ξ^{−1}`.

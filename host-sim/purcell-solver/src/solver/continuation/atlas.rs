@@ -392,7 +392,7 @@ fn newton_from(grid: &Grid, from: &Candidate, settings: &Settings) -> Option<Can
     }
     let max_abs_alpha = grid::max_abs_alpha(&run.point.states);
     Some(Candidate {
-        cost: grid.cost(&run.point.u),
+        cost: grid.cost(&run.point.u, &run.point.states),
         u: run.point.u,
         nu: run.point.nu,
         max_abs_alpha,
