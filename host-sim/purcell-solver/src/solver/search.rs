@@ -147,9 +147,16 @@ pub fn search(
     let (min_starts, max_starts) = (*starts.start(), *starts.end());
     let size = starts::reference_size(grid);
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let family = starts::family(size, &alpha0, seed, max_starts, limit.is_none());
+    let alpha_end = Vector2::new(grid.terminal.target[0], grid.terminal.target[1]);
+    let boxes = limit.is_none();
+    let family = if alpha_end == alpha0 {
+        starts::family(size, &alpha0, seed, max_starts, boxes)
+    } else {
+        starts::transitions(size, &alpha0, &alpha_end, seed, max_starts, boxes)
+    };
     // The zero loop first: the solution when the target is the start (J = 0); for any other
-    // target its Newton step is singular and it stops at once.
+    // target its Newton step is singular and it stops at once. For a transition, the straight
+    // shape path in its place ([`starts::straight`]).
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
         .chain(family.iter().enumerate().map(|(i, s)| (i + 1, Some(*s))))
         .collect();
@@ -222,7 +229,7 @@ fn run_start(
     index: usize,
     start_loop: Option<StartLoop>,
 ) -> Result<Run, Error> {
-    let u = start_loop.map_or_else(|| vec![Vector2::zeros(); grid.steps], |s| s.controls(grid));
+    let u = start_loop.map_or_else(|| starts::straight(grid), |s| s.controls(grid));
     match limit {
         None => {
             Point::new(grid, u, Vector5::zeros()).and_then(|p| direct::newton(grid, p, settings))
