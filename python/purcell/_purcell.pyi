@@ -134,7 +134,7 @@ class Replay:
     """Trajectory digest, 0x and 16 hex digits (as `purcell-sim replay` prints)."""
     final_state_bits: list[str]
     alpha_error: float
-    """max |alpha_N - alpha0|, radians."""
+    """max |alpha_N - alpha_end|, radians (alpha_end: alpha0 for a loop)."""
     g_error: float
     """max |log(g_bar^-1 g_N)|, metres / radians."""
     t: F64
@@ -148,6 +148,7 @@ def solve(
     horizon: float = 100.0,
     step: float = 0.01,
     alpha0: Sequence[float] = (0.0, 0.0),
+    alpha_end: Sequence[float] | None = None,
     links: Sequence[float] = (1.0, 1.0, 1.0),
     drag: float = 1.0,
     ratio: float = 2.0,

@@ -17,8 +17,8 @@ use std::time::Instant;
 /// (MODEL.md §4), as `purcell-sim solve` finds it, with the same defaults and checks.
 ///
 /// target: (x, y, theta), metres and radians (theta taken modulo 2 pi into ]-pi, pi]).
-/// horizon: T, seconds, a whole number of steps. step: h, seconds. alpha0: the start and end
-/// shape, radians. links: (L0 middle, L1 front, L2 rear), metres. drag: k. ratio: normal over
+/// horizon: T, seconds, a whole number of steps. step: h, seconds. alpha0: the start shape,
+/// radians. alpha_end: the end shape, radians (None: alpha0, a closed loop). links: (L0 middle, L1 front, L2 rear), metres. drag: k. ratio: normal over
 /// tangential drag. alpha_max: joint limit |alpha_i| <= alpha_max, radians, below pi (None:
 /// only the links' overlap). starts: budget of start loops (1 to 4096). seed: orders the
 /// starts. checkpoint_every: costate checkpoint spacing in steps (None: 100; 0: none).
@@ -36,7 +36,7 @@ use std::time::Instant;
 /// message) for bad input and NoSolution where the command line exits 3.
 #[pyfunction]
 #[pyo3(signature = (
-    target, *, horizon = 100.0, step = 0.01, alpha0 = vec![0.0, 0.0],
+    target, *, horizon = 100.0, step = 0.01, alpha0 = vec![0.0, 0.0], alpha_end = None,
     links = vec![1.0, 1.0, 1.0], drag = 1.0, ratio = 2.0, alpha_max = None,
     starts = SolveOptions::default().starts as i64, seed = 0, checkpoint_every = None,
     warm = None, progress = None
@@ -48,6 +48,7 @@ pub fn solve(
     horizon: f64,
     step: f64,
     alpha0: Vec<f64>,
+    alpha_end: Option<Vec<f64>>,
     links: Vec<f64>,
     drag: f64,
     ratio: f64,
@@ -65,6 +66,7 @@ pub fn solve(
             horizon,
             step,
             alpha0: numbers("alpha0", &alpha0)?,
+            alpha_end: alpha_end.map(|a| numbers("alpha_end", &a)).transpose()?,
             links: numbers("links", &links)?,
             drag,
             ratio,

@@ -36,6 +36,7 @@ impl ProblemKw {
             horizon: self.horizon,
             step: self.step,
             alpha0: numbers("alpha0", &self.alpha0)?,
+            alpha_end: None,
             links: numbers("links", &self.links)?,
             drag: self.drag,
             ratio: self.ratio,
