@@ -10,7 +10,9 @@ CasADi + IPOPT (the paper's method), multi-start, next to purcell-sim's result. 
 
 PROBLEMS.json is a list in the format of the public suite (tests/problems/public.json):
 `name`, `target`, and where given `horizon` (default 100), `step` (0.01), `alpha0` (0,0),
-`alpha_end` (alpha0: a loop), `links` (1,1,1), `drag` (1), `ratio` (2), `alpha_max` (none), `ref`. Without PROBLEMS.json:
+`alpha_end` (alpha0: a loop), `links` (1,1,1), `drag` (1), `ratio` (2), `alpha_max` (none), `ref`,
+and `trajectory` (a purcell-sim trajectory.csv of the problem: its shape path is then the first
+start, so IPOPT checks that extremal on its own transcription besides the family's). Without PROBLEMS.json:
 the paper's problem. Each problem is run from the first --starts starts of a fixed family
 (below), one after the other; every start prints a line and, with --jsonl, appends one JSON line
 {problem, start, label, status, cost, max_abs_alpha, admissible, replay_error, seconds,
@@ -212,12 +214,21 @@ def start_family():
 
 
 def start_label(s):
+    if s[0] == "trajectory":
+        return f"trajectory {os.path.basename(os.path.dirname(s[1]))}"
     kind, a, b, phi, turns, d = s
     return f"{kind} a={a} b={b} phi={phi:g}pi n={turns} {'ccw' if d > 0 else 'cw'}"
 
 
 def start_path(s, alpha0, n, alpha_end=None):
-    """Start s through alpha0, ridden along the straight path to alpha_end (default alpha0)."""
+    """Start s through alpha0, ridden along the straight path to alpha_end (default alpha0);
+    ("trajectory", CSV): the shape path of purcell-sim's trajectory.csv."""
+    if s[0] == "trajectory":
+        rows = np.genfromtxt(s[1], delimiter=",", names=True)
+        path = np.vstack([rows["alpha1_rad"], rows["alpha2_rad"]])
+        if path.shape[1] != n + 1:
+            raise SystemExit(f"{s[1]}: {path.shape[1] - 1} steps, the problem has {n}")
+        return path
     kind, a, b, phi, turns, d = s
     alpha_end = alpha0 if alpha_end is None else alpha_end
     t = 2 * math.pi * turns * np.arange(n + 1) / n
@@ -260,7 +271,9 @@ def run(problems, args):
         n = key[0]
         rows = []
         guards = [None] + ([args.guard] if args.guard and p["alpha_max"] is None else [])
-        for guard, (i, s) in ((g, js) for g in guards for js in enumerate(family)):
+        # A problem's own `trajectory` (purcell-sim's DIR/trajectory.csv) is its first start.
+        mine = [("trajectory", p["trajectory"])] if p.get("trajectory") else []
+        for guard, (i, s) in ((g, js) for g in guards for js in enumerate(mine + family)):
             label = start_label(s) + (f" guard {guard}" if guard else "")
             r = done.get((p["name"], label))
             if r is None:

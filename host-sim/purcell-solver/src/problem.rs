@@ -187,6 +187,21 @@ impl Default for Spec {
     }
 }
 
+/// `Ok` if the start shape and the end shape `end` of `spec` lie strictly within its joint
+/// limit (or the overlap without one).
+fn within_bound(spec: &Spec, end: [f64; 2]) -> Result<(), InputError> {
+    let bound = spec.alpha_max.unwrap_or(OVERLAP);
+    let inside = |[x, y]: [f64; 2]| x.abs() < bound && y.abs() < bound;
+    let [[a1, a2], [b1, b2]] = [spec.alpha0, end];
+    if !inside(spec.alpha0) {
+        Err(InputError::ShapeOutOfRange(a1, a2, bound))
+    } else if !inside(end) {
+        Err(InputError::EndOutOfRange(b1, b2, bound))
+    } else {
+        Ok(())
+    }
+}
+
 /// Relative excess over the joint limit counted as rounding ([`Problem::admits`]).
 pub const LIMIT_ROUNDING: f64 = 1e-13;
 
@@ -270,15 +285,8 @@ impl Problem {
         {
             return Err(InputError::AlphaMax(a));
         }
-        let bound = spec.alpha_max.unwrap_or(OVERLAP);
-        let [a1, a2] = spec.alpha0;
-        if a1.abs() >= bound || a2.abs() >= bound {
-            return Err(InputError::ShapeOutOfRange(a1, a2, bound));
-        }
-        let [b1, b2] = end;
-        if b1.abs() >= bound || b2.abs() >= bound {
-            return Err(InputError::EndOutOfRange(b1, b2, bound));
-        }
+        let ([a1, a2], [b1, b2]) = (spec.alpha0, end);
+        within_bound(spec, end)?;
         let swimmer = Swimmer::new(spec.links, spec.drag, spec.ratio)
             .map_err(|_| InputError::NonPositive("swimmer parameter", f64::NAN))?;
         for (at, [x, y]) in [("alpha0", spec.alpha0), ("alpha-end", end)] {

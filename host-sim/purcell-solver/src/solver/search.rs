@@ -146,14 +146,7 @@ pub fn search(
 ) -> Search {
     let (min_starts, max_starts) = (*starts.start(), *starts.end());
     let size = starts::reference_size(grid);
-    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let alpha_end = Vector2::new(grid.terminal.target[0], grid.terminal.target[1]);
-    let boxes = limit.is_none();
-    let family = if alpha_end == alpha0 {
-        starts::family(size, &alpha0, seed, max_starts, boxes)
-    } else {
-        starts::transitions(size, &alpha0, &alpha_end, seed, max_starts, boxes)
-    };
+    let family = starts::of_grid(grid, size, seed, max_starts, limit.is_none());
     // The zero loop first: the solution when the target is the start (J = 0); for any other
     // target its Newton step is singular and it stops at once. For a transition, the straight
     // shape path in its place ([`starts::straight`]).

@@ -184,6 +184,19 @@ pub fn straight(grid: &Grid) -> Vec<Vector2<f64>> {
     vec![drift(grid).unwrap_or_else(Vector2::zeros); grid.steps]
 }
 
+/// The first `count` start loops of the problem on `grid` (loop size `size`, ordered by
+/// `seed`, box loops if `boxes`): [`family`] through its start shape for a loop,
+/// [`transitions`] for a transition.
+pub fn of_grid(grid: &Grid, size: f64, seed: u64, count: usize, boxes: bool) -> Vec<StartLoop> {
+    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+    let alpha_end = Vector2::new(grid.terminal.target[0], grid.terminal.target[1]);
+    if alpha_end == alpha0 {
+        family(size, &alpha0, seed, count, boxes)
+    } else {
+        transitions(size, &alpha0, &alpha_end, seed, count, boxes)
+    }
+}
+
 /// The start loops of a transition from `alpha0` to `alpha_end` (see the module docs): those
 /// of [`family`] with the box loops sized about the midpoint of the straight path.
 pub fn transitions(
