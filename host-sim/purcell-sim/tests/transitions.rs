@@ -144,3 +144,32 @@ fn a_bad_end_shape_is_refused() {
         assert!(!out.exists());
     }
 }
+
+/// `sweep --alpha-end`: every target's gait ends in the end shape; the report says which.
+#[test]
+fn a_sweep_of_transitions_reports_its_end_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sweep");
+    let o = sim(&[
+        "sweep",
+        "--x",
+        "0.01:0.02:2",
+        "--y",
+        "0.01",
+        "--horizon",
+        "10",
+        "--step",
+        "0.01",
+        "--alpha0",
+        "0.3,0.3",
+        "--alpha-end",
+        "0,0",
+        "--no-plots",
+        "--out",
+        arg(&out),
+    ]);
+    assert_exit(&o, 0, "");
+    let r = common::report(&out);
+    assert_eq!(r["problem"]["alpha_end"], serde_json::json!([0.0, 0.0]));
+    assert_eq!(r["solved"], 2);
+}

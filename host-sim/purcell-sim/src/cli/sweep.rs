@@ -94,7 +94,7 @@ pub(super) fn run_sweep(a: SweepArgs, quiet: bool) -> Result<String, Failure> {
         "targets": points.len(), "solved": solved, "sweep_seconds": seconds,
         "axes": {"x": lattice.axes[0], "y": lattice.axes[1], "theta": lattice.axes[2]},
         "problem": {"horizon": a.problem.horizon, "step": a.problem.step, "alpha0": spec.alpha0,
-                    "links": spec.links, "drag": spec.drag, "ratio": spec.ratio,
+                    "alpha_end": spec.alpha_end.unwrap_or(spec.alpha0), "links": spec.links, "drag": spec.drag, "ratio": spec.ratio,
                     "alpha_max": spec.alpha_max},
     });
     let summary_text = serde_json::to_string_pretty(&summary).map_err(|e| fail(1, e))? + "\n";
