@@ -11,7 +11,9 @@ CasADi + IPOPT (the paper's method), multi-start, next to purcell-sim's result. 
 
 PROBLEMS.json is a list in the format of the public suite (tests/problems/public.json):
 `name`, `target`, and where given `horizon` (default 100), `step` (0.01), `alpha0` (0,0),
-`links` (1,1,1), `drag` (1), `ratio` (2), `alpha_max` (none), `ref`. Without PROBLEMS.json:
+`alpha_end` (alpha0: a loop), `links` (1,1,1), `drag` (1), `ratio` (2), `alpha_max` (none), `ref`,
+and `trajectory` (a purcell-sim trajectory.csv of the problem: its shape path is then the first
+start, so IPOPT checks that extremal on its own transcription besides the family's). Without PROBLEMS.json:
 the paper's problem. Each problem is run from the first --starts starts of a fixed family
 (below), one after the other; every start prints a line and, with --jsonl, appends one JSON line
 {problem, start, label, status, cost, max_abs_alpha, admissible, replay_error, seconds,
@@ -29,15 +31,16 @@ to BENCH.md). Admissible: IPOPT converged (Solve_Succeeded), max |alpha_i| < pi,
 
 Decision variables: the states x_k = (alpha_k, g_k) (k = 0..N, g = (x, y, theta)) and the
 controls u_k (k = 0..N-1). Equality constraints: the exact step alpha_{k+1} = alpha_k + h u_k,
-g_{k+1} = g_k exp(-h A(alpha_k) u_k). Bounds: alpha_0 = alpha_N = alpha0, g_0 = e, g_N = target,
-and |alpha_i| <= alpha_max on every alpha_k when given. Cost sum h/2 |u_k|^2, or with --cost
-power sum h/2 u_k^T G(alpha_k) u_k (G from the same drag matrices, MODEL.md 11). The connection A
+g_{k+1} = g_k exp(-h A(alpha_k) u_k). Bounds: alpha_0 = alpha0, alpha_N = alpha_end, g_0 = e,
+g_N = target, and |alpha_i| <= alpha_max on every alpha_k when given. Cost sum h/2 |u_k|^2, or
+with --cost power sum h/2 u_k^T G(alpha_k) u_k (G from the same drag matrices, MODEL.md 11). The
+connection A
 is the resistive-force-theory one of MODEL.md section 2, written out here independently. The
 NLP depends on the problem only through N, h, the links, the drag and the ratio (the rest are
 bounds), so one IPOPT instance serves all the problems and starts that share them.
 
 Starts: shape loops through alpha0 (the controls their differences / h, g_k their exact
-replay): ellipses and figure-eights (1:2 Lissajous), in mirror pairs (start 2i+1 is start 2i
+replay), for a transition (alpha_end != alpha0) ridden along the straight path alpha0 -> alpha_end: ellipses and figure-eights (1:2 Lissajous), in mirror pairs (start 2i+1 is start 2i
 negated, alpha -> -alpha, so a problem and its mirror image get mirrored starts); see START_FAMILY.
 """
 import argparse
@@ -131,6 +134,7 @@ def step_function(h, links, drag, ratio):
 def full(p):
     q = dict(DEFAULTS)
     q.update(p)
+    q.setdefault("alpha_end", q["alpha0"])
     return q
 
 
@@ -169,15 +173,15 @@ class Transcription:
         hi = np.full((5, n + 1), np.inf)
         if p["alpha_max"] is not None:
             lo[:2, :], hi[:2, :] = -p["alpha_max"], p["alpha_max"]
-        for k in (0, n):
-            lo[:2, k] = hi[:2, k] = p["alpha0"]
+        lo[:2, 0] = hi[:2, 0] = p["alpha0"]
+        lo[:2, n] = hi[:2, n] = p["alpha_end"]
         lo[2:, 0] = hi[2:, 0] = 0.0
         lo[2:, n] = hi[2:, n] = p["target"]
         ulo = np.full(2 * n, -np.inf)
         return (np.concatenate([lo.flatten("F"), ulo]), np.concatenate([hi.flatten("F"), -ulo]))
 
     def solve(self, p, alpha, guard=None):
-        """IPOPT from the shape path alpha (2 x N+1, through alpha0 at both ends). With guard:
+        """IPOPT from the shape path alpha (2 x N+1, from alpha0 to alpha_end). With guard:
         first with the bound |alpha_i| <= guard, then without it from that solution (phase 2's
         result is what counts: an extremal of the problem as posed)."""
         n, h = self.n, self.h
@@ -197,7 +201,7 @@ class Transcription:
         amax = float(np.max(np.abs(X[:2])))
         # Independent check of feasibility: replay the controls from (alpha0, e).
         end = np.array(self.replay(np.concatenate([p["alpha0"], [0, 0, 0]]), U))[:, -1]
-        err = float(np.max(np.abs(end - np.concatenate([p["alpha0"], p["target"]]))))
+        err = float(np.max(np.abs(end - np.concatenate([p["alpha_end"], p["target"]]))))
         inside = amax <= p["alpha_max"] + 1e-9 if p["alpha_max"] is not None else amax < math.pi
         return {"status": st["return_status"], "cost": self.cost(w), "max_abs_alpha": amax,
                 "admissible": bool(st["return_status"] == "Solve_Succeeded" and inside),
@@ -242,12 +246,23 @@ def start_family():
 
 
 def start_label(s):
+    if s[0] == "trajectory":
+        return f"trajectory {os.path.basename(os.path.dirname(s[1]))}"
     kind, a, b, phi, turns, d = s
     return f"{kind} a={a} b={b} phi={phi:g}pi n={turns} {'ccw' if d > 0 else 'cw'}"
 
 
-def start_path(s, alpha0, n):
+def start_path(s, alpha0, n, alpha_end=None):
+    """Start s through alpha0, ridden along the straight path to alpha_end (default alpha0);
+    ("trajectory", CSV): the shape path of purcell-sim's trajectory.csv."""
+    if s[0] == "trajectory":
+        rows = np.genfromtxt(s[1], delimiter=",", names=True)
+        path = np.vstack([rows["alpha1_rad"], rows["alpha2_rad"]])
+        if path.shape[1] != n + 1:
+            raise SystemExit(f"{s[1]}: {path.shape[1] - 1} steps, the problem has {n}")
+        return path
     kind, a, b, phi, turns, d = s
+    alpha_end = alpha0 if alpha_end is None else alpha_end
     t = 2 * math.pi * turns * np.arange(n + 1) / n
     if kind == "ellipse":
         p, q = a * (np.cos(t) - 1), d * b * np.sin(t)
@@ -256,6 +271,9 @@ def start_path(s, alpha0, n):
     c, sn = math.cos(phi * math.pi), math.sin(phi * math.pi)
     path = np.vstack([c * p - sn * q, sn * p + c * q]) + np.array(alpha0)[:, None]
     path[:, -1] = alpha0  # exactly closed
+    if list(alpha_end) != list(alpha0):
+        path += np.outer(np.subtract(alpha_end, alpha0), np.arange(n + 1) / n)
+        path[:, -1] = alpha_end
     return path
 
 
@@ -285,7 +303,9 @@ def run(problems, args):
         n = key[0]
         rows = []
         guards = [None] + ([args.guard] if args.guard and p["alpha_max"] is None else [])
-        for guard, (i, s) in ((g, js) for g in guards for js in enumerate(family)):
+        # A problem's own `trajectory` (purcell-sim's DIR/trajectory.csv) is its first start.
+        mine = [("trajectory", p["trajectory"])] if p.get("trajectory") else []
+        for guard, (i, s) in ((g, js) for g in guards for js in enumerate(mine + family)):
             label = start_label(s) + (f" guard {guard}" if guard else "")
             r = done.get((p["name"], label))
             if r is None:
@@ -296,7 +316,7 @@ def run(problems, args):
                     print(f"(IPOPT instance for N={n}, h={p['step']}: built in "
                           f"{cache[key].build_seconds:.1f} s)", flush=True)
                 r = {"problem": p["name"], "start": i, "label": label}
-                r.update(cache[key].solve(p, start_path(s, p["alpha0"], n), guard))
+                r.update(cache[key].solve(p, start_path(s, p["alpha0"], n, p["alpha_end"]), guard))
                 if args.jsonl:
                     with open(args.jsonl, "a") as f:
                         f.write(json.dumps(r) + "\n")

@@ -59,6 +59,7 @@ PROBLEM: dict[str, Callable[[str, Any], Any]] = {
     "horizon": number,
     "step": number,
     "alpha0": lambda name, value: numbers_of(name, value, 2),
+    "alpha_end": optional(lambda name, value: numbers_of(name, value, 2)),
     "links": lambda name, value: numbers_of(name, value, 3),
     "drag": number,
     "ratio": number,

@@ -124,7 +124,7 @@ class Replay:
     """Trajectory digest, 0x and 16 hex digits (as `purcell-sim replay` prints)."""
     final_state_bits: list[str]
     alpha_error: float
-    """max |alpha_N - alpha0|, radians."""
+    """max |alpha_N - alpha_end|, radians (alpha_end: alpha0 for a loop)."""
     g_error: float
     """max |log(g_bar^-1 g_N)|, metres / radians."""
     t: F64

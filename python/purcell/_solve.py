@@ -15,6 +15,7 @@ def solve(
     horizon: float = 100.0,
     step: float = 0.01,
     alpha0: Sequence[float] = (0.0, 0.0),
+    alpha_end: Sequence[float] | None = None,
     links: Sequence[float] = (1.0, 1.0, 1.0),
     drag: float = 1.0,
     ratio: float = 2.0,
@@ -41,7 +42,9 @@ def solve(
     step : float, default 0.01
         The time step h, seconds.
     alpha0 : sequence of 2 floats, default (0.0, 0.0)
-        The start and end shape (alpha1, alpha2), radians.
+        The start shape (alpha1, alpha2), radians.
+    alpha_end : sequence of 2 floats or None, default None
+        The end shape, radians (None: `alpha0`, a closed loop).
     links : sequence of 3 floats, default (1.0, 1.0, 1.0)
         Link lengths (L0 middle, L1 front, L2 rear), metres.
     drag : float, default 1.0

@@ -49,6 +49,7 @@ def sweep(
     horizon: float = 100.0,
     step: float = 0.01,
     alpha0: Sequence[float] = (0.0, 0.0),
+    alpha_end: Sequence[float] | None = None,
     links: Sequence[float] = (1.0, 1.0, 1.0),
     drag: float = 1.0,
     ratio: float = 2.0,
@@ -71,7 +72,7 @@ def sweep(
         them). At most 10 000 targets in all.
     thetas : float, str or sequence of floats, default (0.0,)
         Target theta, radians, as `xs`.
-    horizon, step, alpha0, links, drag, ratio, alpha_max
+    horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max
         The problem, as in `solve` (seconds, radians, metres).
     starts : int, default 512
         Budget of each target's global search, 1 to 4096.

@@ -51,6 +51,7 @@ def sweep(
     horizon: float = 100.0,
     step: float = 0.01,
     alpha0: Sequence[float] = (0.0, 0.0),
+    alpha_end: Sequence[float] | None = None,
     links: Sequence[float] = (1.0, 1.0, 1.0),
     drag: float = 1.0,
     ratio: float = 2.0,
@@ -68,7 +69,7 @@ def sweep(
     batch : int, default 8
         Targets per task (searches and refinements). A task uses all of its worker's cores
         (the solver's threads): one worker per machine with one thread is the usual layout.
-    horizon, step, alpha0, links, drag, ratio, alpha_max, starts
+    horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max, starts
         The problem, as in `purcell.sweep` (metres, radians, seconds).
 
     Returns

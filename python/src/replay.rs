@@ -23,7 +23,7 @@ pub struct Replay {
     digest: String,
     /// Bits of (alpha1, alpha2, x, y, cos theta, sin theta) at the end, `0x…` (f32 widened).
     final_state_bits: Vec<String>,
-    /// max |alpha_N - alpha0|, radians.
+    /// max |alpha_N - alpha_end|, radians (alpha_end: alpha0 for a loop).
     alpha_error: f64,
     /// max |log(g_bar^-1 g_N)| over its components, metres / radians.
     g_error: f64,

@@ -133,3 +133,12 @@ def test_another_thread_runs_during_a_solve():
     during = [t for t in ticks if t0 <= t <= t1]
     # At most a few ms between ticks: the GIL is released while the solver runs.
     assert len(during) >= 0.25 * (t1 - t0) / 0.002, (len(during), t1 - t0)
+
+
+def test_a_transition_ends_in_its_own_shape():
+    s = purcell.solve((0.1, 0.1, 0.0), alpha0=(1.0, 0.8), alpha_end=(0.0, 0.0))
+    np.testing.assert_array_equal(s.alpha[0], (1.0, 0.8))
+    assert np.abs(s.alpha[-1]).max() < 1e-12
+    r = purcell.replay(s)
+    assert r.alpha_error < 1e-6 and r.g_error < 1e-6
+    assert '"alpha_end"' in s.costate() and s.gait()[8] == 4

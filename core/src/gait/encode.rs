@@ -5,7 +5,7 @@ use crate::arc::{self, Arc};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
-    TRACKING_TAG, VERSION, VERSION_TRACKING, params_len,
+    TRACKING_TAG, VERSION, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
 };
 use crate::gait::schema::{CheckpointRecord, GaitParams};
 use crate::gait::track::{TRACKING_RECORD_LEN, check_tracking};
@@ -34,7 +34,7 @@ impl Out<'_> {
         xs.iter().try_for_each(|x| self.put(&x.to_le_bytes()))
     }
 
-    /// The `PARM` record of version 2 ([`params_len`]).
+    /// The `PARM` record of version 2, or 4 with the end shape ([`params_len`]).
     fn params(&mut self, p: &GaitParams) -> Result<(), Error> {
         self.u32(p.steps as usize)?;
         self.u32(p.checkpoint_every as usize)?;
@@ -44,8 +44,38 @@ impl Out<'_> {
         self.f64s(&p.target)?;
         self.f64s(&p.mu)?;
         self.f64s(&p.xi0)?;
-        self.f64s(&[p.alpha_max.unwrap_or(0.0)])
+        self.f64s(&[p.alpha_max.unwrap_or(0.0)])?;
+        match p.alpha_end {
+            Some(end) => self.f64s(&end),
+            None => Ok(()),
+        }
     }
+}
+
+/// The version [`encode_with_tracking`] writes for `params` with `tracking` records: 4 for a
+/// gait with an end shape of its own, else 2 (3 with a tracking table).
+const fn version_of(params: &GaitParams, tracking: usize) -> u16 {
+    match (params.alpha_end.is_some(), tracking) {
+        (true, _) => VERSION_END_SHAPE,
+        (false, 0) => VERSION,
+        (false, _) => VERSION_TRACKING,
+    }
+}
+
+/// The size of a file of `version` with these record counts, bytes.
+const fn file_len(version: u16, checkpoints: usize, arcs: usize, tracking: usize) -> usize {
+    let track = if tracking == 0 {
+        0
+    } else {
+        ENTRY_LEN + tracking * TRACKING_RECORD_LEN
+    };
+    HEADER_LEN
+        + SECTIONS * ENTRY_LEN
+        + params_len(version)
+        + arcs * arc::RECORD_LEN
+        + checkpoints * (record_len(8) + record_len(4))
+        + track
+        + CRC_LEN
 }
 
 /// The size of the gait file [`encode`] writes for `checkpoints` checkpoints and `arcs` arcs,
@@ -55,28 +85,29 @@ pub const fn encoded_len(checkpoints: usize, arcs: usize) -> usize {
 }
 
 /// The size of the gait file [`encode_with_tracking`] writes with `tracking` records of the
-/// tracking table (0: none, a version-2 file), bytes.
+/// tracking table (0: none, a version-2 file) for a gait without an end shape of its own,
+/// bytes.
 pub const fn encoded_len_with_tracking(checkpoints: usize, arcs: usize, tracking: usize) -> usize {
-    let track = if tracking == 0 {
-        0
-    } else {
-        ENTRY_LEN + tracking * TRACKING_RECORD_LEN
-    };
-    HEADER_LEN
-        + SECTIONS * ENTRY_LEN
-        + params_len(VERSION)
-        + arcs * arc::RECORD_LEN
-        + checkpoints * (record_len(8) + record_len(4))
-        + track
-        + CRC_LEN
+    file_len(VERSION, checkpoints, arcs, tracking)
 }
 
-/// Writes the gait file (version [`VERSION`]) of `params`, `checkpoints` and `arcs` into the
-/// front of `out` and returns its length ([`encoded_len`]). The `CK32` table holds each `CK64`
-/// value rounded to nearest.
+/// The size of the gait file [`encode_with_tracking`] writes for `params` (an end shape of its
+/// own adds 16 bytes, [`VERSION_END_SHAPE`]), bytes.
+pub const fn encoded_len_of(
+    params: &GaitParams,
+    checkpoints: usize,
+    arcs: usize,
+    tracking: usize,
+) -> usize {
+    file_len(version_of(params, tracking), checkpoints, arcs, tracking)
+}
+
+/// Writes the gait file (version [`VERSION`]; [`VERSION_END_SHAPE`] for a gait with an end
+/// shape of its own) of `params`, `checkpoints` and `arcs` into the front of `out` and returns
+/// its length ([`encoded_len_of`]). The `CK32` table holds each `CK64` value rounded to nearest.
 ///
 /// Errors: those of [`check`] (nothing is written then), [`Error::CapacityExceeded`] if `out`
-/// is shorter than [`encoded_len`] or the file would exceed 4 GiB.
+/// is shorter than [`encoded_len_of`] or the file would exceed 4 GiB.
 pub fn encode(
     params: &GaitParams,
     checkpoints: &[CheckpointRecord],
@@ -87,7 +118,8 @@ pub fn encode(
 }
 
 /// As [`encode`], with the tracking table `tracking` (`(k_j, record)`, docs/GAIT.md) in a
-/// `TRCK` section: a version-[`VERSION_TRACKING`] file; none (empty) is [`encode`]'s file.
+/// `TRCK` section: a version-[`VERSION_TRACKING`] file (version [`VERSION_END_SHAPE`] with an
+/// end shape); none (empty) is [`encode`]'s file.
 ///
 /// Errors: as [`encode`], and those of the table's check (nothing is written then) ([`Error::GaitLayout`]
 /// for indices that do not start at 0, increase and stay below `N`; [`Error::NonFinite`]).
@@ -103,12 +135,10 @@ pub fn encode_with_tracking(
         check_tracking(tracking.iter().copied(), params.steps)?;
     }
     let n = checkpoints.len();
-    let len = encoded_len_with_tracking(n, arcs.len(), tracking.len());
+    let version = version_of(params, tracking.len());
+    let len = encoded_len_of(params, n, arcs.len(), tracking.len());
     let file = out.get_mut(..len).ok_or(Error::CapacityExceeded)?;
-    let (version, sections) = match tracking.len() {
-        0 => (VERSION, SECTIONS),
-        _ => (VERSION_TRACKING, SECTIONS + 1),
-    };
+    let sections = SECTIONS + usize::from(!tracking.is_empty());
     let mut w = Out(&mut *file);
     w.put(&MAGIC)?;
     w.put(&version.to_le_bytes())?;
@@ -116,7 +146,7 @@ pub fn encode_with_tracking(
     w.u32(len)?;
     let mut offset = HEADER_LEN + sections * ENTRY_LEN;
     let entries = [
-        (PARAMS_TAG, 1, params_len(VERSION)),
+        (PARAMS_TAG, 1, params_len(version)),
         (ARCS_TAG, arcs.len(), arc::RECORD_LEN),
         (CK64_TAG, n, record_len(8)),
         (CK32_TAG, n, record_len(4)),
@@ -170,5 +200,6 @@ mod tests {
         );
         assert_eq!(encoded_len(0, 0), 16 + 64 + 144 + 4);
         assert_eq!(encoded_len(99, 5), 228 + 99 * 108 + 5 * 12);
+        assert_eq!(params_len(VERSION_END_SHAPE), 144 + 16);
     }
 }

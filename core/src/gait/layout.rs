@@ -10,6 +10,10 @@ pub const VERSION: u16 = 2;
 /// The version this build writes for a gait with a tracking table: version 2 and a fifth
 /// section, `TRCK` (a version-2 reader refuses unknown sections, so the version changes).
 pub const VERSION_TRACKING: u16 = 3;
+/// The version this build writes for a gait whose end shape differs from its start
+/// (`GaitParams::alpha_end`): version 2's sections, `TRCK` optional, and the end shape appended
+/// to the `PARM` record (an older reader refuses it rather than fly it as a loop).
+pub const VERSION_END_SHAPE: u16 = 4;
 
 /// Header: magic (8), version (u16), section count (u16), file length (u32).
 pub(super) const HEADER_LEN: usize = 16;
@@ -26,7 +30,13 @@ pub(super) const TRACKING_TAG: [u8; 4] = *b"TRCK";
 /// `TRCK` after them).
 pub(super) const SECTIONS: usize = 4;
 /// The `PARM` record: `steps`, `checkpoint_every` (u32), then 16 `f64` (`L0 L1 L2 k r h`, `ᾱ`,
-/// `ḡ`, `μ`, `ξ^{−1}`), then in version 2 `α_max` (`f64`, 0 for none).
+/// `ḡ`, `μ`, `ξ^{−1}`), then from version 2 `α_max` (`f64`, 0 for none), then in version 4
+/// the end shape `α_N` (2 `f64`).
 pub(super) const fn params_len(version: u16) -> usize {
-    8 + 16 * 8 + if version == 1 { 0 } else { 8 }
+    8 + 16 * 8
+        + match version {
+            1 => 0,
+            VERSION_END_SHAPE => 8 + 16,
+            _ => 8,
+        }
 }

@@ -11,7 +11,9 @@
 //! arcs), `CK64` (the checkpoints in `f64`) and `CK32` (the same checkpoints rounded to `f32`,
 //! so that an `f32` replay restores a checkpoint with integer loads: no `f64` arithmetic, which
 //! is soft-float on a Cortex-M4F). Version 3 adds a fifth section, `TRCK`: the gait's tracking
-//! table in `f32` ([`TrackingTable`], [`crate::tracking`]), for a closed-loop flight.
+//! table in `f32` ([`TrackingTable`], [`crate::tracking`]), for a closed-loop flight. Version 4
+//! is a gait whose end shape differs from its start ([`GaitParams::alpha_end`]): version 2's
+//! sections (`TRCK` optional) with the end shape appended to `PARM`.
 //!
 //! [`GaitParams`], [`CheckpointRecord`] and [`Arc`] are also the schema of purcell-sim's JSON
 //! costate file (with the `serde` feature), and [`check`] is the one validation both formats go
@@ -31,6 +33,7 @@
 //!     xi0: [0.3, -0.1],
 //!     checkpoint_every: 0,
 //!     alpha_max: None,
+//!     alpha_end: None,
 //! };
 //! let mut bytes = [0u8; gait::encoded_len(0, 0)];
 //! gait::encode(&params, &[], &[], &mut bytes)?;
@@ -58,8 +61,10 @@ mod validate;
 
 pub use crate::arc::Arc;
 pub use crc::crc32;
-pub use encode::{encode, encode_with_tracking, encoded_len, encoded_len_with_tracking};
-pub use layout::{MAGIC, VERSION, VERSION_TRACKING};
+pub use encode::{
+    encode, encode_with_tracking, encoded_len, encoded_len_of, encoded_len_with_tracking,
+};
+pub use layout::{MAGIC, VERSION, VERSION_END_SHAPE, VERSION_TRACKING};
 pub use read::{Gait, Stored};
 pub use records::Records;
 pub use schema::{CheckpointRecord, GaitParams, Model};

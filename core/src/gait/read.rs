@@ -3,8 +3,8 @@
 use crate::arc::{self, Arc, ArcTable};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
-    ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, TRACKING_TAG,
-    VERSION, VERSION_TRACKING, params_len,
+    ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
+    TRACKING_TAG, VERSION, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
 };
 use crate::gait::records::Records;
 use crate::gait::schema::{GaitParams, Model};
@@ -78,6 +78,10 @@ impl<'a> Cursor<'a> {
             1 => None,
             _ => Some(f64::from_le_bytes(self.take()?)).filter(|&a| a != 0.0),
         };
+        let alpha_end = match version {
+            VERSION_END_SHAPE => Some(self.f64s()?),
+            _ => None,
+        };
         Ok(GaitParams {
             model: Model { links, drag, ratio },
             h,
@@ -88,6 +92,7 @@ impl<'a> Cursor<'a> {
             xi0,
             checkpoint_every,
             alpha_max,
+            alpha_end,
         })
     }
 }
@@ -101,6 +106,8 @@ struct Sections<'a> {
     /// Checkpoints in each table.
     count: usize,
     tracking: &'a [u8],
+    /// Whether the file has a `TRCK` section.
+    tracked: bool,
 }
 
 impl<'a> Sections<'a> {
@@ -114,8 +121,11 @@ impl<'a> Sections<'a> {
         let (mut params, mut table64, mut table32) = (None, None, None);
         // Version 1 has no arc table: read as an empty one.
         let mut arcs = (version == 1).then_some((&[][..], 0));
-        // Only version 3 has a tracking table: read as an empty one before.
-        let mut tracking = (version != VERSION_TRACKING).then_some((&[][..], 0));
+        // Version 3 has a tracking table, version 4 one if it has a fifth section: read as an
+        // empty one otherwise.
+        let tracked = version == VERSION_TRACKING
+            || (version == VERSION_END_SHAPE && sections == SECTIONS + 1);
+        let mut tracking = (!tracked).then_some((&[][..], 0));
         for _ in 0..sections {
             let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
             let (count, size) = (directory.usize()?, directory.usize()?);
@@ -133,7 +143,7 @@ impl<'a> Sections<'a> {
                 (ARCS_TAG, arc::RECORD_LEN) if version != 1 => &mut arcs,
                 (CK64_TAG, s) if s == record_len(8) => &mut table64,
                 (CK32_TAG, s) if s == record_len(4) => &mut table32,
-                (TRACKING_TAG, TRACKING_RECORD_LEN) if version == VERSION_TRACKING => &mut tracking,
+                (TRACKING_TAG, TRACKING_RECORD_LEN) if tracked => &mut tracking,
                 _ => return Err(Error::GaitLayout),
             };
             if slot.replace((data, count)).is_some() {
@@ -154,6 +164,7 @@ impl<'a> Sections<'a> {
                 t32,
                 count,
                 tracking,
+                tracked,
             }),
             _ => Err(Error::GaitLayout),
         }
@@ -176,8 +187,9 @@ impl<'a> Gait<'a> {
     /// # Ok::<(), purcell_core::Error>(())
     /// ```
     ///
-    /// Reads version [`VERSION`], version 1 (no `α_max`, no arcs) and version
-    /// [`VERSION_TRACKING`] (with a tracking table).
+    /// Reads version [`VERSION`], version 1 (no `α_max`, no arcs), version
+    /// [`VERSION_TRACKING`] (with a tracking table) and version [`VERSION_END_SHAPE`] (with
+    /// an end shape, and a tracking table or not).
     ///
     /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
     /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
@@ -195,7 +207,7 @@ impl<'a> Gait<'a> {
         }
         let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
         let version = header.u16().map_err(|_| Error::GaitLength)?;
-        if !matches!(version, 1 | VERSION | VERSION_TRACKING) {
+        if !matches!(version, 1 | VERSION | VERSION_TRACKING | VERSION_END_SHAPE) {
             return Err(Error::GaitVersion(version));
         }
         let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
@@ -246,7 +258,7 @@ impl<'a> Gait<'a> {
                 return Err(Error::GaitLayout);
             }
         }
-        if version == VERSION_TRACKING {
+        if found.tracked {
             check_tracking(TrackingTable::new(gait.tracking).iter(), params.steps)?;
         }
         Ok(gait)
@@ -277,7 +289,8 @@ impl<'a> Gait<'a> {
         self.arcs.len() / arc::RECORD_LEN
     }
 
-    /// The tracking table (version 3), read in place; `None` for a gait without one.
+    /// The tracking table (version 3, or 4 with one), read in place; `None` for a gait without
+    /// one.
     pub fn tracking(&self) -> Option<TrackingTable<'a>> {
         let table = TrackingTable::new(self.tracking);
         (!table.is_empty()).then_some(table)

@@ -41,7 +41,7 @@ pub struct GaitParams {
     pub h: f64,
     /// Number of steps `N`.
     pub steps: u32,
-    /// Start and end shape `ᾱ`, radians.
+    /// Start shape `ᾱ`, radians (also the end shape unless `alpha_end` says otherwise).
     pub alpha0: [f64; 2],
     /// Target position `ḡ = (x, y, θ)`, reached from the identity.
     pub target: [f64; 3],
@@ -55,6 +55,13 @@ pub struct GaitParams {
     /// The joint limit `|α_i| ≤ α_max` the gait was solved under, radians (`None`: only the
     /// links' overlap, `|α_i| < π`); required by arcs, which rest on it.
     pub alpha_max: Option<f64>,
+    /// The end shape `α_N` when it differs from the start (a transition, not a loop),
+    /// radians; `None`: `α_N = ᾱ`. Absent from a file that does not store one.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub alpha_end: Option<[f64; 2]>,
 }
 
 /// One checkpoint `(k, α_k, g_k, ξ^{k−1})` as stored, `g` as `(x, y, cos θ, sin θ)`.
@@ -86,22 +93,24 @@ fn all_finite<const N: usize>(xs: [f64; N]) -> Result<(), Error> {
 impl GaitParams {
     /// `Ok` if a replay can start from these numbers. Errors: [`Error::NonFinite`] (any
     /// number), [`Error::InvalidParameters`] (model), [`Error::InvalidStep`] (`h ≤ 0` or
-    /// `N = 0`), [`Error::ShapeLimit`] (`ᾱ`), [`Error::JointLimit`] (an `α_max` outside
-    /// `]max |ᾱ_i|, π[`).
+    /// `N = 0`), [`Error::ShapeLimit`] (`ᾱ` or the end shape), [`Error::JointLimit`] (an
+    /// `α_max` outside `]max |ᾱ_i|, π[` or not above the end shape's `|α_N,i|`).
     pub fn check(&self) -> Result<(), Error> {
         let ([l0, l1, l2], [a1, a2], [tx, ty, tt]) = (self.model.links, self.alpha0, self.target);
-        let ([m1, m2, m3], [x1, x2]) = (self.mu, self.xi0);
+        let ([m1, m2, m3], [x1, x2], [b1, b2]) = (self.mu, self.xi0, self.end_shape());
         all_finite([l0, l1, l2, self.model.drag, self.model.ratio, self.h])?;
-        all_finite([a1, a2, tx, ty, tt, m1, m2, m3, x1, x2])?;
+        all_finite([a1, a2, tx, ty, tt, m1, m2, m3, x1, x2, b1, b2])?;
         self.kinematics::<f64>()?;
         if self.steps == 0 {
             return Err(Error::InvalidStep);
         }
         check_shape(&Vector2::new(a1, a2))?;
+        check_shape(&Vector2::new(b1, b2))?;
         match self.alpha_max {
             Some(limit) => {
                 let pi = core::f64::consts::PI;
-                let inside = limit.is_finite() && limit > a1.abs().max(a2.abs()) && limit < pi;
+                let widest = a1.abs().max(a2.abs()).max(b1.abs()).max(b2.abs());
+                let inside = limit.is_finite() && limit > widest && limit < pi;
                 if inside {
                     Ok(())
                 } else {
@@ -147,9 +156,16 @@ impl GaitParams {
         Se2::new(x, y, theta)
     }
 
-    /// How far `end` lands from `(ᾱ, ḡ)` ([`TerminalError`]).
+    /// The end shape `α_N`: `alpha_end`, or `ᾱ` for a loop.
+    pub fn end_shape(&self) -> [f64; 2] {
+        self.alpha_end.unwrap_or(self.alpha0)
+    }
+
+    /// How far `end` lands from `(α_N, ḡ)` ([`TerminalError`]; `α_N` the [`end_shape`]).
+    ///
+    /// [`end_shape`]: GaitParams::end_shape
     pub fn terminal_error<T: Real>(&self, end: &State<T>) -> TerminalError {
-        TerminalError::new(end, &Vector2::from(self.alpha0), &self.target())
+        TerminalError::new(end, &Vector2::from(self.end_shape()), &self.target())
     }
 }
 

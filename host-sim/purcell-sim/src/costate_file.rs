@@ -7,6 +7,7 @@
 //!   "mu": [m1, m2, m3], "xi0": [x1, x2],            // xi0 = ξ^{−1}
 //!   "checkpoint_every": 100,
 //!   "alpha_max": 1.5,                                 // null: no joint limit
+//!   "alpha_end": [b1, b2],                            // version 4 only: the end shape
 //!   "arcs": [{"joint": 2, "sign": 1, "first": 1276, "last": 1418}, ...],
 //!   "checkpoints": [{"k": 100, "alpha": [a1, a2], "g": [x, y, cos, sin], "xi": [x1, x2]}, ...] }
 //! ```
@@ -24,8 +25,10 @@
 //! `last`, where the replay needs it. `g` is stored as `(x, y, cos θ, sin θ)`, the core's own
 //! representation, so it comes back bit for bit.
 //!
-//! Versions: 3 is written; 2 (no `alpha_max`, no `arcs`: a gait without a joint limit) is still
-//! read; 1 (checkpoints of `ξ` alone) is refused.
+//! Versions: 3 is written for a loop (`α_N = ᾱ`), 4 for a gait whose end shape differs from
+//! its start: version 3 with `alpha_end` (the end shape `α_N`) after `alpha_max`; 2 (no
+//! `alpha_max`, no `arcs`: a gait without a joint limit) is still read; 1 (checkpoints of `ξ`
+//! alone) is refused. Versions 2 and 3 have no `alpha_end`: their end shape is `alpha0`.
 //!
 //! Numbers are written in shortest round-trip form, so reading gives the same bits back.
 //! Reading is strict: unknown fields, missing fields (`alpha_max` and `arcs` included in
@@ -42,12 +45,16 @@ use std::path::{Path, PathBuf};
 
 /// The `format` tag.
 pub const FORMAT: &str = "purcell-costate";
-/// The version this build writes.
+/// The version this build writes for a loop.
 pub const VERSION: u64 = 3;
+/// The version this build writes for a gait with an end shape of its own (`alpha_end`).
+pub const VERSION_END_SHAPE: u64 = 4;
 /// The older version this build still reads: no joint limit, no arcs.
 pub const VERSION_WITHOUT_ARCS: u64 = 2;
 /// The fields version 3 added.
 const ARC_FIELDS: [&str; 2] = ["alpha_max", "arcs"];
+/// The field version 4 added.
+const END_FIELD: &str = "alpha_end";
 
 /// The whole file: a tagged gait. Dereferences to its [`GaitParams`] (`file.mu`, `file.h`, …).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -55,9 +62,10 @@ const ARC_FIELDS: [&str; 2] = ["alpha_max", "arcs"];
 pub struct CostateFile {
     /// Always [`FORMAT`].
     pub format: String,
-    /// [`VERSION`] (a version-2 file is read as the same gait in version 3).
+    /// [`VERSION`], or [`VERSION_END_SHAPE`] with an end shape (a version-2 file is read as
+    /// the same gait in version 3).
     pub version: u64,
-    /// Model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`, checkpoint spacing, joint limit.
+    /// Model, `h`, `N`, `ᾱ`, `ḡ`, `μ`, `ξ^{−1}`, checkpoint spacing, joint limit, end shape.
     #[serde(flatten)]
     pub gait: GaitParams,
     /// Joint-limit arcs, sorted by `(first, joint)`.
@@ -82,10 +90,10 @@ pub enum CostateFileError {
     /// `format` is not [`FORMAT`].
     #[error("not a costate file: format is {0:?}, expected \"purcell-costate\"")]
     WrongFormat(String),
-    /// `version` is neither [`VERSION`] nor [`VERSION_WITHOUT_ARCS`].
-    #[error("unsupported costate file version {0} (this build reads versions 2 and 3)")]
+    /// `version` is none of [`VERSION_WITHOUT_ARCS`], [`VERSION`], [`VERSION_END_SHAPE`].
+    #[error("unsupported costate file version {0} (this build reads versions 2, 3 and 4)")]
     WrongVersion(u64),
-    /// A field of version 3 missing from a version-3 file, or present in a version-2 file.
+    /// A field of version 3 (4) missing from a version-3 (4) file, or present in an older one.
     #[error("invalid costate file: version {version} {which} the field \"{field}\"")]
     VersionField {
         /// The file's version.
@@ -177,20 +185,21 @@ impl CostateFile {
         }
         let version = object.get("version").and_then(Value::as_u64);
         let version = match version {
-            Some(v @ (VERSION | VERSION_WITHOUT_ARCS)) => v,
+            Some(v @ (VERSION | VERSION_WITHOUT_ARCS | VERSION_END_SHAPE)) => v,
             Some(v) => return Err(CostateFileError::WrongVersion(v)),
             None => return Err(CostateFileError::BadVersion),
         };
-        for field in ARC_FIELDS {
-            match (version, object.contains_key(field)) {
-                (VERSION, false) => {
+        let fields = ARC_FIELDS.map(|f| (f, VERSION)).into_iter();
+        for (field, since) in fields.chain([(END_FIELD, VERSION_END_SHAPE)]) {
+            match (version >= since, object.contains_key(field)) {
+                (true, false) => {
                     return Err(CostateFileError::VersionField {
                         version,
                         which: "needs",
                         field,
                     });
                 }
-                (VERSION_WITHOUT_ARCS, true) => {
+                (false, true) => {
                     return Err(CostateFileError::VersionField {
                         version,
                         which: "does not have",
@@ -201,7 +210,9 @@ impl CostateFile {
             }
         }
         // A version-2 file is the same gait without a joint limit and without arcs.
-        object.insert("version".into(), VERSION.into());
+        if version == VERSION_WITHOUT_ARCS {
+            object.insert("version".into(), VERSION.into());
+        }
         object.entry("alpha_max").or_insert(Value::Null);
         object.entry("arcs").or_insert(Value::Array(Vec::new()));
         let file: CostateFile =
@@ -220,7 +231,10 @@ impl CostateFile {
     pub fn new(gait: GaitParams, arcs: Vec<Arc>, checkpoints: Vec<CheckpointRecord>) -> Self {
         CostateFile {
             format: FORMAT.into(),
-            version: VERSION,
+            version: match gait.alpha_end {
+                Some(_) => VERSION_END_SHAPE,
+                None => VERSION,
+            },
             gait,
             arcs,
             checkpoints,
@@ -231,7 +245,8 @@ impl CostateFile {
     ///
     /// Errors: what `purcell_core::gait::check` refuses.
     pub fn to_gait(&self) -> Result<Vec<u8>, purcell_core::Error> {
-        let len = purcell_core::gait::encoded_len(self.checkpoints.len(), self.arcs.len());
+        let (n, arcs) = (self.checkpoints.len(), self.arcs.len());
+        let len = purcell_core::gait::encoded_len_of(&self.gait, n, arcs, 0);
         let mut bytes = vec![0; len];
         purcell_core::gait::encode(&self.gait, &self.checkpoints, &self.arcs, &mut bytes)?;
         Ok(bytes)

@@ -77,6 +77,7 @@ pub fn costate_file(
             xi0: [x.xi0.x, x.xi0.y],
             checkpoint_every: every,
             alpha_max: problem.alpha_max,
+            alpha_end: problem.stored_end(),
         },
         x.arcs.clone(),
         checkpoints,

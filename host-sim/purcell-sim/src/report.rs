@@ -218,6 +218,8 @@ pub struct SolveReport {
 pub struct ProblemReport {
     /// `ᾱ`, rad.
     pub alpha0: [f64; 2],
+    /// The end shape `β` (`ᾱ` for a loop), rad.
+    pub alpha_end: [f64; 2],
     /// The joint limit, rad.
     pub alpha_max: Option<f64>,
     /// `k`.
@@ -361,6 +363,7 @@ impl SolveReport {
             mu: file.mu,
             problem: ProblemReport {
                 alpha0: file.alpha0,
+                alpha_end: file.end_shape(),
                 alpha_max: problem.alpha_max,
                 drag: file.model.drag,
                 horizon: problem.horizon(),
@@ -495,6 +498,7 @@ pub struct AxesReport {
 #[allow(missing_docs)]
 pub struct SweepProblemReport {
     pub alpha0: [f64; 2],
+    pub alpha_end: [f64; 2],
     pub alpha_max: Option<f64>,
     pub drag: f64,
     pub horizon: f64,
@@ -513,6 +517,7 @@ impl SweepReport {
             format: SWEEP_REPORT_FORMAT,
             problem: SweepProblemReport {
                 alpha0: spec.alpha0,
+                alpha_end: spec.alpha_end.unwrap_or(spec.alpha0),
                 alpha_max: spec.alpha_max,
                 drag: spec.drag,
                 horizon: spec.horizon,

@@ -88,10 +88,16 @@ fn version_2_costate_files_are_read_strictly() {
             "step h must be finite and positive",
         ),
         (
-            "version4.json",
+            "version5.json",
             "\"version\":2",
-            "\"version\":4",
-            "version 4 (this build reads versions 2 and 3)",
+            "\"version\":5",
+            "version 5 (this build reads versions 2, 3 and 4)",
+        ),
+        (
+            "v2-end.json",
+            "\"h\":0.01",
+            "\"h\":0.01,\"alpha_end\":[0.5,0]",
+            "version 2 does not have the field \"alpha_end\"",
         ),
         // Version 2 knows no joint limit.
         (

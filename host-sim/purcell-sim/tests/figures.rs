@@ -61,6 +61,7 @@ fn gait() -> (Problem, Trajectory, Vector3<f64>, CostateFile) {
             xi0: [xi.x, xi.y],
             checkpoint_every: 100,
             alpha_max: None,
+            alpha_end: None,
         },
         Vec::new(),
         checkpoints,

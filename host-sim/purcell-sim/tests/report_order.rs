@@ -78,6 +78,7 @@ fn reports_keep_the_files_key_order() {
         mu: [1.0, 2.0, 3.0],
         problem: ProblemReport {
             alpha0: [0.0; 2],
+            alpha_end: [0.5, -0.5],
             alpha_max: Some(1.5),
             drag: 1.0,
             horizon: 100.0,
@@ -115,6 +116,7 @@ fn reports_keep_the_files_key_order() {
         format: SWEEP_REPORT_FORMAT,
         problem: SweepProblemReport {
             alpha0: [0.0; 2],
+            alpha_end: [0.0; 2],
             alpha_max: None,
             drag: 1.0,
             horizon: 10.0,

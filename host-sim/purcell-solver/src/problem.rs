@@ -1,8 +1,8 @@
 //! The discrete optimal-control problem (MODEL.md §4) and the validation of its inputs.
 //!
 //! Minimise `J = Σ_{k<N} h/2·|u_k|²` (or another [`Cost`], MODEL.md §11) subject to the
-//! exact kinematics, `α_0 = α_N = ᾱ`, `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of
-//! steps.
+//! exact kinematics, `α_0 = ᾱ`, `α_N = β` (the end shape; `β = ᾱ` for a loop, the default),
+//! `g_0 = e`, `g_N = ḡ`, with `N = T/h` a whole number of steps.
 
 use nalgebra::{Vector2, Vector3};
 use purcell_core::gait::{CheckpointRecord, GaitParams};
@@ -46,16 +46,24 @@ pub enum InputError {
         "alpha0 = ({0:?}, {1:?}) rad: each |alpha0_i| must be below alpha-max = {2:?} rad (at most pi)"
     )]
     ShapeOutOfRange(f64, f64, f64),
+    /// The end shape `|β_i| ≥ π` or beyond the admissibility limit.
+    #[error(
+        "alpha-end = ({0:?}, {1:?}) rad: each |alpha-end_i| must be below alpha-max = {2:?} rad (at most pi)"
+    )]
+    EndOutOfRange(f64, f64, f64),
     /// The joint limit is outside `]0, π[`.
     #[error("alpha-max must be in ]0, pi[ rad: the links overlap at pi (got {0:?})")]
     AlphaMax(f64),
-    /// The connection cannot be computed at `ᾱ`: the swimmer's parameters, not the law.
+    /// The connection cannot be computed at `ᾱ` (or `β`): the swimmer's parameters, not the
+    /// law.
     #[error(
-        "the swimmer's connection A(alpha) cannot be computed at alpha0 with links {} m and \
+        "the swimmer's connection A(alpha) cannot be computed at {at} with links {} m and \
          drag ratio {ratio}: {why}",
         list(links)
     )]
     Connection {
+        /// `"alpha0"` or `"alpha-end"`.
+        at: &'static str,
         /// `(L0, L1, L2)`.
         links: [f64; 3],
         /// `r`.
@@ -86,7 +94,9 @@ fn list(values: &[f64]) -> String {
 /// blame the parameters (the drag matrix `W_ξ`), not the control law.
 fn connection_failure(e: purcell_core::Error) -> &'static str {
     match e {
-        purcell_core::Error::ShapeLimit => "alpha0 rounds to the link-overlap limit |alpha_i| = pi",
+        purcell_core::Error::ShapeLimit => {
+            "the shape rounds to the link-overlap limit |alpha_i| = pi"
+        }
         _ => {
             "its drag matrix is numerically singular or overflows (parameters of too \
              different scales)"
@@ -144,8 +154,10 @@ pub struct Spec {
     pub horizon: f64,
     /// Time step `h`, seconds.
     pub step: f64,
-    /// Start and end shape `ᾱ`, radians.
+    /// Start shape `ᾱ`, radians.
     pub alpha0: [f64; 2],
+    /// End shape `β`, radians; `None`: `β = ᾱ` (a loop).
+    pub alpha_end: Option<[f64; 2]>,
     /// Link lengths `(L0 middle, L1 front, L2 rear)`, metres.
     pub links: [f64; 3],
     /// Drag coefficient `k`.
@@ -159,13 +171,14 @@ pub struct Spec {
 
 impl Default for Spec {
     /// The paper's experiment: `ḡ = (0.1, 0.1, 0)`, `T = 100 s`, `h = 0.01 s`, `ᾱ = 0`,
-    /// unit links, `k = 1`, `r = 2`, no joint limit.
+    /// a loop, unit links, `k = 1`, `r = 2`, no joint limit.
     fn default() -> Self {
         Spec {
             target: [0.1, 0.1, 0.0],
             horizon: 100.0,
             step: 0.01,
             alpha0: [0.0, 0.0],
+            alpha_end: None,
             links: [1.0; 3],
             drag: 1.0,
             ratio: 2.0,
@@ -198,6 +211,21 @@ impl Cost {
     }
 }
 
+/// `Ok` if the start shape and the end shape `end` of `spec` lie strictly within its joint
+/// limit (or the overlap without one).
+fn within_bound(spec: &Spec, end: [f64; 2]) -> Result<(), InputError> {
+    let bound = spec.alpha_max.unwrap_or(OVERLAP);
+    let inside = |[x, y]: [f64; 2]| x.abs() < bound && y.abs() < bound;
+    let [[a1, a2], [b1, b2]] = [spec.alpha0, end];
+    if !inside(spec.alpha0) {
+        Err(InputError::ShapeOutOfRange(a1, a2, bound))
+    } else if !inside(end) {
+        Err(InputError::EndOutOfRange(b1, b2, bound))
+    } else {
+        Ok(())
+    }
+}
+
 /// Relative excess over the joint limit counted as rounding ([`Problem::admits`]).
 pub const LIMIT_ROUNDING: f64 = 1e-13;
 
@@ -214,8 +242,10 @@ pub struct Problem {
     pub h: f64,
     /// Number of steps `N`.
     pub steps: u32,
-    /// `ᾱ`.
+    /// `ᾱ`, the start shape.
     pub alpha0: Vector2<f64>,
+    /// `β`, the end shape (`ᾱ` for a loop).
+    pub alpha_end: Vector2<f64>,
     /// `ḡ` as `(x, y, θ)`.
     pub target: Vector3<f64>,
     /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, in `]0, π[`; `None`: only the
@@ -239,6 +269,8 @@ impl Problem {
         finite("horizon", &[spec.horizon])?;
         finite("step", &[spec.step])?;
         finite("alpha0", &spec.alpha0)?;
+        let end = spec.alpha_end.unwrap_or(spec.alpha0);
+        finite("alpha-end", &end)?;
         finite("links", &spec.links)?;
         finite("drag", &[spec.drag])?;
         finite("ratio", &[spec.ratio])?;
@@ -279,25 +311,26 @@ impl Problem {
         {
             return Err(InputError::AlphaMax(a));
         }
-        let bound = spec.alpha_max.unwrap_or(OVERLAP);
-        let [a1, a2] = spec.alpha0;
-        if a1.abs() >= bound || a2.abs() >= bound {
-            return Err(InputError::ShapeOutOfRange(a1, a2, bound));
-        }
+        let ([a1, a2], [b1, b2]) = (spec.alpha0, end);
+        within_bound(spec, end)?;
         let swimmer = Swimmer::new(spec.links, spec.drag, spec.ratio)
             .map_err(|_| InputError::NonPositive("swimmer parameter", f64::NAN))?;
-        swimmer
-            .connection_with_derivatives(&Vector2::new(a1, a2))
-            .map_err(|e| InputError::Connection {
-                links: spec.links,
-                ratio: spec.ratio,
-                why: connection_failure(e),
-            })?;
+        for (at, [x, y]) in [("alpha0", spec.alpha0), ("alpha-end", end)] {
+            swimmer
+                .connection_with_derivatives(&Vector2::new(x, y))
+                .map_err(|e| InputError::Connection {
+                    at,
+                    links: spec.links,
+                    ratio: spec.ratio,
+                    why: connection_failure(e),
+                })?;
+        }
         Ok(Problem {
             swimmer,
             h: spec.step,
             steps: steps as u32,
             alpha0: Vector2::new(a1, a2),
+            alpha_end: Vector2::new(b1, b2),
             target: Vector3::from(spec.target),
             alpha_max: spec.alpha_max,
             cost: Cost::Effort,
@@ -317,6 +350,7 @@ impl Problem {
             horizon: p.h * f64::from(p.steps),
             step: p.h,
             alpha0: p.alpha0,
+            alpha_end: p.alpha_end,
             links: p.model.links,
             drag: p.model.drag,
             ratio: p.model.ratio,
@@ -331,6 +365,16 @@ impl Problem {
             // The default spec is valid by construction (tested).
             Err(_) => unreachable!("the paper's problem is valid"),
         }
+    }
+
+    /// Whether the end shape is the start shape (a loop, the paper's problem).
+    pub fn is_loop(&self) -> bool {
+        self.alpha_end == self.alpha0
+    }
+
+    /// The end shape as a gait stores it: `None` for a loop ([`GaitParams::alpha_end`]).
+    pub fn stored_end(&self) -> Option<[f64; 2]> {
+        (!self.is_loop()).then_some([self.alpha_end.x, self.alpha_end.y])
     }
 
     /// The bound on `|α_i|`: the joint limit, or [`OVERLAP`] without one.
@@ -367,7 +411,7 @@ impl Problem {
 
     /// `Ok` if the problem is also valid in scalar `T` (named `precision` in messages): every
     /// parameter converts finite (and positive where it must be), and the connection can be
-    /// computed at `ᾱ` there.
+    /// computed at `ᾱ` and `β` there.
     pub fn check_precision<T: Real>(&self, precision: &'static str) -> Result<(), InputError> {
         let sw = &self.swimmer;
         check_fits::<T>("links", &sw.lengths(), true, precision)?;
@@ -379,16 +423,17 @@ impl Problem {
             what: format!("the swimmer or step is invalid ({e})"),
             precision,
         })?;
-        let alpha0 = self.alpha0.map(T::from_f64);
-        kin.swimmer()
-            .connection_with_derivatives(&alpha0)
-            .map_err(|e| InputError::Precision {
-                what: format!(
-                    "the connection A(alpha) cannot be computed at alpha0: {}",
-                    connection_failure(e)
-                ),
-                precision,
-            })?;
+        for (at, shape) in [("alpha0", self.alpha0), ("alpha-end", self.alpha_end)] {
+            kin.swimmer()
+                .connection_with_derivatives(&shape.map(T::from_f64))
+                .map_err(|e| InputError::Precision {
+                    what: format!(
+                        "the connection A(alpha) cannot be computed at {at}: {}",
+                        connection_failure(e)
+                    ),
+                    precision,
+                })?;
+        }
         Ok(())
     }
 

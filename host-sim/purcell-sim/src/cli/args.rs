@@ -53,11 +53,15 @@ pub struct ProblemArgs<S: Args> {
     /// Time step h in seconds.
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub step: f64,
-    /// Start and end shape alpha_bar = A1,A2, each |A_i| < pi: radians, or degrees with deg
-    /// (10deg,-5deg).
+    /// Start shape alpha_bar = A1,A2, each |A_i| < pi: radians, or degrees with deg
+    /// (10deg,-5deg); also the end shape unless --alpha-end gives one.
     #[arg(long, value_parser = units::angles::<2>(), default_value = "0,0",
           allow_hyphen_values = true)]
     pub alpha0: [f64; 2],
+    /// End shape B1,B2, each |B_i| < pi, as --alpha0 (default: --alpha0, a closed loop): the
+    /// gait ends in this shape at the target, a transition from one shape to another.
+    #[arg(long, value_parser = units::angles::<2>(), allow_hyphen_values = true)]
+    pub alpha_end: Option<[f64; 2]>,
     /// Swimmer parameters.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -79,6 +83,7 @@ impl<S: Args> ProblemArgs<S> {
             horizon: self.horizon,
             step: self.step,
             alpha0: self.alpha0,
+            alpha_end: self.alpha_end,
             links: self.model.links,
             drag: self.model.drag,
             ratio: self.model.ratio,

@@ -4,11 +4,12 @@
 //!   forward recursion the firmware runs), started at every step from the trajectory's state
 //!   and costate, must give back the trajectory's control.
 //! - [`terminal_residual`]: the controls re-integrated from scratch through the core's
-//!   [`purcell_core::Kinematics::step`] must reach `(ᾱ, ḡ)`.
+//!   [`purcell_core::Kinematics::step`] from `(ᾱ, e)` must reach `(β, ḡ)`.
 //! - [`kkt`]: the gradient of the direct problem's Lagrangian with respect to the
 //!   controls, in reverse mode through the core's kinematics on dual numbers, with the
 //!   multipliers the costate gives (MODEL.md §5, "Multipliers"): `λ = −Ad_{g_N}ᵀμ` for
-//!   `log(ḡ⁻¹g_N) = 0` and `ν = −ξ^{N−1}` for `α_N = ᾱ`. With a joint limit, the states found
+//!   `log(ḡ⁻¹g_N) = 0` and `ν = −ξ^{N−1}` for `α_N = β` (the end shape's value does not enter
+//!   the gradient: MODEL.md §12). With a joint limit, the states found
 //!   on it get multipliers `η_k` of `σ·α_{k,i} ≤ α_max` solved from the stationarity of the
 //!   control that moves them (`u_{k−1,i}`), as the sweep reaches them (MODEL.md §9); the
 //!   residual is then that of the other controls, and every `η_k` must be `≥ 0`.
@@ -75,7 +76,7 @@ pub fn power_law_residual(
     Ok(if scale > 0.0 { worst / scale } else { worst })
 }
 
-/// The largest component of `(α_N − ᾱ, log(ḡ⁻¹g_N))` when the controls are re-integrated
+/// The largest component of `(α_N − β, log(ḡ⁻¹g_N))` when the controls are re-integrated
 /// through [`purcell_core::Kinematics::step`] from `(ᾱ, e)`.
 pub fn terminal_residual(
     problem: &Problem,
@@ -87,7 +88,7 @@ pub fn terminal_residual(
         s = kin.step(&s, u)?;
     }
     let e = problem.target_se2::<f64>().between(&s.g).log();
-    Ok((s.alpha - problem.alpha0).amax().max(e.amax()))
+    Ok((s.alpha - problem.alpha_end).amax().max(e.amax()))
 }
 
 type D = Dual<7>;

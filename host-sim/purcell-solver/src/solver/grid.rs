@@ -1,5 +1,5 @@
 //! The problem on a time grid: `N` steps of the exact stage model ([`super::stage`]) from
-//! `s_0 = (ᾱ, 0, 0, 0)`, with the cost ([`super::cost`]) and the constraints
+//! `s_0 = (ᾱ, 0, 0, 0)` to `s_N = (β, ḡ)`, with the cost ([`super::cost`]) and the constraints
 //! ([`super::constraints`]): rollouts of controls, the objective the direct method minimises
 //! and its slope, and how a path moves between grids ([`prolong`], [`Grid::resampled`],
 //! [`Grid::resolves`]).
@@ -21,7 +21,7 @@ pub struct Grid {
     pub steps: usize,
     /// `s_0 = (ᾱ, 0, 0, 0)`.
     pub start: StageState,
-    /// The terminal constraint `s_N = s̄`.
+    /// The terminal constraint `s_N = s̄ = (β, ḡ)`.
     pub terminal: Terminal,
     /// How the joint limit `|α_i| ≤ α_max` enters, if at all.
     pub limits: Limits,
@@ -35,14 +35,14 @@ impl Grid {
     pub fn new(problem: &Problem, steps: usize, rule: Rule) -> Result<Self, Error> {
         let h = problem.horizon() / steps as f64;
         let kin = Kinematics::new(*problem.kinematics::<f64>()?.swimmer(), h)?;
-        let a = problem.alpha0;
+        let (a, b) = (problem.alpha0, problem.alpha_end);
         let t = problem.target;
         Ok(Grid {
             model: StageModel::new(kin, rule)?,
             steps,
             start: StageState::new(a.x, a.y, 0.0, 0.0, 0.0),
             terminal: Terminal {
-                target: StageState::new(a.x, a.y, t.x, t.y, t.z),
+                target: StageState::new(b.x, b.y, t.x, t.y, t.z),
             },
             limits: Limits::None,
             cost: Costs::of(problem.cost, problem.swimmer),
@@ -60,7 +60,7 @@ impl Grid {
         Grid::new(problem, steps, rule)
     }
 
-    /// The same grid with the target `ḡ = target` (the end shape `ᾱ` kept).
+    /// The same grid with the target `ḡ = target` (the end shape `β` kept).
     pub fn aiming_at(&self, target: &Vector3<f64>) -> Grid {
         let mut grid = self.clone();
         let a = self.terminal.target;

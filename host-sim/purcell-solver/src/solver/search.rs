@@ -147,10 +147,10 @@ pub fn search(
 ) -> Search {
     let (min_starts, max_starts) = (*starts.start(), *starts.end());
     let size = starts::reference_size(grid);
-    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let family = starts::family(size, &alpha0, seed, max_starts, limit.is_none());
+    let family = starts::of_grid(grid, size, seed, max_starts, limit.is_none());
     // The zero loop first: the solution when the target is the start (J = 0); for any other
-    // target its Newton step is singular and it stops at once.
+    // target its Newton step is singular and it stops at once. For a transition, the straight
+    // shape path in its place ([`starts::straight`]).
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
         .chain(family.iter().enumerate().map(|(i, s)| (i + 1, Some(*s))))
         .collect();
@@ -214,7 +214,8 @@ pub fn search(
     }
 }
 
-/// Start `index` (the loop `start_loop`; `None`: the zero loop, [`zero_loop`]) through Newton
+/// Start `index` (the loop `start_loop`; `None`: the zero loop, [`zero_loop`], or a
+/// transition's straight path) through Newton
 /// on `grid`; with a joint limit `limit`, shrunk into it and along its barrier path.
 fn run_start(
     grid: &Grid,
@@ -223,10 +224,13 @@ fn run_start(
     index: usize,
     start_loop: Option<StartLoop>,
 ) -> Result<Run, Error> {
-    let Some(start_loop) = start_loop else {
-        return zero_loop(grid, settings);
+    // The zero loop (no start loop, a loop problem) runs without the joint limit's barrier
+    // (`zero_loop`); a transition's first start is the straight path to its end shape.
+    let u = match start_loop {
+        Some(s) => s.controls(grid),
+        None if starts::drift(grid).is_none() => return zero_loop(grid, settings),
+        None => starts::straight(grid),
     };
-    let u = start_loop.controls(grid);
     match limit {
         None => {
             Point::new(grid, u, Vector5::zeros()).and_then(|p| direct::newton(grid, p, settings))

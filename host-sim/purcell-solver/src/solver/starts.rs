@@ -33,6 +33,17 @@
 //! The list is ordered so that any prefix is diverse: the axis-aligned ellipses a direct
 //! transcription is usually started from come first, then three box loops to one scaled loop
 //! until the box loops run out, each kind in an order mixed by a hash of the seed.
+//!
+//! **Transitions** (an end shape `β ≠ ᾱ`): no closed loop is feasible, and neither is the
+//! zero control. A start is then the straight shape path from `ᾱ` to `β` ([`straight`], the
+//! constant control `(β − ᾱ)/T`, which takes the zero loop's place) with a loop of the family
+//! ridden along it, `α(τ) = ᾱ + (β − ᾱ)τ + offset(τ)` ([`StartLoop::controls`]): the straight
+//! path moves the body a little by itself, and the loops supply the rest, sized from the
+//! displacement of a circle ridden the same way ([`reference_size`]). The box loops are
+//! sized about the path's midpoint `(ᾱ + β)/2`, where an ellipse with `ᾱ` in the middle of
+//! its long side reaches farthest ([`transitions`]); one that still passes the overlap fails
+//! its rollout and is skipped like any start whose Newton run fails. A loop (`β = ᾱ`) runs
+//! [`family`] and the zero loop exactly as before.
 
 use super::grid::Grid;
 use crate::problem::OVERLAP;
@@ -101,23 +112,26 @@ impl StartLoop {
         e(phi) - e(self.phase)
     }
 
-    /// The controls that run the loop on `grid` (the shape path, differenced).
+    /// The controls that run the loop on `grid` (the shape path, differenced); for a
+    /// transition, ridden along the straight path to the end shape (see the module docs).
     pub fn controls(&self, grid: &Grid) -> Vec<Vector2<f64>> {
         let n = grid.steps;
         let h = grid.h();
         let mut prev = Vector2::zeros();
-        (1..=n)
-            .map(|k| {
-                let next = if k == n {
-                    Vector2::zeros()
-                } else {
-                    self.offset(k as f64 / n as f64)
-                };
-                let u = (next - prev) / h;
-                prev = next;
-                u
-            })
-            .collect()
+        let u = (1..=n).map(|k| {
+            let next = if k == n {
+                Vector2::zeros()
+            } else {
+                self.offset(k as f64 / n as f64)
+            };
+            let u = (next - prev) / h;
+            prev = next;
+            u
+        });
+        match drift(grid) {
+            Some(v) => u.map(|x| x + v).collect(),
+            None => u.collect(),
+        }
     }
 }
 
@@ -154,6 +168,46 @@ pub fn reference_size(grid: &Grid) -> f64 {
         s *= 1.25;
     }
     best.1
+}
+
+/// The constant control `(β − ᾱ)/T` of the straight shape path from the start shape to the
+/// end shape of `grid`; `None` for a loop (`β = ᾱ`).
+pub fn drift(grid: &Grid) -> Option<Vector2<f64>> {
+    let (s, t) = (&grid.start, &grid.terminal.target);
+    let d = Vector2::new(t[0] - s[0], t[1] - s[1]);
+    (d != Vector2::zeros()).then(|| d / (grid.h() * grid.steps as f64))
+}
+
+/// The first start of a search on `grid`: the straight shape path to the end shape (the zero
+/// control for a loop: the zero loop).
+pub fn straight(grid: &Grid) -> Vec<Vector2<f64>> {
+    vec![drift(grid).unwrap_or_else(Vector2::zeros); grid.steps]
+}
+
+/// The first `count` start loops of the problem on `grid` (loop size `size`, ordered by
+/// `seed`, box loops if `boxes`): [`family`] through its start shape for a loop,
+/// [`transitions`] for a transition.
+pub fn of_grid(grid: &Grid, size: f64, seed: u64, count: usize, boxes: bool) -> Vec<StartLoop> {
+    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+    let alpha_end = Vector2::new(grid.terminal.target[0], grid.terminal.target[1]);
+    if alpha_end == alpha0 {
+        family(size, &alpha0, seed, count, boxes)
+    } else {
+        transitions(size, &alpha0, &alpha_end, seed, count, boxes)
+    }
+}
+
+/// The start loops of a transition from `alpha0` to `alpha_end` (see the module docs): those
+/// of [`family`] with the box loops sized about the midpoint of the straight path.
+pub fn transitions(
+    size: f64,
+    alpha0: &Vector2<f64>,
+    alpha_end: &Vector2<f64>,
+    seed: u64,
+    count: usize,
+    boxes: bool,
+) -> Vec<StartLoop> {
+    family(size, &((alpha0 + alpha_end) / 2.0), seed, count, boxes)
 }
 
 /// The smallest displacement [`reference_size`] compares (a floor, not a tolerance).

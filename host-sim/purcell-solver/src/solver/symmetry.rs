@@ -65,18 +65,19 @@ impl Symmetry {
     }
 }
 
-/// The symmetries of `problem`'s swimmer that fix its start shape (the target may move).
+/// The symmetries of `problem`'s swimmer that fix its start and end shapes (the target may
+/// move).
 pub fn of_swimmer(problem: &Problem) -> Vec<Symmetry> {
-    let a = problem.alpha0;
     let [_, l1, l2] = problem.swimmer.lengths();
     let mut out = Vec::new();
-    if a == Vector2::zeros() {
+    let fixed = |f: &dyn Fn(&Vector2<f64>) -> bool| f(&problem.alpha0) && f(&problem.alpha_end);
+    if fixed(&|a| *a == Vector2::zeros()) {
         out.push(REFLECTION);
     }
-    if l1 == l2 && a.x == a.y {
+    if l1 == l2 && fixed(&|a| a.x == a.y) {
         out.push(SWAP);
     }
-    if l1 == l2 && a.x == -a.y {
+    if l1 == l2 && fixed(&|a| a.x == -a.y) {
         out.push(BOTH);
     }
     out

@@ -1,4 +1,5 @@
-//! The terminal constraint `c(u) = s_N − s̄ = 0`: five equations, `α_N = ᾱ` and
+//! The terminal constraint `c(u) = s_N − s̄ = 0`: five equations, `α_N = β` (the end shape;
+//! `β = ᾱ` for a loop) and
 //! `(x, y, θ)_N = ḡ` in the coordinates `s = (α1, α2, x, y, θ)`.
 //!
 //! Its multiplier `ν` is the last costate, `λ_N = ν` ([`crate::solver::linearisation`]),
@@ -11,7 +12,7 @@ use nalgebra::Vector5;
 /// The end state a path must reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Terminal {
-    /// `s̄ = (ᾱ, x̄, ȳ, θ̄)`.
+    /// `s̄ = (β, x̄, ȳ, θ̄)`.
     pub target: StageState,
 }
 
