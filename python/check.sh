@@ -31,7 +31,7 @@ target=$(cd "$root" && cargo metadata --format-version 1 --no-deps |
   python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
 # Run from tests/ so that the source tree's purcell/ (no native module) is not imported.
 cd tests
-PURCELL_SIM=$target/debug/purcell-sim "$venv/bin/python" -m pytest -q -p no:cacheprovider
+PURCELL_SIM=$target/debug/purcell-sim "$venv/bin/python" -m pytest -q -p no:cacheprovider --durations=8
 
 # The examples, from the package alone (the atlas on a small lattice, short horizon, on a
 # local Dask cluster of two workers): the paper's figures and the cost map.
