@@ -4,16 +4,16 @@
 
 use crate::keywords::ProblemKw;
 use crate::{detach, error, input_error, refused, solution};
+use purcell_sim::find::{Unsolved, find};
 use purcell_sim::report::search_warnings;
 use purcell_sim::spec;
 use purcell_sim::words::{Front, Worded};
-use purcell_solver::solver::continuation::{self, Warm};
-use purcell_solver::solver::{self, SolveError};
+use purcell_solver::solver::SolveError;
+use purcell_solver::solver::continuation::Warm;
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// `purcell.solve` (python/purcell/_solve.py documents it): the problem's keywords checked as
 /// the command line checks its flags, the solve from `warm` or the global search.
@@ -26,28 +26,25 @@ pub fn solve(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<solution::Solution>> {
     let prepared = spec::prepare(&problem.solve_spec(target)?).map_err(refused)?;
-    let (problem, options) = (&prepared.problem, &prepared.options);
     let warm = warm.map(|w| warm_start(&w)).transpose()?;
-    let t0 = Instant::now();
-    let (found, failed) = detach::run(py, progress.as_ref(), |progress| match &warm {
-        None => (solver::solve(problem, options, progress), None),
-        Some(w) => continuation::solve_from(problem, w, options, progress),
+    let found = detach::run(py, progress.as_ref(), |progress| {
+        find(&prepared, warm.as_ref(), progress)
     })?;
-    let seconds = t0.elapsed().as_secs_f64();
-    if let Some(e) = failed {
-        warn(
-            py,
-            format!(
-                "warm reached no admissible extremal of this problem ({e}); solved by the \
-                 global search instead"
-            ),
-        )?;
+    let found = found.map_err(|u| no_solution(py, &u))?;
+    for note in &found.notes {
+        warn(py, note.words(Front::Python))?;
     }
-    let found = found.map_err(|e| no_solution(py, &e))?;
-    for w in search_warnings(&found) {
+    for w in search_warnings(&found.solution) {
         warn(py, w.words(Front::Python))?;
     }
-    solution::build(py, problem, &found, prepared.checkpoint_every, seconds)
+    let checkpoint_every = prepared.checkpoint_every;
+    solution::build(
+        py,
+        &found.problem,
+        &found.solution,
+        checkpoint_every,
+        found.seconds,
+    )
 }
 
 /// A `UserWarning` with `message`.
@@ -71,9 +68,10 @@ fn warm_start(warm: &Bound<'_, PyAny>) -> PyResult<Warm> {
     found.map_err(input_error)
 }
 
-/// `purcell.NoSolution` for `e`, with `best_residual` and `best_alpha`.
-fn no_solution(py: Python<'_>, e: &SolveError) -> PyErr {
-    let (residual, alpha) = match *e {
+/// `purcell.NoSolution` for `u` (its error and what to try), with `best_residual` and
+/// `best_alpha`.
+fn no_solution(py: Python<'_>, u: &Unsolved) -> PyErr {
+    let (residual, alpha) = match u.error {
         SolveError::Unreachable { best_residual } => (Some(best_residual), None),
         SolveError::NotRefined { best_residual, .. } => (Some(best_residual), None),
         SolveError::NoneAdmissible { best_alpha, .. } => (None, Some(best_alpha)),
@@ -83,7 +81,7 @@ fn no_solution(py: Python<'_>, e: &SolveError) -> PyErr {
         .set_item("best_residual", residual)
         .and_then(|()| attrs.set_item("best_alpha", alpha))
     {
-        Ok(()) => error("NoSolution", e.to_string(), Some(&attrs)),
+        Ok(()) => error("NoSolution", u.words(Front::Python), Some(&attrs)),
         Err(e) => e,
     }
 }

@@ -72,7 +72,10 @@ def test_unreachable_target_raises_no_solution(cli, public, tmp_path):
     with pytest.raises(purcell.PurcellError) as e:
         purcell.solve(problem["target"], **kwargs(problem))
     assert isinstance(e.value, purcell.NoSolution) and isinstance(e.value, RuntimeError)
-    assert str(e.value) in done.stderr
+    # The command line's error, then what to try in Python's words.
+    error, advice = str(e.value).split("\ntry ", 1)
+    assert error in done.stderr
+    assert "another seed (0 now)" in advice and "warm=" in advice and "--" not in advice
     assert e.value.best_residual > 1e-3
     assert e.value.best_alpha is None
 

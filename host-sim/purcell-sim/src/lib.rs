@@ -17,6 +17,7 @@ pub mod budget;
 pub mod cli;
 pub mod costate_file;
 pub mod decimal;
+pub mod find;
 pub mod input;
 pub mod output;
 pub mod plots;

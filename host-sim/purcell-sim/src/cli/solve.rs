@@ -9,15 +9,13 @@ use super::units::{
     self,
     Quantity::{Angle, Length},
 };
+use crate::find::{Found, find};
 use crate::plots;
 use crate::report::{Solved, search_warnings};
-use crate::spec::{self, MAX_STARTS, Prepared, SolveSpec};
+use crate::spec::{self, Prepared, SolveSpec};
 use crate::words::{Front, Worded};
 use clap::Args;
-use purcell_solver::problem::{OVERLAP, Problem};
-use purcell_solver::solver::settings::OVERLAP_MARGIN;
-use purcell_solver::solver::{Progress as _, Solution, SolveError, SolveOptions, solve};
-use purcell_solver::solver::{continuation, starts};
+use purcell_solver::solver::{Progress as _, Solution, SolveOptions};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -84,7 +82,12 @@ pub(super) fn run_solve(a: SolveArgs, quiet: bool) -> Result<String, Failure> {
     let inputs: Vec<&Path> = a.from.iter().map(PathBuf::as_path).collect();
     let out = a.output.prepare("solve", &inputs)?;
     let progress = Progress::new(t0, quiet);
-    let (solution, problem, seconds) = find(&a, &prepared, quiet, &progress)?;
+    let Found {
+        solution,
+        problem,
+        seconds,
+        ..
+    } = find_gait(&a, &prepared, quiet, &progress)?;
     let problem = &problem;
     progress.phase("output", 1, "directory");
     progress.suspend(|| warn_search(&solution, quiet));
@@ -127,100 +130,24 @@ fn warn_search(solution: &Solution, quiet: bool) {
     }
 }
 
-/// The solution of `problem` from `a.from`'s stored extremal, or from the global search
-/// (without `--from`, or when it reaches no admissible extremal: a warning), the problem it
-/// solves and its seconds, its phases told to `progress`; exit 2 for a `--from` file that is
-/// no start, 3 for no extremal. Without a joint limit, when every extremal found crosses the
-/// links' overlap, the cheapest gait within [`OVERLAP_MARGIN`] of it (the problem with
-/// `--alpha-max π − OVERLAP_MARGIN`, a warning), if there is one.
-fn find(
+/// [`find`] of `prepared` from `a.from`'s stored extremal (exit 2 for a file that is no
+/// start), its notes warned, exit 3 (and what to try) for no gait.
+fn find_gait(
     a: &SolveArgs,
     prepared: &Prepared,
     quiet: bool,
     progress: &Progress,
-) -> Result<(Solution, Problem, f64), Failure> {
-    let (problem, options) = (&prepared.problem, prepared.options);
+) -> Result<Found, Failure> {
     let warm = match &a.from {
         None => None,
         Some(path) => Some(spec::warm_start(path).map_err(|e| fail(2, e))?),
     };
-    let t0 = Instant::now();
-    let result = match &warm {
-        None => solve(problem, &options, progress),
-        Some(w) => {
-            let (result, failed) = continuation::solve_from(problem, w, &options, progress);
-            if let Some(e) = failed {
-                warn(
-                    quiet,
-                    format_args!(
-                        "--from reached no admissible extremal of this problem ({e}); solved \
-                         by the global search instead"
-                    ),
-                );
-            }
-            result
+    let found =
+        find(prepared, warm.as_ref(), progress).map_err(|u| fail(3, u.words(Front::Cli)))?;
+    progress.suspend(|| {
+        for note in &found.notes {
+            warn(quiet, format_args!("{}", note.words(Front::Cli)));
         }
-    };
-    let failure = |e: SolveError| fail(3, format!("{e}\n{}", what_to_try(&e, a, problem)));
-    let solution = match result {
-        Ok(s) => s,
-        Err(e @ SolveError::NoneAdmissible { .. }) if problem.alpha_max.is_none() => {
-            let alpha_max = OVERLAP - OVERLAP_MARGIN;
-            let margin = Problem {
-                alpha_max: Some(alpha_max),
-                ..*problem
-            };
-            progress.suspend(|| {
-                warn(
-                    quiet,
-                    format_args!(
-                        "{e}: no gait found inside the links' overlap; solving for the cheapest \
-                         within {OVERLAP_MARGIN} rad of it (--alpha-max {alpha_max:.4}); the gait \
-                         returned rests on that bound where it has arcs (report.json: alpha_max)"
-                    ),
-                )
-            });
-            let solution = solve(&margin, &options, progress).map_err(|_| failure(e))?;
-            return Ok((solution, margin, t0.elapsed().as_secs_f64()));
-        }
-        Err(e) => return Err(failure(e)),
-    };
-    Ok((solution, *problem, t0.elapsed().as_secs_f64()))
-}
-
-/// What exit 3's message suggests after `e`, by its cause.
-fn what_to_try(e: &SolveError, a: &SolveArgs, problem: &Problem) -> String {
-    let starts = a.problem.search.starts;
-    // More starts than the family holds run no more loops.
-    let family = starts::family(
-        1.0,
-        &problem.alpha0,
-        0,
-        MAX_STARTS,
-        problem.alpha_max.is_none(),
-    );
-    let mut tries = Vec::new();
-    if starts < family.len() {
-        tries.push(format!(
-            "more starts (--starts {}; {starts} now)",
-            (4 * starts).min(family.len())
-        ));
-    }
-    tries.push(format!("another --seed ({} now)", a.problem.search.seed));
-    tries.push(
-        "a warm start from the gait of a nearer target, solved first (--from DIR/costate.json)"
-            .into(),
-    );
-    match (e, problem.alpha_max) {
-        (SolveError::Unreachable { .. }, _) => {}
-        (_, Some(limit)) => tries.push(format!("a looser joint limit (--alpha-max; {limit} now)")),
-        (SolveError::NoneAdmissible { .. }, None) => tries.push(
-            "another start shape if it is yours to choose (--alpha0): every extremal found \
-             crosses the links' overlap"
-                .into(),
-        ),
-        (_, None) => {}
-    }
-    let last = tries.pop().unwrap_or_default();
-    format!("try {}, or {last}", tries.join(", "))
+    });
+    Ok(found)
 }

@@ -70,15 +70,17 @@ pub fn clip_into(
 }
 
 /// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last;
-/// the run at the last weight (or at the first that did not converge).
+/// the run at the last weight (or at the first that did not converge); `pulse` before each
+/// Newton iteration.
 pub fn barrier_path(
     grid: &Grid,
     alpha_max: f64,
     taus: &[f64],
     start: Point,
     settings: &Settings,
+    pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
-    walk(grid, alpha_max, taus, start, settings, &|| ()).map(|w| w.run)
+    walk(grid, alpha_max, taus, start, settings, pulse).map(|w| w.run)
 }
 
 /// Where a barrier path ended ([`walk`]).

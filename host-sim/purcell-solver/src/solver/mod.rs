@@ -79,7 +79,7 @@ pub fn solve(
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
     progress.phase("search", options.starts + 1, "starts");
-    let found = search_coarse(problem, options, &|| progress.tick())?;
+    let found = search_coarse(problem, options, progress)?;
     progress.phase("refinement", found.candidates.len(), "candidates");
     let (best, extremals, unrefined) = refinement::refine_candidates(
         problem,
@@ -95,11 +95,13 @@ pub fn solve(
     })
 }
 
-/// The global search of `problem` on its coarse grid ([`coarse_grid`], [`search::search`]).
+/// The global search of `problem` on its coarse grid ([`coarse_grid`], [`search::search`]);
+/// `progress` ticks once per start and pulses before each Newton iteration (the search
+/// without the joint limit that a limited one runs first only pulses).
 pub fn search_coarse(
     problem: &Problem,
     options: &SolveOptions,
-    progress: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<search::Search, SolveError> {
     let grid_of = |p: &Problem| {
         coarse_grid(p, options).ok_or(SolveError::Unreachable {
@@ -122,7 +124,7 @@ pub fn search_coarse(
                 None,
                 &|a| free.admits(a),
                 &[],
-                &|| {},
+                &progress::Within(progress),
             );
             found.candidates
         }

@@ -47,6 +47,7 @@ use super::constraints::joint_limit::Limits;
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::limits;
+use super::progress::Progress;
 use super::settings::{
     self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, PULL,
     SAME_PATH, SHRINK, Settings, UNSEEN,
@@ -131,7 +132,7 @@ impl Search {
 
 /// Runs at least `starts.start()` (at most `starts.end()`) start loops and the zero loop on `grid`;
 /// `admissible` decides from the largest `|α_i|` whether an extremal counts for the stopping
-/// rule; `progress` is called once per finished start. With a joint limit `limit`, the starts
+/// rule; `progress` ticks once per finished start and pulses before each Newton iteration. With a joint limit `limit`, the starts
 /// are shrunk into it and run through the barrier path ([`super::limits`]): the candidates
 /// are then minima of the barrier problem at its last weight; `free`, the distinct minima of
 /// the same problem without the limit (a search of its own), are carried into it first
@@ -143,9 +144,10 @@ pub fn search(
     limit: Option<f64>,
     admissible: &(dyn Fn(f64) -> bool + Sync),
     free: &[Candidate],
-    progress: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Search {
     let (min_starts, max_starts) = (*starts.start(), *starts.end());
+    let pulse = &|| progress.pulse();
     let size = starts::reference_size(grid);
     let family = starts::of_grid(grid, size, seed, max_starts, limit.is_none());
     // The zero loop first: the solution when the target is the start (J = 0); for any other
@@ -169,14 +171,14 @@ pub fn search(
             let results: Vec<_> = batch
                 .par_iter()
                 .map(|&(index, start_loop)| {
-                    let r = run_start(grid, limit, &settings, index, start_loop);
-                    progress();
+                    let r = run_start(grid, limit, &settings, index, start_loop, pulse);
+                    progress.tick();
                     (index, start_loop, r)
                 })
                 .collect();
             for (index, start_loop, r) in results {
                 let pull = limit.is_none().then_some(&settings);
-                out.absorb(grid, (index, start_loop), r, pull, admissible);
+                out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
             }
             if out.after_batch(min_starts, admissible) {
                 break;
@@ -194,10 +196,10 @@ pub fn search(
                 .collect();
             let results: Vec<_> = all
                 .par_iter()
-                .map(|&(c, way, taus)| inward(grid, a, &c.u, c.nu, way, taus, &settings))
+                .map(|&(c, way, taus)| inward(grid, a, &c.u, c.nu, way, taus, &settings, pulse))
                 .collect();
             for r in results {
-                out.absorb(grid, (0, None), r, None, admissible);
+                out.absorb(grid, (0, None), r, None, admissible, pulse);
             }
             out.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         }
@@ -223,23 +225,25 @@ fn run_start(
     settings: &Settings,
     index: usize,
     start_loop: Option<StartLoop>,
+    pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
     // The zero loop (no start loop, a loop problem) runs without the joint limit's barrier
     // (`zero_loop`); a transition's first start is the straight path to its end shape.
     let u = match start_loop {
         Some(s) => s.controls(grid),
-        None if starts::drift(grid).is_none() => return zero_loop(grid, settings),
+        None if starts::drift(grid).is_none() => return zero_loop(grid, settings, pulse),
         None => starts::straight(grid),
     };
     match limit {
         None => {
-            Point::new(grid, u, Vector5::zeros()).and_then(|p| direct::newton(grid, p, settings))
+            let p = Point::new(grid, u, Vector5::zeros())?;
+            direct::newton_pulsed(grid, p, settings, pulse)
         }
         Some(a) => {
             let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
             let u = limits::shrink_into(u, &alpha0, a, grid.h());
             Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                limits::barrier_path(grid, a, settings::coarse_path(index), p, settings)
+                limits::barrier_path(grid, a, settings::coarse_path(index), p, settings, pulse)
             })
         }
     }
@@ -249,13 +253,13 @@ fn run_start(
 /// at `ᾱ`, inside any limit, and when the target is the start it is the exact global minimum
 /// (`J = 0`), which the barrier's gradient at a bent `ᾱ` would push it off; for any other
 /// target its Newton step is singular and it stops at once.
-fn zero_loop(grid: &Grid, settings: &Settings) -> Result<Run, Error> {
+fn zero_loop(grid: &Grid, settings: &Settings, pulse: &dyn Fn()) -> Result<Run, Error> {
     let free = Grid {
         limits: Limits::None,
         ..grid.clone()
     };
     let p = Point::new(&free, vec![Vector2::zeros(); free.steps], Vector5::zeros())?;
-    direct::newton(&free, p, settings)
+    direct::newton_pulsed(&free, p, settings, pulse)
 }
 
 impl Search {
@@ -270,6 +274,7 @@ impl Search {
         r: Result<Run, Error>,
         pull: Option<&Settings>,
         admissible: &(dyn Fn(f64) -> bool + Sync),
+        pulse: &dyn Fn(),
     ) {
         self.starts += usize::from(index > 0);
         let Ok(run) = r else { return };
@@ -289,7 +294,7 @@ impl Search {
             return;
         };
         for path in COARSE_PATHS {
-            let Some(inside) = self::pull(grid, &from, path, settings) else {
+            let Some(inside) = self::pull(grid, &from, path, settings, pulse) else {
                 continue;
             };
             if admissible(grid::max_abs_alpha(&inside.point.states)) {
@@ -389,30 +394,38 @@ fn inward(
     way: Inward,
     taus: &[f64],
     settings: &Settings,
+    pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
     let u = match way {
         Inward::Shrink => limits::shrink_into(u.to_vec(), &alpha0, alpha_max, grid.h()),
         Inward::Clip => limits::clip_into(u, &alpha0, SHRINK * alpha_max, grid.h()),
     };
-    Point::new(grid, u, nu).and_then(|p| limits::barrier_path(grid, alpha_max, taus, p, settings))
+    let p = Point::new(grid, u, nu)?;
+    limits::barrier_path(grid, alpha_max, taus, p, settings, pulse)
 }
 
 /// A coarse minimum `from` past the links' overlap pulled inside (see the module docs): its
 /// shape path shrunk into `PULL·π`, the barrier path `taus` there, then
 /// Newton without the barrier by `settings` (the starts', with the trust radius); the
 /// converged run, if any.
-fn pull(grid: &Grid, from: &Point, taus: &[f64], settings: &Settings) -> Option<Run> {
+fn pull(
+    grid: &Grid,
+    from: &Point,
+    taus: &[f64],
+    settings: &Settings,
+    pulse: &dyn Fn(),
+) -> Option<Run> {
     let wall = PULL * OVERLAP;
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
     let u = limits::shrink_into(from.u.clone(), &alpha0, wall, grid.h());
     let barrier = Settings::search(settings.max_iterations, true);
     let start = Point::new(grid, u, from.nu).ok()?;
-    let held = limits::barrier_path(grid, wall, taus, start, &barrier).ok()?;
+    let held = limits::barrier_path(grid, wall, taus, start, &barrier, pulse).ok()?;
     if !held.converged {
         return None;
     }
-    let free = direct::newton(grid, held.point, settings).ok()?;
+    let free = direct::newton_pulsed(grid, held.point, settings, pulse).ok()?;
     free.converged.then_some(free)
 }
 

@@ -157,7 +157,7 @@ pub fn search_target(
     options: &SolveOptions,
     pulse: &(dyn Fn() + Sync),
 ) -> (Vec<Candidate>, f64) {
-    match crate::solver::search_coarse(problem, options, pulse) {
+    match crate::solver::search_coarse(problem, options, &pulse) {
         Ok(s) => (s.candidates, s.best_residual),
         Err(_) => (Vec::new(), f64::INFINITY),
     }

@@ -98,7 +98,7 @@ fn continue_to_pulsed(
         .map_err(|_| unreachable(f64::INFINITY))?;
     let settings = Settings::warm(problem.alpha_max.is_some());
     if let Some(a) = problem.alpha_max {
-        point = within_limit(problem, warm, &medium, point, a, &settings)?;
+        point = within_limit(problem, warm, &medium, point, a, &settings, pulse)?;
         medium.limits = Limits::Barrier {
             alpha_max: a,
             tau: settings::COARSE_TAU,
@@ -113,7 +113,7 @@ fn continue_to_pulsed(
 /// With a joint limit `alpha_max`: the warm start `point` on `medium` pulled just inside it
 /// (a gait on arcs of the limit rests on it) and to the barrier's minimum at its own target
 /// and the search's last weight; the walk then keeps that weight, its steps stopping short
-/// of the limit.
+/// of the limit. `pulse` before each Newton iteration.
 fn within_limit(
     problem: &Problem,
     warm: &Warm,
@@ -121,6 +121,7 @@ fn within_limit(
     point: Point,
     alpha_max: f64,
     settings: &Settings,
+    pulse: &dyn Fn(),
 ) -> Result<Point, SolveError> {
     let own = medium.aiming_at(&warm.target);
     // A warm gait within the limit (on arcs of it or inside) is nearly the barrier's
@@ -135,7 +136,7 @@ fn within_limit(
         (u, settings::coarse_path(0))
     };
     let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
-    let run = limits::barrier_path(&own, alpha_max, path, start, settings)
+    let run = limits::barrier_path(&own, alpha_max, path, start, settings, pulse)
         .map_err(|_| unreachable(f64::INFINITY))?;
     if run.converged {
         Ok(run.point)
