@@ -33,6 +33,7 @@
 pub mod curvature;
 pub mod dual;
 pub mod problem;
+pub mod seeded;
 pub mod solver;
 #[cfg(feature = "test-kit")]
 pub mod testkit;

@@ -195,7 +195,7 @@ fn local_min_is_false_on_a_saddle() {
     }
     let settings = Settings::fine(&p, &pt.u);
     let run = direct::newton(&grid, pt.clone(), &settings).unwrap();
-    assert!(run.converged && run.iterations == 0, "{}", run.defect);
+    assert!(run.converged() && run.iterations == 0, "{}", run.defect);
     let saddle = extremal(&p, &grid, &run);
     eprintln!(
         "saddle: J {} (cheapest {}), kkt {:?}, law {:?}, terminal {:?}",
@@ -228,8 +228,9 @@ fn local_min_is_false_on_a_saddle() {
     let cost = grid.cost(&away.point.u, &away.point.states);
     eprintln!(
         "from a hair off the saddle: J {cost}, converged {}, local min {}",
-        away.converged, away.local_min
+        away.converged(),
+        away.local_min()
     );
-    assert!(away.converged && away.local_min, "{away:?}");
+    assert!(away.converged() && away.local_min(), "{away:?}");
     assert!(cost < saddle.cost * (1.0 - 1e-3), "{cost} {}", saddle.cost);
 }

@@ -3,7 +3,8 @@
 //! basin of a single start loop of the family (`purcell_solver::solver::search`, pulls).
 
 use purcell_solver::problem::{Problem, Spec};
-use purcell_solver::solver::search::{Candidate, same_path};
+use purcell_solver::solver::grid::same_path;
+use purcell_solver::solver::search::Candidate;
 use purcell_solver::solver::settings::COARSE_COST_ERROR;
 use purcell_solver::solver::{SolveOptions, coarse_grid, search_coarse};
 

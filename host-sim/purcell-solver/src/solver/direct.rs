@@ -32,10 +32,11 @@
 //! wants the lines installs one, e.g. `env_logger::init()` run with
 //! `RUST_LOG=purcell_solver::solver::direct=debug`.
 
+use super::constraints::joint_limit::ControlMap;
 use super::filter::{Filter, Step};
 use super::grid::{Grid, Point};
 use super::linearisation::Linearisation;
-use super::riccati::{ControlMap, Factor};
+use super::riccati::Factor;
 use super::settings::{DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, Settings};
 use super::stage::StageState;
 use nalgebra::{Vector2, Vector5};
@@ -56,11 +57,33 @@ pub struct Run {
     pub kkt: f64,
     /// Iterations used.
     pub iterations: usize,
+    /// How it ended.
+    pub status: Status,
+}
+
+/// How a Newton run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Out of iterations before both tolerances were met.
+    Stalled,
+    /// Both tolerances met, the second-order sufficient condition not (a saddle, or a
+    /// minimum that is not strict).
+    Stationary,
+    /// Both tolerances met and the second-order sufficient condition holds (the exact
+    /// Hessian's QP is strictly convex on the constraint's null space): a strict local minimum.
+    LocalMin,
+}
+
+impl Run {
     /// Whether both tolerances were met.
-    pub converged: bool,
-    /// At a converged point: whether the second-order sufficient condition holds (the exact
-    /// Hessian's QP is strictly convex on the constraint's null space: a strict local minimum).
-    pub local_min: bool,
+    pub fn converged(&self) -> bool {
+        self.status != Status::Stalled
+    }
+
+    /// Whether it is a strict local minimum ([`Status::LocalMin`]).
+    pub fn local_min(&self) -> bool {
+        self.status == Status::LocalMin
+    }
 }
 
 /// Newton–SQP from `start` (see the module docs).
@@ -90,14 +113,19 @@ pub fn newton_pulsed(
         let maps = maps.as_deref();
         let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
         if done || iterations >= settings.max_iterations {
-            let local_min =
-                done && Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex());
-            return Ok(finish(grid, pt, lz, iterations, done, local_min));
+            let status = if !done {
+                Status::Stalled
+            } else if Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex()) {
+                Status::LocalMin
+            } else {
+                Status::Stationary
+            };
+            return Ok(finish(grid, pt, lz, iterations, status));
         }
         iterations += 1;
         pulse();
         let Some((factor, delta)) = convex_factor(&lz, h, delta_last, maps) else {
-            return Ok(finish(grid, pt, lz, iterations, false, false));
+            return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
         delta_last = delta;
         pulse();
@@ -105,7 +133,7 @@ pub fn newton_pulsed(
         // of `ν` (the constant `−νᵀGδu = νᵀc` drops out), and near a solution every term of the
         // step is small: no cancellation of O(1) terms in the closed loop.
         let Some((du, dnu)) = factor.solve(&lz.lin, &(-c), true) else {
-            return Ok(finish(grid, pt, lz, iterations, false, false));
+            return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
         trace_linear_residual(&lz, &du, &c);
         let nu_qp = pt.nu + dnu;
@@ -136,7 +164,7 @@ pub fn newton_pulsed(
             du.iter().map(|v| v.amax()).fold(0.0, f64::max)
         );
         let Some(p) = search.point else {
-            return Ok(finish(grid, pt, lz, iterations, false, false));
+            return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
         pt = p;
     }
@@ -186,14 +214,7 @@ fn trace_linear_residual(lz: &Linearisation, du: &[Vector2<f64>], c: &Vector5<f6
 }
 
 /// The run ending at `point` with its derivatives `lz`.
-fn finish(
-    grid: &Grid,
-    point: Point,
-    lz: Linearisation,
-    iterations: usize,
-    converged: bool,
-    local_min: bool,
-) -> Run {
+fn finish(grid: &Grid, point: Point, lz: Linearisation, iterations: usize, status: Status) -> Run {
     let defect = grid.terminal.defect(&point.states).amax();
     Run {
         point,
@@ -202,8 +223,7 @@ fn finish(
         defect,
         kkt: lz.kkt,
         iterations,
-        converged,
-        local_min,
+        status,
     }
 }
 

@@ -1,12 +1,13 @@
 //! The problem on a time grid: `N` steps of the exact stage model ([`super::stage`]) from
 //! `s_0 = (ᾱ, 0, 0, 0)` to `s_N = (β, ḡ)`, with the cost ([`super::cost`]) and the constraints
 //! ([`super::constraints`]): rollouts of controls, the objective the direct method minimises
-//! and its slope, and how a path moves between grids ([`prolong`], [`Grid::resampled`],
-//! [`Grid::resolves`]).
+//! and its slope, how a path moves between grids ([`prolong`], [`Grid::resampled`],
+//! [`Grid::resolves`]), and when two paths are the same ([`same_path`]).
 
 use super::constraints::joint_limit::Limits;
 use super::constraints::terminal::Terminal;
 use super::cost::{Costs, StageCost};
+use super::settings::SAME_PATH;
 use super::stage::{Rule, StageModel, StageState};
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector3, Vector5};
@@ -220,6 +221,16 @@ pub fn prolong(u: &[Vector2<f64>], steps: usize) -> Vec<Vector2<f64>> {
         prev = next;
     }
     out
+}
+
+/// Whether two control sequences run the same shape path (to [`SAME_PATH`] at every node).
+pub fn same_path(a: &[Vector2<f64>], b: &[Vector2<f64>], h: f64) -> bool {
+    let mut d = Vector2::zeros();
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            d += (x - y) * h;
+            d.amax() <= SAME_PATH
+        })
 }
 
 #[cfg(test)]

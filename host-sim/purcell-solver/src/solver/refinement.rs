@@ -1,13 +1,13 @@
 //! The refinement: the search's candidates carried from the coarse grid to the problem's
 //! own, through grids at most 16 times finer each, Newton converging in a few steps at each
-//! (with a joint limit, the barrier path and then the active set, [`super::limits`]); the
+//! (with a joint limit, the barrier path and then the active set, [`homotopy`]); the
 //! fine extremals with their certificates, cheapest first.
 
 use super::constraints::joint_limit::Limits;
+use super::constraints::joint_limit::homotopy::{self, PolishError};
 use super::cost::{Costs, StageCost};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
-use super::limits::{self, PolishError};
 use super::progress::Progress;
 use super::search;
 use super::settings::{
@@ -41,10 +41,10 @@ impl Stop {
 /// Carries controls `u` (on any grid over the same horizon) with multiplier `nu` to the
 /// problem's grid, through grids at most 16 times finer each ([`finer_grid`]), Newton
 /// converging at each. With a joint limit, the first finer grid runs the barrier path
-/// [`FINE_TAUS`] and the others only its last weight ([`limits::patient_barrier_path`]; if a
+/// [`FINE_TAUS`] and the others only its last weight ([`homotopy::patient_barrier_path`]; if a
 /// smaller weight stalls, the path goes on from the last weight reached; if the first stalls
 /// near the start, the path runs again from larger weights), and on the problem's grid the
-/// active-set rounds impose the limit on its arcs ([`limits::polish`]). Gives up with
+/// active-set rounds impose the limit on its arcs ([`homotopy::polish`]). Gives up with
 /// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 /// `pulse` is called on each grid and before each Newton iteration.
 pub fn refine(
@@ -83,7 +83,7 @@ pub fn refine(
                 run
             }
         };
-        if !run.converged {
+        if !run.converged() {
             return Err(Stop::Defect(run.defect));
         }
         if last {
@@ -91,7 +91,7 @@ pub fn refine(
                 return Ok((grid, run));
             };
             let fine = Settings::fine(problem, &run.point.u);
-            let polished = limits::polish(&grid, alpha_max, &run.point, &fine, pulse);
+            let polished = homotopy::polish(&grid, alpha_max, &run.point, &fine, pulse);
             return polished.map_err(|e| match e {
                 PolishError::NotConverged(d) => Stop::Defect(d),
                 PolishError::Unsettled => Stop::Defect(f64::INFINITY),
@@ -106,7 +106,7 @@ pub fn refine(
 }
 
 /// A refinement's barrier path on `grid` from `start` through the weights
-/// `FINE_TAUS[from..]` ([`limits::patient_barrier_path`]): the index in [`FINE_TAUS`] of the
+/// `FINE_TAUS[from..]` ([`homotopy::patient_barrier_path`]): the index in [`FINE_TAUS`] of the
 /// last weight that converged, with its run. If a smaller weight stalls after it, that run
 /// all the same: the path is only there to find the arcs (the active set converges the
 /// constrained problem itself), the next grid walks on from that weight, and the problem's
@@ -124,9 +124,9 @@ fn barrier_stage(
     pulse: &dyn Fn(),
 ) -> Result<(usize, Run), Stop> {
     let taus = &FINE_TAUS[from..];
-    let walk = limits::patient_barrier_path(grid, alpha_max, taus, start.clone(), pulse)
+    let walk = homotopy::patient_barrier_path(grid, alpha_max, taus, start.clone(), pulse)
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
-    if walk.run.converged {
+    if walk.run.converged() {
         return Ok((FINE_TAUS.len() - 1, walk.run));
     }
     let Some((i, reached)) = walk.reached else {
@@ -159,8 +159,8 @@ fn barrier_stage(
 /// none of them did.
 fn rescue(grid: &Grid, alpha_max: f64, start: Point, pulse: &dyn Fn()) -> Option<(usize, Run)> {
     let taus: Vec<f64> = RESCUE_TAUS.iter().chain(&FINE_TAUS).copied().collect();
-    let walk = limits::patient_barrier_path(grid, alpha_max, &taus, start, pulse).ok()?;
-    if walk.run.converged {
+    let walk = homotopy::patient_barrier_path(grid, alpha_max, &taus, start, pulse).ok()?;
+    if walk.run.converged() {
         return Some((FINE_TAUS.len() - 1, walk.run));
     }
     let (j, reached) = walk.reached?;
@@ -214,7 +214,7 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
         law_residual: check(certificate::law_residual(problem, &trajectory, &mu)),
         // J ≥ 0, so J = 0 is the global minimum (there the terminal constraint is degenerate
         // and the second-order test does not apply).
-        local_min: run.local_min || cost == 0.0,
+        local_min: run.local_min() || cost == 0.0,
         iterations: run.iterations,
         start: 0,
         hits: 0,
@@ -306,7 +306,7 @@ pub fn refine_candidates(
             x.start = c.start;
             x.hits = c.hits;
             if extremals.iter().any(|(o, _)| {
-                search::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
+                grid::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
             }) {
                 repeats += 1;
             } else {
@@ -373,7 +373,7 @@ fn mark_twins(problem: &Problem, extremals: &mut [Extremal]) {
                 .map(|u| sym.shape(u))
                 .collect();
             extremals[i].twin_of = (0..extremals.len()).find(|&j| {
-                j != i && search::same_path(&extremals[j].trajectory.controls, &image, problem.h)
+                j != i && grid::same_path(&extremals[j].trajectory.controls, &image, problem.h)
             });
         }
     }

@@ -34,29 +34,13 @@
 //! Hessian and the step is zero) exactly when the KKT matrix has `m = 5` negative eigenvalues,
 //! i.e. `neg(H) + neg(M) = 5` (Haynsworth inertia additivity; Gould 1985).
 
+use super::constraints::joint_limit::ControlMap;
 use super::settings::{PIVOT, REFINE_GAIN, REFINE_MISS, REFINE_PASSES, SINGULAR};
 use super::stage::Linearised;
 use nalgebra::{
     Matrix2, Matrix2x3, Matrix2x5, Matrix3, Matrix3x2, Matrix3x5, Matrix5, SymmetricEigen, Vector2,
     Vector3, Vector5,
 };
-
-/// How the controls of one stage are tied by the arcs: per joint, free, fixed at zero (inside
-/// an arc) or set by the state (`δu_i = −δα_i/h` at an arc's entry step).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ControlMap {
-    /// `u_{k,i}` fixed at zero.
-    pub fixed: [bool; 2],
-    /// `u_{k,i} = (±α_max − α_{k,i})/h`.
-    pub entry: [bool; 2],
-}
-
-impl ControlMap {
-    /// Whether control `i` is a free variable.
-    pub fn free(&self, i: usize) -> bool {
-        !self.fixed[i] && !self.entry[i]
-    }
-}
 
 /// The coordinates `(α1, α2, θ)` of a state `(α1, α2, x, y, θ)`: the ones the dynamics and
 /// the stage Hessians depend on.

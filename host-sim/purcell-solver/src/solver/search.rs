@@ -6,7 +6,7 @@
 //! of a fine solve. Without a
 //! joint limit each start runs with a trust radius ([`settings::TRUST_RADIUS`]), so that it reaches a
 //! minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
-//! into distinct extremals (same shape path to [`SAME_PATH`]). A converged point whose motion the
+//! into distinct extremals (same shape path, [`grid::same_path`]). A converged point whose motion the
 //! coarse grid does not resolve ([`Grid::resolves`]) is dropped.
 //!
 //! **Pulls.** Without a joint limit many starts converge past the links' overlap, and the
@@ -44,13 +44,13 @@
 //! ([`Search::expected_minima`]).
 
 use super::constraints::joint_limit::Limits;
+use super::constraints::joint_limit::homotopy;
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
-use super::limits;
 use super::progress::Progress;
 use super::settings::{
     self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, PULL,
-    SAME_PATH, SHRINK, Settings, UNSEEN,
+    SHRINK, Settings, UNSEEN,
 };
 use super::starts::{self, StartLoop};
 use crate::problem::OVERLAP;
@@ -133,7 +133,7 @@ impl Search {
 /// Runs at least `starts.start()` (at most `starts.end()`) start loops and the zero loop on `grid`;
 /// `admissible` decides from the largest `|α_i|` whether an extremal counts for the stopping
 /// rule; `progress` ticks once per finished start and pulses before each Newton iteration. With a joint limit `limit`, the starts
-/// are shrunk into it and run through the barrier path ([`super::limits`]): the candidates
+/// are shrunk into it and run through the barrier path ([`homotopy`]): the candidates
 /// are then minima of the barrier problem at its last weight; `free`, the distinct minima of
 /// the same problem without the limit (a search of its own), are carried into it first
 /// along both coarse paths (`inward`; ignored without a limit).
@@ -241,9 +241,9 @@ fn run_start(
         }
         Some(a) => {
             let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-            let u = limits::shrink_into(u, &alpha0, a, grid.h());
+            let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
             Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                limits::barrier_path(grid, a, settings::coarse_path(index), p, settings, pulse)
+                homotopy::barrier_path(grid, a, settings::coarse_path(index), p, settings, pulse)
             })
         }
     }
@@ -278,7 +278,7 @@ impl Search {
     ) {
         self.starts += usize::from(index > 0);
         let Ok(run) = r else { return };
-        if !run.converged {
+        if !run.converged() {
             self.best_residual = self.best_residual.min(run.defect);
             return;
         }
@@ -318,7 +318,7 @@ impl Search {
         if let Some(c) = self
             .candidates
             .iter_mut()
-            .find(|c| same_path(&c.u, &run.point.u, h))
+            .find(|c| grid::same_path(&c.u, &run.point.u, h))
         {
             c.hits += 1;
             if index < c.start {
@@ -326,8 +326,16 @@ impl Search {
                 c.start_loop = start_loop;
             }
             let from = c.u.clone();
-            for (_, to) in self.pulls.iter().filter(|(f, _)| same_path(f, &from, h)) {
-                if let Some(t) = self.candidates.iter_mut().find(|t| same_path(&t.u, to, h)) {
+            for (_, to) in self
+                .pulls
+                .iter()
+                .filter(|(f, _)| grid::same_path(f, &from, h))
+            {
+                if let Some(t) = self
+                    .candidates
+                    .iter_mut()
+                    .find(|t| grid::same_path(&t.u, to, h))
+                {
                     t.hits += 1;
                 }
             }
@@ -377,14 +385,14 @@ impl Search {
 /// How [`inward`] brings a shape path within the limit.
 #[derive(Clone, Copy, Debug)]
 enum Inward {
-    /// Scaled about `ᾱ` ([`limits::shrink_into`]).
+    /// Scaled about `ᾱ` ([`homotopy::shrink_into`]).
     Shrink,
-    /// Clipped to [`SHRINK`]` · α_max` ([`limits::clip_into`]).
+    /// Clipped to [`SHRINK`]` · α_max` ([`homotopy::clip_into`]).
     Clip,
 }
 
 /// A minimum `c` of the problem without the joint limit carried into the limit `alpha_max`
-/// (see the module docs): its shape path shrunk into it ([`limits::shrink_into`]), then the
+/// (see the module docs): its shape path shrunk into it ([`homotopy::shrink_into`]), then the
 /// barrier path `taus` by `settings`.
 fn inward(
     grid: &Grid,
@@ -398,11 +406,11 @@ fn inward(
 ) -> Result<Run, Error> {
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
     let u = match way {
-        Inward::Shrink => limits::shrink_into(u.to_vec(), &alpha0, alpha_max, grid.h()),
-        Inward::Clip => limits::clip_into(u, &alpha0, SHRINK * alpha_max, grid.h()),
+        Inward::Shrink => homotopy::shrink_into(u.to_vec(), &alpha0, alpha_max, grid.h()),
+        Inward::Clip => homotopy::clip_into(u, &alpha0, SHRINK * alpha_max, grid.h()),
     };
     let p = Point::new(grid, u, nu)?;
-    limits::barrier_path(grid, alpha_max, taus, p, settings, pulse)
+    homotopy::barrier_path(grid, alpha_max, taus, p, settings, pulse)
 }
 
 /// A coarse minimum `from` past the links' overlap pulled inside (see the module docs): its
@@ -418,15 +426,15 @@ fn pull(
 ) -> Option<Run> {
     let wall = PULL * OVERLAP;
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let u = limits::shrink_into(from.u.clone(), &alpha0, wall, grid.h());
+    let u = homotopy::shrink_into(from.u.clone(), &alpha0, wall, grid.h());
     let barrier = Settings::search(settings.max_iterations, true);
     let start = Point::new(grid, u, from.nu).ok()?;
-    let held = limits::barrier_path(grid, wall, taus, start, &barrier, pulse).ok()?;
-    if !held.converged {
+    let held = homotopy::barrier_path(grid, wall, taus, start, &barrier, pulse).ok()?;
+    if !held.converged() {
         return None;
     }
     let free = direct::newton_pulsed(grid, held.point, settings, pulse).ok()?;
-    free.converged.then_some(free)
+    free.converged().then_some(free)
 }
 
 fn cheapest_admissible<'a>(
@@ -434,14 +442,4 @@ fn cheapest_admissible<'a>(
     admissible: &(dyn Fn(f64) -> bool + Sync),
 ) -> Option<&'a Candidate> {
     candidates.iter().find(|c| admissible(c.max_abs_alpha))
-}
-
-/// Whether two control sequences run the same shape path (to [`SAME_PATH`] at every node).
-pub fn same_path(a: &[Vector2<f64>], b: &[Vector2<f64>], h: f64) -> bool {
-    let mut d = Vector2::zeros();
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(x, y)| {
-            d += (x - y) * h;
-            d.amax() <= SAME_PATH
-        })
 }

@@ -47,6 +47,7 @@
 
 use super::grid::Grid;
 use crate::problem::OVERLAP;
+use crate::seeded::{GOLDEN_GAMMA, splitmix64};
 use nalgebra::Vector2;
 
 /// The shape of a start loop.
@@ -357,17 +358,6 @@ fn shapes(size: f64) -> (Vec<StartLoop>, Vec<StartLoop>) {
         }
     }
     (first, rest)
-}
-
-/// The increment of SplitMix64's state: `2⁶⁴/φ`, odd.
-pub const GOLDEN_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
-
-/// SplitMix64's output mix of a state `z` (Steele, Lea, Flood 2014): the seeded draws of the
-/// starts here and of the measurement noise in [`crate::tracking`].
-pub fn splitmix64(z: u64) -> u64 {
-    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@
 //!   [`Noise`]).
 
 use super::gains::Table;
-use crate::solver::starts::{GOLDEN_GAMMA, splitmix64};
+use crate::seeded::{GOLDEN_GAMMA, splitmix64};
 use nalgebra::Vector2;
 use purcell_core::tracking::{Tracker, rounded, tracking_error};
 use purcell_core::{Error, Kinematics, Real, Sample, Se2, State, TerminalError, TrajectoryDigest};

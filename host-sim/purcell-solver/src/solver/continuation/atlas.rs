@@ -7,7 +7,7 @@ use crate::solver::direct;
 use crate::solver::grid::{self, Grid, Point};
 use crate::solver::progress::{Progress, Within};
 use crate::solver::refinement::refine_candidates;
-use crate::solver::search::{self, Candidate};
+use crate::solver::search::Candidate;
 use crate::solver::settings::{SAME_TARGET, Settings, SolveOptions};
 use crate::solver::solution::{Extremal, SolveError};
 use crate::solver::symmetry::{self, Symmetry};
@@ -310,7 +310,7 @@ impl Atlas {
                     if !own[i]
                         .iter()
                         .chain(&brought[i])
-                        .any(|m| search::same_path(&m.u, &c.u, h))
+                        .any(|m| grid::same_path(&m.u, &c.u, h))
                     {
                         brought[i].push(c.clone());
                     }
@@ -335,7 +335,7 @@ impl Atlas {
             for c in &kept[j] {
                 if !kept[i]
                     .iter()
-                    .any(|m| search::same_path(&m.u, &c.u, grid.h()))
+                    .any(|m| grid::same_path(&m.u, &c.u, grid.h()))
                 {
                     new.extend(newton_from(grid, c, &Settings::NEIGHBOURS));
                 }
@@ -372,7 +372,7 @@ fn merge(
     let before: Vec<f64> = kept.iter().map(|c| c.cost).collect();
     for c in new {
         if problem.admits(c.max_abs_alpha)
-            && !kept.iter().any(|m| search::same_path(&m.u, &c.u, grid.h()))
+            && !kept.iter().any(|m| grid::same_path(&m.u, &c.u, grid.h()))
         {
             kept.push(c);
         }
@@ -387,7 +387,7 @@ fn merge(
 fn newton_from(grid: &Grid, from: &Candidate, settings: &Settings) -> Option<Candidate> {
     let p = Point::new(grid, from.u.clone(), from.nu).ok()?;
     let run = direct::newton(grid, p, settings).ok()?;
-    if !run.converged || !grid.resolves(&run.point.u) {
+    if !run.converged() || !grid.resolves(&run.point.u) {
         return None;
     }
     let max_abs_alpha = grid::max_abs_alpha(&run.point.states);

@@ -3,10 +3,10 @@
 
 use crate::problem::Problem;
 use crate::solver::constraints::joint_limit::Limits;
+use crate::solver::constraints::joint_limit::homotopy;
 use crate::solver::costate;
 use crate::solver::direct;
 use crate::solver::grid::{self, Grid, Point};
-use crate::solver::limits;
 use crate::solver::progress::Progress;
 use crate::solver::refinement::{extremal, refine};
 use crate::solver::settings::{self, MIN_WALK_STEP, Settings, SolveOptions, WARM_INSIDE};
@@ -84,7 +84,7 @@ fn continue_to_pulsed(
     {
         let settings = Settings::fine(problem, &p.u);
         if let Ok(run) = direct::newton_pulsed(&fine, p, &settings, pulse)
-            && run.converged
+            && run.converged()
             && problem.admits(grid::max_abs_alpha(&run.point.states))
         {
             return Ok(extremal(problem, &fine, &run));
@@ -129,16 +129,16 @@ fn within_limit(
     let within = problem.admits(grid::max_abs_alpha(&point.states));
     let (inside, path): (_, &[f64]) = if within {
         let bound = (1.0 - WARM_INSIDE) * alpha_max;
-        let u = limits::clip_into(&point.u, &problem.alpha0, bound, medium.h());
+        let u = homotopy::clip_into(&point.u, &problem.alpha0, bound, medium.h());
         (u, &[settings::COARSE_TAU])
     } else {
-        let u = limits::shrink_into(point.u, &problem.alpha0, alpha_max, medium.h());
+        let u = homotopy::shrink_into(point.u, &problem.alpha0, alpha_max, medium.h());
         (u, settings::coarse_path(0))
     };
     let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
-    let run = limits::barrier_path(&own, alpha_max, path, start, settings, pulse)
+    let run = homotopy::barrier_path(&own, alpha_max, path, start, settings, pulse)
         .map_err(|_| unreachable(f64::INFINITY))?;
-    if run.converged {
+    if run.converged() {
         Ok(run.point)
     } else {
         Err(unreachable(run.defect))
@@ -179,13 +179,15 @@ fn walk(
         let start =
             Point::new(&grid, point.u.clone(), point.nu).map_err(|_| unreachable(best_residual))?;
         match direct::newton_pulsed(&grid, start, settings, pulse) {
-            Ok(run) if run.converged && problem.admits(grid::max_abs_alpha(&run.point.states)) => {
+            Ok(run)
+                if run.converged() && problem.admits(grid::max_abs_alpha(&run.point.states)) =>
+            {
                 point = run.point;
                 s = next;
                 ds *= 1.5;
             }
             Ok(run) => {
-                if run.converged {
+                if run.converged() {
                     left = left.min(grid::max_abs_alpha(&run.point.states));
                 } else {
                     best_residual = best_residual.min(run.defect);

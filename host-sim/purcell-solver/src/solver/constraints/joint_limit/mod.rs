@@ -1,13 +1,31 @@
 //! The joint limit `|α_{k,i}| ≤ α_max` (`k = 1 … N−1`) as the direct method sees it (MODEL.md
 //! §9): nowhere ([`Limits::None`]), as a logarithmic barrier in the objective
 //! ([`Limits::Barrier`]) or imposed exactly on arcs ([`Limits::Arcs`]); and the arc tables of
-//! a path ([`arcs_of`], [`merged`]). How the solver moves between these is
-//! [`crate::solver::limits`].
+//! a path ([`arcs_of`], [`merged`]), and how the arcs tie a stage's controls ([`ControlMap`]).
+//! How the solver moves between these is [`homotopy`].
 
-use crate::solver::riccati::ControlMap;
+pub mod homotopy;
+
 use crate::solver::stage::StageState;
 use nalgebra::Vector2;
 use purcell_core::Arc;
+
+/// How the controls of one stage are tied by the arcs: per joint, free, fixed at zero (inside
+/// an arc) or set by the state (`δu_i = −δα_i/h` at an arc's entry step).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ControlMap {
+    /// `u_{k,i}` fixed at zero.
+    pub fixed: [bool; 2],
+    /// `u_{k,i} = (±α_max − α_{k,i})/h`.
+    pub entry: [bool; 2],
+}
+
+impl ControlMap {
+    /// Whether control `i` is a free variable.
+    pub fn free(&self, i: usize) -> bool {
+        !self.fixed[i] && !self.entry[i]
+    }
+}
 
 /// How the joint limit enters the direct method.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -18,10 +18,10 @@
 //! The result is a KKT point of the constrained problem: stationarity in every free
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
-use super::constraints::joint_limit::{Limits, arcs_of, merged};
-use super::direct::{self, Run};
-use super::grid::{self, Grid, Point};
-use super::settings::{ETA_ROUNDING, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings};
+use super::{Limits, arcs_of, merged};
+use crate::solver::direct::{self, Run};
+use crate::solver::grid::{self, Grid, Point};
+use crate::solver::settings::{ETA_ROUNDING, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings};
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
 
@@ -111,7 +111,7 @@ pub fn walk(
         g.limits = Limits::Barrier { alpha_max, tau };
         let p = Point::new(&g, point.u.clone(), point.nu)?;
         let run = direct::newton_pulsed(&g, p, settings, pulse)?;
-        if !run.converged {
+        if !run.converged() {
             return Ok(Walk { run, reached });
         }
         point = run.point.clone();
@@ -153,7 +153,7 @@ pub fn polish(
             .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
         let r = direct::newton_pulsed(&g, start, settings, pulse)
             .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
-        if !r.converged {
+        if !r.converged() {
             return Err(PolishError::NotConverged(r.defect));
         }
         // States beyond the limit off the arcs, and arc states with η < 0.
@@ -226,7 +226,7 @@ pub fn patient_barrier_path(
         )
     };
     let first = path(PATIENCE[0])?;
-    if first.run.converged {
+    if first.run.converged() {
         Ok(first)
     } else {
         path(PATIENCE[1])
