@@ -213,25 +213,13 @@ pub struct SolveReport {
     pub xi0: [f64; 2],
 }
 
-/// The problem in `report.json` (fields in alphabetical order).
+/// The problem in `report.json`: a sweep's ([`SweepProblemReport`]) with its steps and
+/// target (which sort after it: the fields stay in alphabetical order).
 #[derive(Clone, Debug, Serialize)]
 pub struct ProblemReport {
-    /// `ᾱ`, rad.
-    pub alpha0: [f64; 2],
-    /// The end shape `β` (`ᾱ` for a loop), rad.
-    pub alpha_end: [f64; 2],
-    /// The joint limit, rad.
-    pub alpha_max: Option<f64>,
-    /// `k`.
-    pub drag: f64,
-    /// `T`, s.
-    pub horizon: f64,
-    /// `(L0, L1, L2)`, m.
-    pub links: [f64; 3],
-    /// `r`.
-    pub ratio: f64,
-    /// `h`, s.
-    pub step: f64,
+    /// Every field a sweep's problem has.
+    #[serde(flatten)]
+    pub common: SweepProblemReport,
     /// `N`.
     pub steps: u32,
     /// `ḡ` (x m, y m, θ rad).
@@ -362,14 +350,16 @@ impl SolveReport {
             min_eta: best.min_eta,
             mu: file.mu,
             problem: ProblemReport {
-                alpha0: file.alpha0,
-                alpha_end: file.end_shape(),
-                alpha_max: problem.alpha_max,
-                drag: file.model.drag,
-                horizon: problem.horizon(),
-                links: file.model.links,
-                ratio: file.model.ratio,
-                step: problem.h,
+                common: SweepProblemReport {
+                    alpha0: file.alpha0,
+                    alpha_end: file.end_shape(),
+                    alpha_max: problem.alpha_max,
+                    drag: file.model.drag,
+                    horizon: problem.horizon(),
+                    links: file.model.links,
+                    ratio: file.model.ratio,
+                    step: problem.h,
+                },
                 steps: problem.steps,
                 target: file.target,
             },
@@ -495,15 +485,22 @@ pub struct AxesReport {
 
 /// A sweep's problem in its `report.json` (fields in alphabetical order).
 #[derive(Clone, Debug, Serialize)]
-#[allow(missing_docs)]
 pub struct SweepProblemReport {
+    /// `ᾱ`, rad.
     pub alpha0: [f64; 2],
+    /// The end shape `β` (`ᾱ` for a loop), rad.
     pub alpha_end: [f64; 2],
+    /// The joint limit, rad.
     pub alpha_max: Option<f64>,
+    /// `k`.
     pub drag: f64,
+    /// `T`, s.
     pub horizon: f64,
+    /// `(L0, L1, L2)`, m.
     pub links: [f64; 3],
+    /// `r`.
     pub ratio: f64,
+    /// `h`, s.
     pub step: f64,
 }
 

@@ -99,7 +99,7 @@ fn arcs(report: &SolveReport) -> String {
     if all.is_empty() {
         return "none on the joint limit".into();
     }
-    let limit = report.problem.alpha_max.unwrap_or(f64::NAN);
+    let limit = report.problem.common.alpha_max.unwrap_or(f64::NAN);
     let mut shown: Vec<String> = all
         .iter()
         .take(2)
