@@ -116,6 +116,7 @@ def test_reprs_say_what_the_object_is(solved):
                 "horizon": 10.0,
                 "step": 0.05,
                 "alpha0": (0, 0),
+                "alpha_end": None,
                 "links": (1, 1, 1),
                 "drag": 1.0,
                 "ratio": 2.0,
