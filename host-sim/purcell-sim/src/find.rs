@@ -142,7 +142,7 @@ pub fn find(
     prepared: &Prepared,
     warm: Option<&Warm>,
     progress: &dyn Progress,
-) -> Result<Found, Unsolved> {
+) -> Result<Found, Box<Unsolved>> {
     let (problem, options) = (&prepared.problem, &prepared.options);
     let t0 = Instant::now();
     let mut notes = Vec::new();
@@ -154,11 +154,13 @@ pub fn find(
             result
         }
     };
-    let unsolved = |error| Unsolved {
-        error,
-        problem: *problem,
-        starts: options.starts,
-        seed: options.seed,
+    let unsolved = |error| {
+        Box::new(Unsolved {
+            error,
+            problem: *problem,
+            starts: options.starts,
+            seed: options.seed,
+        })
     };
     let (solution, problem) = match result {
         Ok(s) => (s, *problem),
@@ -231,7 +233,7 @@ mod tests {
         let u = unsolved(
             SolveError::NoneAdmissible {
                 found: 1,
-                best_alpha: 3.14,
+                best_alpha: 3.135,
             },
             Some(3.0),
         );

@@ -196,7 +196,7 @@ pub fn search(
                 .collect();
             let results: Vec<_> = all
                 .par_iter()
-                .map(|&(c, way, taus)| inward(grid, a, &c.u, c.nu, way, taus, &settings, pulse))
+                .map(|&(c, way, taus)| inward(grid, a, c, way, taus, &settings, pulse))
                 .collect();
             for r in results {
                 out.absorb(grid, (0, None), r, None, admissible, pulse);
@@ -397,8 +397,7 @@ enum Inward {
 fn inward(
     grid: &Grid,
     alpha_max: f64,
-    u: &[Vector2<f64>],
-    nu: Vector5<f64>,
+    c: &Candidate,
     way: Inward,
     taus: &[f64],
     settings: &Settings,
@@ -406,10 +405,10 @@ fn inward(
 ) -> Result<Run, Error> {
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
     let u = match way {
-        Inward::Shrink => homotopy::shrink_into(u.to_vec(), &alpha0, alpha_max, grid.h()),
-        Inward::Clip => homotopy::clip_into(u, &alpha0, SHRINK * alpha_max, grid.h()),
+        Inward::Shrink => homotopy::shrink_into(c.u.clone(), &alpha0, alpha_max, grid.h()),
+        Inward::Clip => homotopy::clip_into(&c.u, &alpha0, SHRINK * alpha_max, grid.h()),
     };
-    let p = Point::new(grid, u, nu)?;
+    let p = Point::new(grid, u, c.nu)?;
     homotopy::barrier_path(grid, alpha_max, taus, p, settings, pulse)
 }
 
