@@ -88,7 +88,7 @@ def warm():
     [
         ("search", {}),
         ("refinement", {}),
-        # A joint-limited refinement: its barrier path and active-set rounds (constraints/joint_limit/homotopy.rs).
+        # A joint-limited refinement: its barrier path and active-set rounds (homotopy.rs).
         ("refinement", {"alpha_max": 1.5}),
         # A warm start's Newton and continuation (continue_to).
         ("continuation", {"warm": True}),

@@ -15,7 +15,7 @@
 //! 3. [`refinement`]: the cheapest candidates carried to the problem's own grid through finer
 //!    grids, Newton converging in a few steps at each (a candidate dearer than the settled
 //!    cheapest by [`settings::PRUNE`] on an intermediate grid stops there); second-order
-//!    check by the inertia of the last factorisation. With a joint limit ([`constraints::joint_limit::homotopy`]), the
+//!    check by the inertia of the last factorisation. With a joint limit ([`homotopy`]), the
 //!    search and the refinement run an interior-point path and the refinement ends with the
 //!    limit imposed exactly on the arcs where it is active;
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
@@ -34,6 +34,7 @@ pub mod costate;
 pub mod direct;
 pub mod filter;
 pub mod grid;
+pub mod homotopy;
 pub mod linearisation;
 pub mod progress;
 pub mod refinement;

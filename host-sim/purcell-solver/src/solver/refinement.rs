@@ -4,10 +4,10 @@
 //! fine extremals with their certificates, cheapest first.
 
 use super::constraints::joint_limit::Limits;
-use super::constraints::joint_limit::homotopy::{self, PolishError};
 use super::cost::{Costs, StageCost};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
+use super::homotopy::{self, PolishError};
 use super::progress::Progress;
 use super::search;
 use super::settings::{

@@ -44,9 +44,9 @@
 //! ([`Search::expected_minima`]).
 
 use super::constraints::joint_limit::Limits;
-use super::constraints::joint_limit::homotopy;
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
+use super::homotopy;
 use super::progress::Progress;
 use super::settings::{
     self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, PULL,

@@ -159,7 +159,7 @@ pub const FINE_KKT_MIN: f64 = 1e-13;
 /// there to find the arcs, the active-set rounds converge the constrained problem itself.
 pub const BARRIER_TOL_KKT: f64 = 1e-6;
 
-// The joint limit (MODEL.md §9, [`super::constraints::joint_limit::homotopy`]).
+// The joint limit (MODEL.md §9, [`super::homotopy`]).
 
 /// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for every
 /// other start, at `1e-2` (a stronger push off the limit at first leads to other basins).

@@ -3,10 +3,10 @@
 
 use crate::problem::Problem;
 use crate::solver::constraints::joint_limit::Limits;
-use crate::solver::constraints::joint_limit::homotopy;
 use crate::solver::costate;
 use crate::solver::direct;
 use crate::solver::grid::{self, Grid, Point};
+use crate::solver::homotopy;
 use crate::solver::progress::Progress;
 use crate::solver::refinement::{extremal, refine};
 use crate::solver::settings::{self, MIN_WALK_STEP, Settings, SolveOptions, WARM_INSIDE};

@@ -2,9 +2,7 @@
 //! §9): nowhere ([`Limits::None`]), as a logarithmic barrier in the objective
 //! ([`Limits::Barrier`]) or imposed exactly on arcs ([`Limits::Arcs`]); and the arc tables of
 //! a path ([`arcs_of`], [`merged`]), and how the arcs tie a stage's controls ([`ControlMap`]).
-//! How the solver moves between these is [`homotopy`].
-
-pub mod homotopy;
+//! How the solver moves between these is [`crate::solver::homotopy`].
 
 use crate::solver::stage::StageState;
 use nalgebra::Vector2;

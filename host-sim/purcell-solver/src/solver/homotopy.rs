@@ -18,10 +18,10 @@
 //! The result is a KKT point of the constrained problem: stationarity in every free
 //! control, the limit active with `η ≥ 0` on the arcs and inactive elsewhere.
 
-use super::{Limits, arcs_of, merged};
-use crate::solver::direct::{self, Run};
-use crate::solver::grid::{self, Grid, Point};
-use crate::solver::settings::{ETA_ROUNDING, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings};
+use super::constraints::joint_limit::{Limits, arcs_of, merged};
+use super::direct::{self, Run};
+use super::grid::{self, Grid, Point};
+use super::settings::{ETA_ROUNDING, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings};
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
 
