@@ -53,8 +53,8 @@ impl Solved {
         let file = output::costate_file(problem, best, every);
         let gait = file.to_gait().map_err(SolvedError::Gait)?;
         let parsed = Gait::from_bytes(&gait).map_err(SolvedError::Gait)?;
-        let report = SolveReport::new(problem, solution, &file, &parsed, seconds);
-        let report_text = serde_json::to_string_pretty(&report)? + "\n";
+        let report = SolveReport::new(problem, solution, &parsed, seconds);
+        let report_text = report.to_json()?;
         Ok(Solved {
             file,
             gait,
@@ -164,11 +164,37 @@ pub const REPORT_VERSION: u64 = 1;
 
 /// `report.json` of a solve (schema: `docs/schemas/solve-report.schema.json`): the returned
 /// extremal, found in `solve_seconds`, then every extremal, the search's evidence and the
-/// standard replays of the gait. The fields are in alphabetical order, the order the file
-/// has always had (it was written from a JSON map).
+/// standard replays of the gait. Written through a JSON map ([`SolveReport::to_json`]), so
+/// its keys, the returned extremal's among them, are in alphabetical order, the order the
+/// file has always had.
 #[derive(Clone, Debug, Serialize)]
 pub struct SolveReport {
-    /// Whether the returned extremal is admissible.
+    /// The returned extremal.
+    #[serde(flatten)]
+    pub best: CertifiedReport,
+    /// Every extremal, cheapest first.
+    pub extremals: Vec<ExtremalReport>,
+    /// [`REPORT_FORMAT`].
+    pub format: &'static str,
+    /// The problem.
+    pub problem: ProblemReport,
+    /// Terminal errors of the stored costate replayed through the core, as the firmware
+    /// flies it (f32 with checkpoints) beside f64.
+    pub replays: Vec<replay::ReplayReport>,
+    /// The index of `best` in `extremals`.
+    pub returned: usize,
+    /// The global search's evidence (`None` after a warm start).
+    pub search: Option<EvidenceReport>,
+    /// Seconds the solve took.
+    pub solve_seconds: f64,
+    /// [`REPORT_VERSION`].
+    pub version: u64,
+}
+
+/// What `report.json` says of an extremal, returned or not: its cost and certificates.
+#[derive(Clone, Debug, Serialize)]
+pub struct CertifiedReport {
+    /// Whether it is admissible.
     pub admissible: bool,
     /// Its joint-limit arcs.
     pub arcs: Vec<ArcReport>,
@@ -176,10 +202,6 @@ pub struct SolveReport {
     pub cost: f64,
     /// Its cost under each cost the solver knows, by name.
     pub costs: Costs,
-    /// Every extremal, cheapest first.
-    pub extremals: Vec<ExtremalReport>,
-    /// [`REPORT_FORMAT`].
-    pub format: &'static str,
     /// Its KKT residual through the core (`None` if not admissible).
     pub kkt_residual: Option<f64>,
     /// Its law residual (`None` if not admissible).
@@ -190,26 +212,13 @@ pub struct SolveReport {
     pub max_abs_alpha: f64,
     /// Its smallest arc multiplier (`None` without arcs).
     pub min_eta: Option<f64>,
-    /// `μ` of the costate file.
+    /// `μ`, the position costate.
     pub mu: [f64; 3],
-    /// The problem.
-    pub problem: ProblemReport,
-    /// Terminal errors of the stored costate replayed through the core, as the firmware
-    /// flies it (f32 with checkpoints) beside f64.
-    pub replays: Vec<replay::ReplayReport>,
     /// Its terminal defect.
     pub residual: f64,
-    /// Its index in `extremals`.
-    pub returned: usize,
-    /// The global search's evidence (`None` after a warm start).
-    pub search: Option<EvidenceReport>,
-    /// Seconds the solve took.
-    pub solve_seconds: f64,
     /// Its terminal defect through the core (`None` if not admissible).
     pub terminal_residual: Option<f64>,
-    /// [`REPORT_VERSION`].
-    pub version: u64,
-    /// `ξ⁰` of the costate file.
+    /// `ξ⁰`, the initial shape costate.
     pub xi0: [f64; 2],
 }
 
@@ -241,28 +250,23 @@ pub struct ArcReport {
     pub sign: i8,
 }
 
-/// One extremal in `report.json` (fields in alphabetical order).
+/// One extremal in `report.json`, with how the search found it (keys in alphabetical order
+/// through [`SolveReport::to_json`]).
 #[derive(Clone, Debug, Serialize)]
-#[allow(missing_docs)]
 pub struct ExtremalReport {
-    pub admissible: bool,
-    pub arcs: Vec<ArcReport>,
-    pub cost: f64,
-    pub costs: Costs,
+    /// Its cost and certificates.
+    #[serde(flatten)]
+    pub certified: CertifiedReport,
+    /// How many starts reached it.
     pub hits: usize,
-    pub kkt_residual: Option<f64>,
-    pub law_residual: Option<f64>,
-    pub local_min: bool,
-    pub max_abs_alpha: f64,
-    pub min_eta: Option<f64>,
-    pub mu: [f64; 3],
+    /// Newton iterations of its refinement.
     pub newton_iterations: usize,
-    pub residual: f64,
+    /// The start that found it.
     pub start: usize,
+    /// Its stationarity residual.
     pub stationarity: f64,
-    pub terminal_residual: Option<f64>,
+    /// The extremal it is a twin of, if any.
     pub twin_of: Option<usize>,
-    pub xi0: [f64; 2],
 }
 
 /// The global search's evidence in `report.json` (an infinite estimate as `null`; fields
@@ -326,51 +330,57 @@ fn costs(x: &Extremal) -> Costs {
 }
 
 impl SolveReport {
-    /// The report of `solution` to `problem`, whose returned extremal's costate `file` and
-    /// `gait` are written, found in `seconds`.
-    pub fn new(
-        problem: &Problem,
-        solution: &Solution,
-        file: &CostateFile,
-        gait: &Gait<'_>,
-        seconds: f64,
-    ) -> Self {
-        let best = &solution.extremals[solution.best];
+    /// The report of `solution` to `problem`, whose returned extremal's `gait` is written,
+    /// found in `seconds`.
+    pub fn new(problem: &Problem, solution: &Solution, gait: &Gait<'_>, seconds: f64) -> Self {
         SolveReport {
-            admissible: best.admissible,
-            arcs: arcs(&best.arcs),
-            cost: best.cost,
-            costs: costs(best),
+            best: CertifiedReport::new(&solution.extremals[solution.best]),
             extremals: solution.extremals.iter().map(ExtremalReport::new).collect(),
             format: REPORT_FORMAT,
-            kkt_residual: best.kkt_residual,
-            law_residual: best.law_residual,
-            local_min: best.local_min,
-            max_abs_alpha: best.max_abs_alpha,
-            min_eta: best.min_eta,
-            mu: file.mu,
             problem: ProblemReport {
                 common: SweepProblemReport {
-                    alpha0: file.alpha0,
-                    alpha_end: file.end_shape(),
+                    alpha0: [problem.alpha0.x, problem.alpha0.y],
+                    alpha_end: [problem.alpha_end.x, problem.alpha_end.y],
                     alpha_max: problem.alpha_max,
-                    drag: file.model.drag,
+                    drag: problem.swimmer.drag(),
                     horizon: problem.horizon(),
-                    links: file.model.links,
-                    ratio: file.model.ratio,
+                    links: problem.swimmer.lengths(),
+                    ratio: problem.swimmer.ratio(),
                     step: problem.h,
                 },
                 steps: problem.steps,
-                target: file.target,
+                target: [problem.target.x, problem.target.y, problem.target.z],
             },
             replays: replay::standard_replays(gait),
-            residual: best.residual,
             returned: solution.best,
             search: solution.search.as_ref().map(EvidenceReport::new),
             solve_seconds: seconds,
-            terminal_residual: best.terminal_residual,
             version: REPORT_VERSION,
-            xi0: file.xi0,
+        }
+    }
+
+    /// `report.json`'s text: pretty JSON through a JSON map, whose keys are sorted.
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        Ok(serde_json::to_string_pretty(&serde_json::to_value(self)?)? + "\n")
+    }
+}
+
+impl CertifiedReport {
+    fn new(x: &Extremal) -> Self {
+        CertifiedReport {
+            admissible: x.admissible,
+            arcs: arcs(&x.arcs),
+            cost: x.cost,
+            costs: costs(x),
+            kkt_residual: x.kkt_residual,
+            law_residual: x.law_residual,
+            local_min: x.local_min,
+            max_abs_alpha: x.max_abs_alpha,
+            min_eta: x.min_eta,
+            mu: [x.mu.x, x.mu.y, x.mu.z],
+            residual: x.residual,
+            terminal_residual: x.terminal_residual,
+            xi0: [x.xi0.x, x.xi0.y],
         }
     }
 }
@@ -378,24 +388,12 @@ impl SolveReport {
 impl ExtremalReport {
     fn new(x: &Extremal) -> Self {
         ExtremalReport {
-            admissible: x.admissible,
-            arcs: arcs(&x.arcs),
-            cost: x.cost,
-            costs: costs(x),
+            certified: CertifiedReport::new(x),
             hits: x.hits,
-            kkt_residual: x.kkt_residual,
-            law_residual: x.law_residual,
-            local_min: x.local_min,
-            max_abs_alpha: x.max_abs_alpha,
-            min_eta: x.min_eta,
-            mu: [x.mu.x, x.mu.y, x.mu.z],
             newton_iterations: x.iterations,
-            residual: x.residual,
             start: x.start,
             stationarity: x.stationarity,
-            terminal_residual: x.terminal_residual,
             twin_of: x.twin_of,
-            xi0: [x.xi0.x, x.xi0.y],
         }
     }
 }

@@ -1,5 +1,6 @@
 //! `report.json`'s typed structs (`purcell_sim::report`) keep the key order the files have
-//! always had: alphabetical, as when they were written from JSON maps.
+//! always had: alphabetical, as when they were written from JSON maps — a solve's report
+//! through [`SolveReport::to_json`], which sorts the keys of its flattened parts.
 
 use purcell_sim::replay::ReplayReport;
 use purcell_sim::report::*;
@@ -13,6 +14,27 @@ fn in_file_order<T: Serialize>(value: &T) {
     assert_eq!(typed, mapped);
 }
 
+/// Every object's keys in `text` (pretty JSON, two spaces an indent) are in ascending order.
+fn keys_sorted(text: &str) {
+    let mut last: Vec<Option<&str>> = Vec::new();
+    for line in text.lines() {
+        let depth = (line.len() - line.trim_start().len()) / 2;
+        last.truncate(depth + 1);
+        last.resize(depth + 1, None);
+        let body = line.trim_start();
+        if let Some(key) = body.strip_prefix('"').and_then(|b| b.split_once("\": ")) {
+            let key = key.0;
+            if let Some(before) = last[depth] {
+                assert!(before < key, "{before:?} before {key:?} in\n{text}");
+            }
+            last[depth] = Some(key);
+        }
+        if body.starts_with('}') || body.starts_with('{') {
+            last[depth] = None;
+        }
+    }
+}
+
 #[test]
 fn reports_keep_the_files_key_order() {
     let arc = ArcReport {
@@ -21,25 +43,28 @@ fn reports_keep_the_files_key_order() {
         last: 3,
         sign: -1,
     };
-    let extremal = ExtremalReport {
+    let certified = CertifiedReport {
         admissible: true,
-        arcs: vec![arc.clone()],
+        arcs: vec![arc],
         cost: 1.0,
         costs: [("effort", 1.0), ("power", 0.5)].into(),
-        hits: 2,
         kkt_residual: Some(1e-12),
         law_residual: None,
         local_min: true,
         max_abs_alpha: 1.5,
         min_eta: Some(0.1),
         mu: [1.0, 2.0, 3.0],
-        newton_iterations: 4,
         residual: 1e-14,
+        terminal_residual: Some(1e-14),
+        xi0: [0.1, 0.2],
+    };
+    let extremal = ExtremalReport {
+        certified: certified.clone(),
+        hits: 2,
+        newton_iterations: 4,
         start: 5,
         stationarity: 1e-13,
-        terminal_residual: Some(1e-14),
         twin_of: Some(0),
-        xi0: [0.1, 0.2],
     };
     let minimum = MinimumReport {
         cost: 1.0,
@@ -64,18 +89,9 @@ fn reports_keep_the_files_key_order() {
         precision: "f32",
     };
     let report = SolveReport {
-        admissible: true,
-        arcs: vec![arc],
-        cost: 1.0,
-        costs: [("power", 0.5), ("effort", 1.0)].into(),
+        best: certified,
         extremals: vec![extremal],
         format: REPORT_FORMAT,
-        kkt_residual: None,
-        law_residual: Some(1e-13),
-        local_min: true,
-        max_abs_alpha: 1.5,
-        min_eta: None,
-        mu: [1.0, 2.0, 3.0],
         problem: ProblemReport {
             common: SweepProblemReport {
                 alpha0: [0.0; 2],
@@ -91,7 +107,6 @@ fn reports_keep_the_files_key_order() {
             target: [0.1, 0.1, 0.0],
         },
         replays: vec![replay],
-        residual: 1e-14,
         returned: 0,
         search: Some(EvidenceReport {
             budget: 512,
@@ -104,11 +119,17 @@ fn reports_keep_the_files_key_order() {
             unseen_estimate: 0.0,
         }),
         solve_seconds: 1.0,
-        terminal_residual: Some(1e-14),
         version: REPORT_VERSION,
-        xi0: [0.1, 0.2],
     };
-    in_file_order(&report);
+    let text = report.to_json().unwrap();
+    keys_sorted(&text);
+    let typed = serde_json::to_string_pretty(&report).unwrap();
+    assert_ne!(
+        text.trim_end(),
+        typed,
+        "the flattened parts come first when not sorted"
+    );
+    assert!(std::panic::catch_unwind(|| keys_sorted(&typed)).is_err());
     in_file_order(&SweepReport {
         axes: AxesReport {
             theta: vec![0.0],

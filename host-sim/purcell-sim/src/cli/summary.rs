@@ -44,16 +44,17 @@ pub(super) fn solve(
     seconds: f64,
 ) -> String {
     let r = report;
+    let b = &report.best;
     let mut s = String::new();
     let _ = writeln!(
         s,
         "cost       J = {:.7}, extremal {} of {} ({}, {}, max |alpha_i| {:.4} rad)",
-        r.cost,
+        b.cost,
         r.returned + 1,
         r.extremals.len(),
-        flag(r.admissible, "admissible"),
-        flag(r.local_min, "a local minimum"),
-        r.max_abs_alpha,
+        flag(b.admissible, "admissible"),
+        flag(b.local_min, "a local minimum"),
+        b.max_abs_alpha,
     );
     let _ = writeln!(s, "arcs       {}", arcs(r));
     let f32_replay = r
@@ -63,10 +64,10 @@ pub(super) fn solve(
     let _ = writeln!(
         s,
         "residuals  terminal {} (core {}), KKT {}, law {}; f32 replay {}",
-        sci(Some(r.residual)),
-        sci(r.terminal_residual),
-        sci(r.kkt_residual),
-        sci(r.law_residual),
+        sci(Some(b.residual)),
+        sci(b.terminal_residual),
+        sci(b.kkt_residual),
+        sci(b.law_residual),
         f32_replay.map_or("–".into(), |x| format!(
             "{} rad, {} in g",
             sci(x.alpha_error),
@@ -95,7 +96,7 @@ pub(super) fn solve(
 
 /// The joint-limit arcs of `report`, the first two in full.
 fn arcs(report: &SolveReport) -> String {
-    let all = &report.arcs;
+    let all = &report.best.arcs;
     if all.is_empty() {
         return "none on the joint limit".into();
     }
