@@ -24,12 +24,9 @@ def connection(
     ----------
     alpha : sequence of 2 floats
         The shape (alpha1, alpha2), radians, each ``|alpha_i| < pi``.
-    links : sequence of 3 floats, default (1.0, 1.0, 1.0)
-        Link lengths (L0 middle, L1 front, L2 rear), metres.
-    drag : float, default 1.0
-        The drag coefficient k.
-    ratio : float, default 2.0
-        Normal over tangential drag.
+    links, drag, ratio
+        The swimmer, as in `solve`: link lengths (L0 middle, L1 front, L2 rear, metres),
+        the drag coefficient k and normal over tangential drag.
 
     Returns
     -------
@@ -65,12 +62,9 @@ def field(
 
     Parameters
     ----------
-    links : sequence of 3 floats, default (1.0, 1.0, 1.0)
-        Link lengths (L0 middle, L1 front, L2 rear), metres.
-    drag : float, default 1.0
-        The drag coefficient k.
-    ratio : float, default 2.0
-        Normal over tangential drag.
+    links, drag, ratio
+        The swimmer, as in `solve`: link lengths (L0 middle, L1 front, L2 rear, metres),
+        the drag coefficient k and normal over tangential drag.
     cells : int, default 180
         Cells per axis, 1 to 4096.
 

@@ -4,27 +4,24 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 from . import _keywords, _purcell
 from ._purcell import Solution
 
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
+
+@_keywords.takes_problem
 def solve(
     target: Sequence[float],
     *,
-    horizon: float = 100.0,
-    step: float = 0.01,
-    alpha0: Sequence[float] = (0.0, 0.0),
-    alpha_end: Sequence[float] | None = None,
-    links: Sequence[float] = (1.0, 1.0, 1.0),
-    drag: float = 1.0,
-    ratio: float = 2.0,
-    alpha_max: float | None = None,
-    starts: int = 512,
     seed: int = 0,
     checkpoint_every: int | None = None,
     warm: Solution | str | os.PathLike[str] | None = None,
     progress: Callable[[int, int, str], object] | None = None,
+    **problem: Unpack[_keywords.Problem],
 ) -> Solution:
     """The cheapest admissible gait that moves the swimmer from the origin to `target`.
 
@@ -106,9 +103,8 @@ def solve(
     >>> s.cost, s.alpha.shape  # doctest: +SKIP
     (0.0179..., (10001, 2))
     """
-    problem = _keywords.problem(locals())
     problem["seed"] = _keywords.count("seed", seed)
     if checkpoint_every is not None:
         problem["checkpoint_every"] = _keywords.count("checkpoint_every", checkpoint_every)
     target = _keywords.numbers_of("target", target, 3)
-    return _purcell.solve(target, problem, warm, progress)
+    return _purcell.solve(target, dict(problem), warm, progress)

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from . import _keywords, _purcell
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 #: sweep.csv's columns without their units (x for x_m, cost for cost_rad2_per_s, ...), in its
 #: order: target x (m), y (m), theta (rad); J (rad^2/s); terminal
@@ -41,21 +44,14 @@ class Sweep(list):
         return pd.DataFrame.from_records(list(self), columns=list(COLUMNS))
 
 
+@_keywords.takes_problem
 def sweep(
     xs: Axis,
     ys: Axis,
     thetas: Axis = (0.0,),
     *,
-    horizon: float = 100.0,
-    step: float = 0.01,
-    alpha0: Sequence[float] = (0.0, 0.0),
-    alpha_end: Sequence[float] | None = None,
-    links: Sequence[float] = (1.0, 1.0, 1.0),
-    drag: float = 1.0,
-    ratio: float = 2.0,
-    alpha_max: float | None = None,
-    starts: int = 512,
     progress: Callable[[int, int, str], object] | None = None,
+    **problem: Unpack[_keywords.Problem],
 ) -> Sweep:
     """Every target of a lattice solved as ``purcell-sim sweep`` solves it.
 
@@ -98,5 +94,4 @@ def sweep(
     -----
     The GIL is released while it runs (on all cores).
     """
-    problem = _keywords.problem(locals())
-    return Sweep(_purcell.sweep(xs, ys, thetas, problem, progress))
+    return Sweep(_purcell.sweep(xs, ys, thetas, dict(problem), progress))

@@ -19,12 +19,14 @@ not import Dask: pass any `distributed.Client`; its workers need `purcell` insta
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from . import _keywords, _purcell
 from ._errors import InputError
 from ._sweep import Axis, Sweep
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 
 def _search(targets: list[tuple[float, float, float]], problem: dict[str, Any]) -> list:
@@ -41,6 +43,7 @@ def _batches(items: list, size: int) -> list[list]:
     return [items[i : i + size] for i in range(0, len(items), size)]
 
 
+@_keywords.takes_problem
 def sweep(
     client: Any,
     xs: Axis,
@@ -48,15 +51,7 @@ def sweep(
     thetas: Axis = (0.0,),
     *,
     batch: int = 8,
-    horizon: float = 100.0,
-    step: float = 0.01,
-    alpha0: Sequence[float] = (0.0, 0.0),
-    alpha_end: Sequence[float] | None = None,
-    links: Sequence[float] = (1.0, 1.0, 1.0),
-    drag: float = 1.0,
-    ratio: float = 2.0,
-    alpha_max: float | None = None,
-    starts: int = 512,
+    **problem: Unpack[_keywords.Problem],
 ) -> Sweep:
     """`purcell.sweep` on a Dask cluster: the same records, in the same order.
 
@@ -84,7 +79,7 @@ def sweep(
     """
     if isinstance(batch, bool) or not isinstance(batch, int) or batch < 1:
         raise InputError(f"batch must be a whole number of targets, 1 or more (got {batch!r})")
-    kw = _keywords.problem(locals())
+    kw = dict(problem)
     plan = _purcell.SweepPlan(xs, ys, thetas, kw)
     targets = plan.targets
     searched = plan.searched()

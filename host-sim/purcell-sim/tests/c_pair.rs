@@ -8,8 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// `export --format c` of `gait` to `out` with `extra` flags.
-fn export_c(gait: &Path, out: &Path, extra: &[&str]) -> Output {
-    let args = [
+/// `export --gait GAIT --format c --out OUT`.
+fn export_c_args<'a>(gait: &'a Path, out: &'a Path) -> [&'a str; 7] {
+    [
         "export",
         "--gait",
         arg(gait),
@@ -17,8 +18,11 @@ fn export_c(gait: &Path, out: &Path, extra: &[&str]) -> Output {
         "c",
         "--out",
         arg(out),
-    ];
-    sim(&[&args[..], extra].concat())
+    ]
+}
+
+fn export_c(gait: &Path, out: &Path, extra: &[&str]) -> Output {
+    sim(&[&export_c_args(gait, out)[..], extra].concat())
 }
 
 /// Whether `dir/NAME.c` compiles (with its header) under `gcc -std=c11`; `None` without gcc.
@@ -71,18 +75,10 @@ fn a_c_export_killed_between_its_renames_never_leaves_a_pair_that_builds() {
         let tmp = tempfile::tempdir().unwrap();
         let (small, big, c) = c_pair(tmp.path());
         let o = wait(
-            command(&[
-                "export",
-                "--gait",
-                arg(&big),
-                "--format",
-                "c",
-                "--out",
-                arg(&c),
-            ])
-            .env("PURCELL_SIM_TEST_ABORT_AFTER_RENAMES", after.to_string())
-            .spawn()
-            .unwrap(),
+            command(&export_c_args(&big, &c))
+                .env("PURCELL_SIM_TEST_ABORT_AFTER_RENAMES", after.to_string())
+                .spawn()
+                .unwrap(),
             LIMIT,
             "export",
         );
@@ -127,15 +123,7 @@ fn a_c_export_on_a_full_disk_leaves_the_old_pair() {
     );
     let o = shell(
         "trap '' XFSZ; ulimit -f 16; exec \"$0\" \"$@\"",
-        &[
-            "export",
-            "--gait",
-            arg(&big),
-            "--format",
-            "c",
-            "--out",
-            arg(&c),
-        ],
+        &export_c_args(&big, &c),
         LIMIT,
     );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));

@@ -2,7 +2,7 @@
 //!
 //! 1. **Interior point.** The direct method with a logarithmic barrier ([`Limits::Barrier`]):
 //!    from strictly feasible starts ([`shrink_into`], [`clip_into`]), Newton at decreasing
-//!    weights `τ` ([`barrier_path`]); the barrier's minimisers approach the constrained
+//!    weights `τ` ([`walk`]); the barrier's minimisers approach the constrained
 //!    minimum, resting a distance `O(τ)` from the limit where it is active. Line-search
 //!    trials past the limit are skipped without a rollout; in the refinement every step also
 //!    stops at the fraction to the boundary ([`Settings::fraction_to_boundary`]). The search
@@ -69,20 +69,6 @@ pub fn clip_into(
         .collect()
 }
 
-/// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last;
-/// the run at the last weight (or at the first that did not converge); `pulse` before each
-/// Newton iteration.
-pub fn barrier_path(
-    grid: &Grid,
-    alpha_max: f64,
-    taus: &[f64],
-    start: Point,
-    settings: &Settings,
-    pulse: &dyn Fn(),
-) -> Result<Run, Error> {
-    walk(grid, alpha_max, taus, start, settings, pulse).map(|w| w.run)
-}
-
 /// Where a barrier path ended ([`walk`]).
 #[derive(Clone, Debug)]
 pub struct Walk {
@@ -93,9 +79,11 @@ pub struct Walk {
     pub reached: Option<(usize, Run)>,
 }
 
-/// [`barrier_path`], keeping the run at the last weight that converged when a later one
-/// stalls (as Newton can at the smallest weights, where the barrier's Hessian `τ/d²` is
-/// largest and the line search stops on rounding).
+/// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last
+/// (`pulse` before each Newton iteration), up to the last weight or the first that did not
+/// converge, keeping the run at the last weight that converged when a later one stalls (as
+/// Newton can at the smallest weights, where the barrier's Hessian `τ/d²` is largest and
+/// the line search stops on rounding).
 pub fn walk(
     grid: &Grid,
     alpha_max: f64,

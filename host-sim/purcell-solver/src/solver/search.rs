@@ -243,7 +243,8 @@ fn run_start(
             let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
             let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
             Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                homotopy::barrier_path(grid, a, settings::coarse_path(index), p, settings, pulse)
+                homotopy::walk(grid, a, settings::coarse_path(index), p, settings, pulse)
+                    .map(|w| w.run)
             })
         }
     }
@@ -409,7 +410,7 @@ fn inward(
         Inward::Clip => homotopy::clip_into(&c.u, &alpha0, SHRINK * alpha_max, grid.h()),
     };
     let p = Point::new(grid, u, c.nu)?;
-    homotopy::barrier_path(grid, alpha_max, taus, p, settings, pulse)
+    homotopy::walk(grid, alpha_max, taus, p, settings, pulse).map(|w| w.run)
 }
 
 /// A coarse minimum `from` past the links' overlap pulled inside (see the module docs): its
@@ -428,7 +429,9 @@ fn pull(
     let u = homotopy::shrink_into(from.u.clone(), &alpha0, wall, grid.h());
     let barrier = Settings::search(settings.max_iterations, true);
     let start = Point::new(grid, u, from.nu).ok()?;
-    let held = homotopy::barrier_path(grid, wall, taus, start, &barrier, pulse).ok()?;
+    let held = homotopy::walk(grid, wall, taus, start, &barrier, pulse)
+        .ok()?
+        .run;
     if !held.converged() {
         return None;
     }

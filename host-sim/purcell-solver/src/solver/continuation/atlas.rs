@@ -128,7 +128,8 @@ pub fn sweep(
         .searched()
         .into_par_iter()
         .map(|i| {
-            let (list, residual) = search_target(&atlas.problems[i], options, &|| progress.pulse());
+            let within = Within(progress);
+            let (list, residual) = search_target(&atlas.problems[i], options, &within);
             progress.tick();
             (i, list, residual)
         })
@@ -151,13 +152,14 @@ pub fn sweep(
 }
 
 /// 1. A target's candidates from its global search and the search's smallest defect (none
-///    and infinity if it failed).
+///    and infinity if it failed); `progress` ticks per start and pulses every Newton
+///    iteration.
 pub fn search_target(
     problem: &Problem,
     options: &SolveOptions,
-    pulse: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> (Vec<Candidate>, f64) {
-    match crate::solver::search_coarse(problem, options, &pulse) {
+    match crate::solver::search_coarse(problem, options, progress) {
         Ok(s) => (s.candidates, s.best_residual),
         Err(_) => (Vec::new(), f64::INFINITY),
     }

@@ -136,7 +136,8 @@ fn within_limit(
         (u, settings::coarse_path(0))
     };
     let start = Point::new(&own, inside, point.nu).map_err(|_| unreachable(f64::INFINITY))?;
-    let run = homotopy::barrier_path(&own, alpha_max, path, start, settings, pulse)
+    let run = homotopy::walk(&own, alpha_max, path, start, settings, pulse)
+        .map(|w| w.run)
         .map_err(|_| unreachable(f64::INFINITY))?;
     if run.converged() {
         Ok(run.point)
