@@ -88,7 +88,7 @@ def sweep(
     InputError
         Bad input, before any work: the message names the keyword.
     KeyboardInterrupt
-        Ctrl-C cancels.
+        Ctrl-C, honoured within 0.5 s in every phase.
 
     Notes
     -----

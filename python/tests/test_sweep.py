@@ -1,6 +1,7 @@
 """`purcell.sweep` against `purcell-sim sweep`, and `purcell.distributed.sweep` against it."""
 
 import csv
+import time
 
 import pytest
 from conftest import in_python_words
@@ -110,3 +111,28 @@ def test_distributed_sweep_equals_the_local_one():
         assert abs(mine["cost"] - theirs["cost"]) <= 1e-12
         # In fact the same records, bit for bit: the same candidates reach every target.
         assert mine == theirs
+
+
+@pytest.mark.parametrize("phase", ["search", "neighbours", "refinement"])
+def test_an_interrupt_stops_the_sweep_within_half_a_second(phase):
+    # 100 000 steps: each target's refinement takes seconds, its search a second or more;
+    # the neighbour passes (Newton on the coarse grid) a fraction of a second.
+    polls = []
+
+    def stop(done, total, now):
+        polls.append((time.perf_counter(), now))
+        if now == phase:
+            raise KeyboardInterrupt
+
+    try:
+        purcell.sweep("0:0.1:2", 0.05, step=0.001, progress=stop)
+    except KeyboardInterrupt:
+        raised = next(t for t, now in polls if now == phase)
+        assert time.perf_counter() - raised <= 0.5
+    else:
+        # A phase shorter than the 0.1 s between two calls of `progress` is never current at
+        # one: then it held an interrupt no longer than that gap.
+        assert phase == "neighbours", f"the sweep ended before its {phase} was seen"
+        before = max(t for t, now in polls if now == "search")
+        after = min(t for t, now in polls if now == "refinement")
+        assert after - before <= 0.5

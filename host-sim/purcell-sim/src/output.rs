@@ -9,7 +9,9 @@ use std::fmt::Write as _;
 pub mod c_array;
 pub mod destination;
 pub mod path;
-pub use destination::{MANIFEST, OutputDir, OutputError, OutputFile, remove_staging_on_interrupt};
+pub use destination::{
+    Claim, MANIFEST, OutputDir, OutputError, OutputFile, remove_staging_on_interrupt,
+};
 
 /// `trajectory.csv` of the extremal `x` of `problem`: its path, rows `k = 0..=N`, columns
 /// [`path::HEADER`] (see [`path`]).

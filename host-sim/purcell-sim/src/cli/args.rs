@@ -112,7 +112,7 @@ impl OutDirArgs {
         command: &'static str,
         inputs: &[&Path],
     ) -> Result<output::OutputDir, Failure> {
-        output::OutputDir::prepare(&self.out, command, self.force, inputs)
+        output::OutputDir::prepare(output::Claim::new(&self.out, command, self.force, inputs))
             .map_err(output_failure(true))
     }
 }

@@ -155,7 +155,7 @@ pub(super) fn run_export(a: ExportArgs, quiet: bool) -> Result<String, Failure> 
     // Every output checked and staged before any work.
     let files = paths
         .iter()
-        .map(|p| OutputFile::prepare(p, "export", a.force, &[input]))
+        .map(|p| OutputFile::prepare(output::Claim::new(p, "export", a.force, &[input])))
         .collect::<Result<Vec<_>, output::OutputError>>()
         .map_err(output_failure(true))?;
     let mut gain = None;

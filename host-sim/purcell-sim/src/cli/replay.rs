@@ -79,7 +79,7 @@ pub(super) fn run_replay(a: ReplayArgs, quiet: bool) -> Result<String, Failure> 
     check_stored(path, &gait, f32, work, quiet)?;
     let prepare = |out: &Option<PathBuf>, command| {
         out.as_deref()
-            .map(|p| output::OutputFile::prepare(p, command, a.force, &[path]))
+            .map(|p| output::OutputFile::prepare(output::Claim::new(p, command, a.force, &[path])))
             .transpose()
             .map_err(output_failure(true))
     };

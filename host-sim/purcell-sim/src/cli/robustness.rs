@@ -235,7 +235,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     check_stored(path, &gait, a.f32, Work::Tracking, quiet)?;
     let out = match &a.out {
         Some(dir) => Some(
-            output::OutputDir::prepare(dir, "robustness", a.force, &[path])
+            output::OutputDir::prepare(output::Claim::new(dir, "robustness", a.force, &[path]))
                 .map_err(output_failure(true))?,
         ),
         None => None,

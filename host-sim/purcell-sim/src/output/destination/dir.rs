@@ -2,6 +2,7 @@
 //! (or file by file, under a manifest that accounts for every file, where the filesystem
 //! cannot exchange).
 
+use super::claim::Claim;
 use super::classify::{Existing, classify_dir};
 use super::disk::{
     exchange, keep_permissions, remove_any, remove_empty_dirs, split, sync_dir, walk, write_synced,
@@ -36,36 +37,29 @@ fn check_names(files: &[(String, Vec<u8>)]) -> io::Result<()> {
 /// [`OutputDir::commit`]; dropped uncommitted, it removes what it created.
 #[derive(Debug)]
 pub struct OutputDir {
-    /// The path as given, for messages.
-    shown: PathBuf,
+    /// What the command asks (its path as given, for messages).
+    claim: Claim,
     /// The path resolved to `parent/name` (so `.` is replaced as its real name).
     path: PathBuf,
-    command: &'static str,
-    force: bool,
-    inputs: Vec<PathBuf>,
     pub(super) staging: Option<Staging>,
     created_parents: Vec<PathBuf>,
 }
 
 impl OutputDir {
-    /// Checks that `path` may be written by subcommand `command` (missing, empty, a previous
-    /// result of `command`, or anything replaceable with `force`), and never holds one of
-    /// `inputs`; then creates the staging directory next to it, before any work.
-    pub fn prepare(
-        path: &Path,
-        command: &'static str,
-        force: bool,
-        inputs: &[&Path],
-    ) -> Result<Self, OutputError> {
+    /// Checks that the claim's path may be written by its command (missing, empty, a
+    /// previous result of the command, or anything replaceable with `force`), and never
+    /// holds one of its inputs; then creates the staging directory next to it, before any
+    /// work.
+    pub fn prepare(claim: Claim) -> Result<Self, OutputError> {
+        let path = claim.path.as_path();
         let (parent, name) = split(path)?;
-        let inputs: Vec<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
         // The path as `parent/name`: `LINK/` is the link, not the directory it points to.
         if let Existing::Foreign {
             reason,
             force_overrides,
-        } = classify_dir(&parent.join(&name), command, &inputs)
+        } = classify_dir(&parent.join(&name), claim.command, &claim.inputs)
             .map_err(io_error(path, "cannot inspect"))?
-            && !(force && force_overrides)
+            && !(claim.force && force_overrides)
         {
             return Err(OutputError::Refused {
                 path: path.to_path_buf(),
@@ -76,16 +70,13 @@ impl OutputDir {
         let created_parents =
             create_parents(&parent).map_err(io_error(path, "cannot create its directory"))?;
         let mut out = OutputDir {
-            shown: path.to_path_buf(),
             path: parent.join(&name),
-            command,
-            force,
-            inputs,
+            claim,
             staging: None,
             created_parents,
         };
-        out.staging =
-            Some(Staging::create(&parent, true).map_err(io_error(path, "cannot be created"))?);
+        let staged = Staging::create(&parent, true);
+        out.staging = Some(staged.map_err(io_error(&out.claim.path, "cannot be created"))?);
         Ok(out)
     }
 
@@ -95,8 +86,8 @@ impl OutputDir {
         let staging = self.staging.as_ref().map(|s| s.path().to_path_buf());
         let staging = staging.unwrap_or_default();
         let manifest = self.stage(&staging, files)?;
-        let shown = self.shown.clone();
-        let existing = classify_dir(&self.path, self.command, &self.inputs)
+        let shown = self.claim.path.clone();
+        let existing = classify_dir(&self.path, self.claim.command, &self.claim.inputs)
             .map_err(io_error(&shown, "cannot inspect"))?;
         match existing {
             Existing::Missing => {
@@ -109,7 +100,7 @@ impl OutputDir {
             Existing::Foreign {
                 reason,
                 force_overrides,
-            } if !(self.force && force_overrides) => {
+            } if !(self.claim.force && force_overrides) => {
                 return Err(OutputError::Refused {
                     path: shown,
                     reason: format!("{reason} (it changed while the command ran)"),
@@ -153,7 +144,7 @@ impl OutputDir {
         staging: &Path,
         files: &[(String, Vec<u8>)],
     ) -> Result<Manifest, OutputError> {
-        check_names(files).map_err(io_error(&self.shown, "cannot write"))?;
+        check_names(files).map_err(io_error(&self.claim.path, "cannot write"))?;
         let mut entries = Vec::with_capacity(files.len());
         for (name, bytes) in files {
             let p = staging.join(name);
@@ -163,7 +154,7 @@ impl OutputDir {
             write_synced(&p, bytes).map_err(io_error(&p, "cannot write"))?;
             entries.push(Entry::of(name, bytes));
         }
-        let manifest = Manifest::new(self.command, entries);
+        let manifest = Manifest::new(self.claim.command, entries);
         let p = staging.join(MANIFEST);
         write_synced(&p, &manifest.to_bytes()).map_err(io_error(&p, "cannot write"))?;
         sync_dir(staging);

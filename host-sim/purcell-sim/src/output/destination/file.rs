@@ -13,6 +13,7 @@
 //! end ([`super::staging::swap_guard`]). Whether the files agree with each other is the
 //! caller's to make checkable (the C pair carries one key in both, checked at compile time).
 
+use super::claim::Claim;
 use super::classify::{Existing, classify_file};
 use super::disk::{
     keep_permissions, remove_empty_dirs, rename_no_replace, split, sync_dir, write_synced,
@@ -53,41 +54,35 @@ pub(super) fn record_path(parent: &Path, name: &OsStr) -> PathBuf {
 /// [`OutputFile::commit`]; dropped uncommitted, it removes what it created.
 #[derive(Debug)]
 pub struct OutputFile {
+    /// What the command asks.
+    claim: Claim,
+    /// The path resolved to `parent/name`.
     path: PathBuf,
     record: PathBuf,
-    command: &'static str,
-    force: bool,
-    inputs: Vec<PathBuf>,
     staging: Option<Staging>,
     created_parents: Vec<PathBuf>,
 }
 
 impl OutputFile {
-    /// Checks that `path` may be written by subcommand `command`: missing, or a regular file
-    /// whose record says `command` wrote exactly its contents (any regular file with `force`),
-    /// and never one of `inputs` (the same file by any name); then creates the staging file
-    /// next to it, before any work.
-    pub fn prepare(
-        path: &Path,
-        command: &'static str,
-        force: bool,
-        inputs: &[&Path],
-    ) -> Result<Self, OutputError> {
-        let (parent, name) = split(path)?;
+    /// Checks that the claim's path may be written by its command: missing, or a regular
+    /// file whose record says the command wrote exactly its contents (any regular file with
+    /// `force`), and never one of its inputs (the same file by any name); then creates the
+    /// staging file next to it, before any work.
+    pub fn prepare(claim: Claim) -> Result<Self, OutputError> {
+        let (parent, name) = split(&claim.path)?;
         let mut out = OutputFile {
             path: parent.join(&name),
             record: record_path(&parent, &name),
-            command,
-            force,
-            inputs: inputs.iter().map(|p| p.to_path_buf()).collect(),
+            claim,
             staging: None,
             created_parents: Vec::new(),
         };
         out.check()?;
+        let shown = &out.claim.path;
         out.created_parents =
-            create_parents(&parent).map_err(io_error(path, "cannot create its directory"))?;
+            create_parents(&parent).map_err(io_error(shown, "cannot create its directory"))?;
         out.staging =
-            Some(Staging::create(&parent, false).map_err(io_error(path, "cannot be created"))?);
+            Some(Staging::create(&parent, false).map_err(io_error(shown, "cannot be created"))?);
         Ok(out)
     }
 
@@ -104,13 +99,13 @@ impl OutputFile {
     /// `Ok` (what is there) if the path may be written now.
     fn check(&self) -> Result<Existing, OutputError> {
         let path = &self.path;
-        let existing = classify_file(path, &self.record, self.command, &self.inputs)
+        let existing = classify_file(path, &self.record, self.claim.command, &self.claim.inputs)
             .map_err(io_error(path, "cannot inspect"))?;
         match existing {
             Existing::Foreign {
                 reason,
                 force_overrides,
-            } if !(self.force && force_overrides) => Err(OutputError::Refused {
+            } if !(self.claim.force && force_overrides) => Err(OutputError::Refused {
                 path: path.clone(),
                 reason,
                 force_overrides,
@@ -150,8 +145,11 @@ impl OutputFile {
             let record = |entries: Vec<Entry>| {
                 let s = Staging::create(parent, false)
                     .map_err(io_error(&file.path, "cannot be created"))?;
-                write_synced(s.path(), &Manifest::new(file.command, entries).to_bytes())
-                    .map_err(io_error(s.path(), "cannot write"))?;
+                write_synced(
+                    s.path(),
+                    &Manifest::new(file.claim.command, entries).to_bytes(),
+                )
+                .map_err(io_error(s.path(), "cannot write"))?;
                 Ok::<_, OutputError>(s)
             };
             let transition = record(both)?;

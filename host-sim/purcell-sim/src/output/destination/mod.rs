@@ -34,6 +34,7 @@
 //! staging entries and the interrupt handler, `disk` the filesystem steps (missing parents,
 //! synced writes, `renameat2`), `error` the error ([`OutputError`]).
 
+mod claim;
 mod classify;
 mod dir;
 mod disk;
@@ -44,6 +45,7 @@ mod staging;
 #[cfg(test)]
 mod tests;
 
+pub use claim::Claim;
 pub use dir::OutputDir;
 pub use error::OutputError;
 pub use file::OutputFile;

@@ -5,7 +5,7 @@ use super::classify::{Existing, classify_dir};
 use super::dir::replace_file_by_file;
 use super::disk::walk;
 use super::manifest::{Entry, MANIFEST, Manifest};
-use super::{OutputDir, OutputError, OutputFile};
+use super::{Claim, OutputDir, OutputError, OutputFile};
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -54,7 +54,7 @@ fn a_directory_is_ours_only_with_our_manifest_and_nothing_else() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let new = files(&[("a.csv", "1,2\n"), ("fig/b.svg", "<svg/>")]);
-    OutputDir::prepare(&out, "solve", false, &[])
+    OutputDir::prepare(Claim::new(&out, "solve", false, &[]))
         .unwrap()
         .commit(&new)
         .unwrap();
@@ -92,18 +92,18 @@ fn replacing_ours_by_exchange_or_file_by_file_leaves_exactly_the_new_files() {
         let tmp = tempfile::tempdir().unwrap();
         let out = tmp.path().join("out");
         let old = files(&[("a.csv", "old"), ("old-only.svg", "x"), ("d/e.txt", "e")]);
-        OutputDir::prepare(&out, "solve", false, &[])
+        OutputDir::prepare(Claim::new(&out, "solve", false, &[]))
             .unwrap()
             .commit(&old)
             .unwrap();
         let new = files(&[("a.csv", "new"), ("b.png", "png")]);
         if exchange {
-            OutputDir::prepare(&out, "solve", false, &[])
+            OutputDir::prepare(Claim::new(&out, "solve", false, &[]))
                 .unwrap()
                 .commit(&new)
                 .unwrap();
         } else {
-            let staged = OutputDir::prepare(&out, "solve", false, &[]).unwrap();
+            let staged = OutputDir::prepare(Claim::new(&out, "solve", false, &[])).unwrap();
             let staging = staged.staging.as_ref().unwrap().path().to_path_buf();
             let manifest = staged.stage(&staging, &new).unwrap();
             let Existing::Ours(old_manifest) = classify_dir(&out, "solve", &[]).unwrap() else {
@@ -130,7 +130,7 @@ fn replacing_ours_by_exchange_or_file_by_file_leaves_exactly_the_new_files() {
 fn a_half_done_file_by_file_update_is_still_ours() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    OutputDir::prepare(&out, "solve", false, &[])
+    OutputDir::prepare(Claim::new(&out, "solve", false, &[]))
         .unwrap()
         .commit(&files(&[("a.csv", "old"), ("b.csv", "old")]))
         .unwrap();
@@ -158,7 +158,7 @@ fn foreign_paths_are_refused_before_anything_is_created() {
         (file.join("below"), false),
         (PathBuf::from("/"), false),
     ] {
-        match OutputDir::prepare(&path, "solve", false, &[]) {
+        match OutputDir::prepare(Claim::new(&path, "solve", false, &[])) {
             Err(OutputError::Refused {
                 force_overrides: f, ..
             }) => assert_eq!(f, force_overrides, "{path:?}"),
@@ -171,14 +171,14 @@ fn foreign_paths_are_refused_before_anything_is_created() {
         let link = tmp.path().join("link");
         std::os::unix::fs::symlink(&dir, &link).unwrap();
         assert!(refused(
-            OutputDir::prepare(&link, "solve", true, &[]),
+            OutputDir::prepare(Claim::new(&link, "solve", true, &[])),
             false
         ));
         fs::remove_file(&link).unwrap();
     }
     #[cfg(unix)]
     assert!(refused(
-        OutputDir::prepare(Path::new("/dev/null"), "solve", true, &[]),
+        OutputDir::prepare(Claim::new(Path::new("/dev/null"), "solve", true, &[])),
         false
     ));
     assert_eq!(fs::read_to_string(dir.join("notes")).unwrap(), "precious");
@@ -192,7 +192,7 @@ fn force_replaces_a_foreign_directory_or_file_and_a_dropped_output_cleans_up() {
     let tmp = tempfile::tempdir().unwrap();
     let (dir, file) = foreign_dir_and_file(tmp.path(), "x");
     for path in [&dir, &file] {
-        OutputDir::prepare(path, "solve", true, &[])
+        OutputDir::prepare(Claim::new(path, "solve", true, &[]))
             .unwrap()
             .commit(&files(&[("a", "1")]))
             .unwrap();
@@ -200,8 +200,8 @@ fn force_replaces_a_foreign_directory_or_file_and_a_dropped_output_cleans_up() {
     }
     // Prepared then dropped (the command failed): staging and new parents removed.
     let deep = tmp.path().join("x/y/out");
-    drop(OutputDir::prepare(&deep, "solve", false, &[]).unwrap());
-    drop(OutputFile::prepare(&deep, "replay", false, &[]).unwrap());
+    drop(OutputDir::prepare(Claim::new(&deep, "solve", false, &[])).unwrap());
+    drop(OutputFile::prepare(Claim::new(&deep, "replay", false, &[])).unwrap());
     assert!(!tmp.path().join("x").exists());
     assert_eq!(fs::read_dir(tmp.path()).unwrap().count(), 2);
 }
@@ -211,15 +211,16 @@ fn a_single_file_is_ours_only_as_its_record_lists_it_and_never_an_input() {
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("r.json");
     let record = tmp.path().join(".r.json.purcell-sim");
-    let write =
-        |bytes: &[u8], force: bool| OutputFile::prepare(&path, "replay", force, &[])?.commit(bytes);
+    let write = |bytes: &[u8], force: bool| {
+        OutputFile::prepare(Claim::new(&path, "replay", force, &[]))?.commit(bytes)
+    };
     write(b"OURS 1", false).unwrap();
     write(b"OURS 2", false).unwrap();
     assert_eq!(fs::read(&path).unwrap(), b"OURS 2");
     assert!(record.is_file());
     // Another subcommand's file, one with bytes appended, one with the same first bytes.
     assert!(refused(
-        OutputFile::prepare(&path, "export", false, &[]),
+        OutputFile::prepare(Claim::new(&path, "export", false, &[])),
         true
     ));
     for theirs in [&b"OURS 2 and a line of mine"[..], b"OURS 3", b"theirs"] {
@@ -237,12 +238,12 @@ fn a_single_file_is_ours_only_as_its_record_lists_it_and_never_an_input() {
     fs::hard_link(&path, &alias).unwrap();
     for out in [&path, &alias] {
         assert!(refused(
-            OutputFile::prepare(out, "replay", true, &[&path]),
+            OutputFile::prepare(Claim::new(out, "replay", true, &[&path])),
             false
         ));
     }
     assert!(refused(
-        OutputFile::prepare(tmp.path(), "replay", true, &[]),
+        OutputFile::prepare(Claim::new(tmp.path(), "replay", true, &[])),
         false
     ));
     assert_eq!(fs::read(&path).unwrap(), b"OURS 3");
