@@ -300,7 +300,8 @@ impl Solution {
         degrees: bool,
     ) -> PyResult<()> {
         let x = &slf.as_super().x;
-        let dir = output::OutputDir::prepare(output::Claim::new(&out, "solve", force, &[])).map_err(refused)?;
+        let dir = output::OutputDir::prepare(output::Claim::new(&out, "solve", force, &[]))
+            .map_err(refused)?;
         let (problem, solved) = (&slf.problem, &slf.solved);
         py.detach(|| {
             let options = purcell_sim::plots::Options { degrees };
