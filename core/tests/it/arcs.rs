@@ -4,7 +4,7 @@
 //! `purcell-sim solve --alpha-max … && purcell-sim export`) against the solver's own states
 //! at the arcs' exits, and no panic on any arc table.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Vector2, Vector3};
@@ -13,8 +13,8 @@ use purcell_core::arc;
 use purcell_core::gait::{self, CheckpointRecord, Gait};
 use purcell_core::{Arc, Checkpoint, Error, Kinematics, OnArcs, Passes, Real, Replay, Se2, State};
 
-static PAPER_LIMIT: &[u8] = include_bytes!("../examples/paper-limit.gait");
-static TINY_LIMIT: &[u8] = include_bytes!("data/tiny-limit.gait");
+static PAPER_LIMIT: &[u8] = include_bytes!("../../examples/paper-limit.gait");
+static TINY_LIMIT: &[u8] = include_bytes!("../data/tiny-limit.gait");
 
 fn arc(joint: u8, sign: i8, first: u32, last: u32) -> Arc {
     Arc {

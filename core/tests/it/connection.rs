@@ -1,6 +1,6 @@
 //! The local connection `A(α)` of MODEL.md §2 and its closed-form derivatives.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Matrix3x2, Vector2};

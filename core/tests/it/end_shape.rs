@@ -3,7 +3,7 @@
 //! for byte; the end shape is validated like the start and is what the terminal error measures
 //! against.
 
-mod common;
+use crate::common;
 
 use common::paper_gait;
 use purcell_core::gait::{self, Gait, GaitParams};

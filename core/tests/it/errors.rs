@@ -2,7 +2,7 @@
 //! function panics on any input: garbage (NaN, ±∞, huge, subnormal, at the limits) gives
 //! `Ok` or `Err`, and every `Ok` is finite and admissible.
 
-mod common;
+use crate::common;
 
 use common::*;
 use core::f64::consts::PI;

@@ -2,7 +2,7 @@
 //! tables is the replay from the same checkpoints in memory, bit for bit; every corruption is
 //! refused with its typed error, and no input panics.
 
-mod common;
+use crate::common;
 
 use common::*;
 use proptest::prelude::*;
@@ -356,7 +356,7 @@ proptest! {
 /// sections are where docs/GAIT.md says: changing the layout fails here.
 #[test]
 fn the_committed_limit_gait_locks_the_layout() {
-    let bytes: &[u8] = include_bytes!("data/tiny-limit.gait");
+    let bytes: &[u8] = include_bytes!("../data/tiny-limit.gait");
     let params = GaitParams {
         alpha_max: Some(0.8),
         ..paper_gait(
@@ -449,7 +449,7 @@ fn the_committed_limit_gait_locks_the_layout() {
 /// without arcs; written again it is version 2 and flies the same.
 #[test]
 fn version_1_gaits_are_still_read() {
-    let bytes: &[u8] = include_bytes!("data/tiny-v1.gait");
+    let bytes: &[u8] = include_bytes!("../data/tiny-v1.gait");
     let params = paper_gait(
         200,
         [0.002, 0.001, 0.0],

@@ -13,8 +13,8 @@
 
 use purcell_core::{Gait, Replay};
 
-static PAPER: &[u8] = include_bytes!("../examples/paper.gait");
-static PAPER_LIMIT: &[u8] = include_bytes!("../examples/paper-limit.gait");
+static PAPER: &[u8] = include_bytes!("../../examples/paper.gait");
+static PAPER_LIMIT: &[u8] = include_bytes!("../../examples/paper-limit.gait");
 
 #[test]
 fn the_committed_gaits_fly_to_their_pinned_digests() {

@@ -1,6 +1,6 @@
 //! The exact discrete kinematics `α ← α + hu`, `g ← g·exp(−hA(α)u)`.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::Vector2;

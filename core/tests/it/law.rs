@@ -1,7 +1,7 @@
 //! The control law of MODEL.md §5: its first iterate and passes, the law's own equations at the
 //! returned step, and its equivariance under left translations.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Vector2, Vector3};

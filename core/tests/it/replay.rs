@@ -1,7 +1,7 @@
 //! The fixed-horizon replay: it is the law stepped `N` times, checkpoints reset `(α, g, ξ)`
 //! exactly at their steps, it stops for good at the first error, and `finish` is the last state.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Vector2, Vector3};

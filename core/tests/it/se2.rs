@@ -1,7 +1,7 @@
 //! SE(2) properties in the manif discipline: each identity on the identity element, on tiny
 //! perturbations (1e-8) and on random elements; Jacobians against finite differences.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Matrix3, Vector2, Vector3};

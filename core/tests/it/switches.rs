@@ -9,7 +9,7 @@
 //! form `(ω − sin ω)/ω³` loses digits by design (bound 270); `exp` 2.1 (bound 25);
 //! `dexp_Xᵀm` and its derivative 15.7 in f32 (at `ω = 0.01`), 5.6 in f64 (bounds 160, 60).
 
-mod common;
+use crate::common;
 
 use common::*;
 use proptest::prelude::*;

@@ -2,8 +2,8 @@
 //! walked step by step by its cursor, refused with its typed error when its indices or values
 //! are wrong; without one, the file is the version-2 file as before.
 
+use crate::common;
 use purcell_core::Error;
-mod common;
 
 use common::paper_gait;
 use purcell_core::gait::{self, Gait, GaitParams, TRACKING_RECORD_LEN};

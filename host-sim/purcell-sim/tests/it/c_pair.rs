@@ -1,7 +1,7 @@
 //! Issue 34, "never lose a user's file", the C pair: `export --format c` under a kill or a
 //! full disk, a single file ours only byte for byte, and C that always compiles.
 
-mod common;
+use crate::common;
 
 use common::*;
 use std::path::{Path, PathBuf};

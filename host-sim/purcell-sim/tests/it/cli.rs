@@ -3,7 +3,7 @@
 //! `exit3.rs`; costate files: `costate_files.rs`; gait files: `gait_files.rs`; outputs:
 //! `outputs.rs`; random inputs: `cli_props.rs`.)
 
-mod common;
+use crate::common;
 
 use common::*;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! why on stderr when it fails, creates nothing when it refuses its input, and never changes
 //! a file it did not write.
 
-mod common;
+use crate::common;
 
 use common::fixtures::COSTATE_V3;
 use common::*;

@@ -2,7 +2,7 @@
 //! their report, `-q` nothing), `-o` for `--out`, `-j N` threads, the exit codes in every
 //! `--help`, shell completions, the manual page, `--version` with the commit.
 
-mod common;
+use crate::common;
 
 use common::*;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! duplicate keys), held to what the core's gait check and `f32` accept, and a replay that
 //! fails on the way exits 3 naming the step. (Binary gait files: `gait_files.rs`.)
 
-mod common;
+use crate::common;
 
 use common::fixtures::{ARC, COSTATE_V2, COSTATE_V3};
 use common::*;

@@ -3,7 +3,7 @@
 //! from `trajectory.csv`'s controls alone: the shapes integrated from `ᾱ`, each link's
 //! dissipation from its own velocity (`purcell_solver::testkit::dissipated`).
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::Vector2;

@@ -4,7 +4,7 @@
 //! within a margin of the links' overlap instead; `sweep` reports each target it cannot
 //! solve in its CSV and still exits 0.
 
-mod common;
+use crate::common;
 
 use common::*;
 

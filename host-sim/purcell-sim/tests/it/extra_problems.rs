@@ -11,7 +11,7 @@ use purcell_solver::solver::Extremal;
 use purcell_solver::testkit::check_extremal;
 
 fn extra_problems() -> Vec<SuiteProblem> {
-    read_suite(include_str!("../../../tests/problems/extra.json")).unwrap()
+    read_suite(include_str!("../../../../tests/problems/extra.json")).unwrap()
 }
 
 /// The problem of `spec` and the extremal its solve returns.

@@ -4,7 +4,7 @@
 //! are drawn (dashed bound, shaded spans, highlighted stretches, legend entries) exactly when
 //! the gait has them. (How they look is checked by looking at them.)
 
-mod common;
+use crate::common;
 
 use common::{Solve, arg, assert_exit, read_dir, sim};
 use nalgebra::{Vector2, Vector3};

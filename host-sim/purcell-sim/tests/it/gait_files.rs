@@ -3,7 +3,7 @@
 //! that damaged ones, ones past the step limit and ones beyond `f32` are refused with the
 //! reason. (Costate files: `costate_files.rs`.)
 
-mod common;
+use crate::common;
 
 use common::fixtures::{COSTATE_V2, core_data, data};
 use common::*;

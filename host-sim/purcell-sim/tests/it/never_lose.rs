@@ -2,7 +2,7 @@
 //! under a kill or a full disk, single files ours only byte for byte, one step and memory
 //! budget checked before the work, and the messages that were not true.
 
-mod common;
+use crate::common;
 
 use common::fixtures::{COSTATE_V2, data};
 use common::*;

@@ -4,7 +4,7 @@
 //! with its format and version. (The JSON Schemas are checked against fresh outputs by
 //! `python/tests/test_outputs.py`.)
 
-mod common;
+use crate::common;
 
 use common::fixtures::data;
 use common::*;

@@ -2,7 +2,7 @@
 //! only a previous result of ours, refuses anything else before any work, replaces in one
 //! step; `replay --out` never overwrites its input or a file it did not write.
 
-mod common;
+use crate::common;
 
 use common::*;
 use std::path::Path;

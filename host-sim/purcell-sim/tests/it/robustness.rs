@@ -1,6 +1,6 @@
 //! Issue 26, `robustness`: a stored gait through a mismatched plant, open and closed loop.
 
-mod common;
+use crate::common;
 
 use common::*;
 

@@ -1,7 +1,7 @@
 //! `purcell-sim solve`, `solve --from` and `sweep` end to end: exit codes, outputs, and no
 //! input that makes the search run without end.
 
-mod common;
+use crate::common;
 
 use common::{Solve, arg, sim_in};
 use std::time::Duration;

@@ -16,7 +16,7 @@ use purcell_solver::solver::{
 use purcell_solver::testkit::check_extremal;
 
 fn public_problems() -> Vec<SuiteProblem> {
-    let text = include_str!("../../../tests/problems/public.json");
+    let text = include_str!("../../../../tests/problems/public.json");
     read_suite(text).expect("problems file parses")
 }
 

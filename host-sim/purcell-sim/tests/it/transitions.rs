@@ -4,7 +4,7 @@
 //! end state; `--alpha-end` equal to `--alpha0` is the loop, byte for byte; a bad end shape
 //! is refused before any work.
 
-mod common;
+use crate::common;
 
 use common::{Solve, arg, assert_exit, sim, stdout};
 use std::path::Path;

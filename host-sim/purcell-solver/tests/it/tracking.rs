@@ -10,8 +10,8 @@ use purcell_solver::tracking::{
     nominal, table_of,
 };
 
-const PAPER: &[u8] = include_bytes!("../../../core/examples/paper.gait");
-const LIMIT: &[u8] = include_bytes!("../../../core/examples/paper-limit.gait");
+const PAPER: &[u8] = include_bytes!("../../../../core/examples/paper.gait");
+const LIMIT: &[u8] = include_bytes!("../../../../core/examples/paper-limit.gait");
 
 /// The gait's tracking table with the default design, and its nominal cost.
 fn setup(gait: &Gait<'_>) -> (Table, f64) {
