@@ -6,7 +6,7 @@
 //! tolerance only over a bounded horizon; this test states it for the first 1 000 steps
 //! (10 s). Checkpoints of the f64 replay's `(α_k, g_k, ξ^{k−1})` every 100 steps restart the
 //! growth at each one, and the f32 replay then tracks the f64 one over the whole horizon.
-//! Print the picture: `cargo test -p purcell-tests --test precision -- --nocapture`.
+//! Print the picture: `cargo test -p purcell-tests --test it precision:: -- --nocapture`.
 
 use nalgebra::Vector2;
 use purcell_core::testkit::*;

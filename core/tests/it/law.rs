@@ -76,7 +76,7 @@ fn table<T: Real>(cases: &[(&str, Costate<f64>)], cast: fn(f64) -> T) -> Table {
 
 /// Measures the residual both kinds of pass leave on realistic states (every 250th state of
 /// the 10 000-step replays with `|μ| ≈ 4` and `|μ| ≈ 13`), prints the table
-/// (`cargo test -p purcell-core --test law passes -- --nocapture`), and checks that each
+/// (`cargo test -p purcell-core --test it passes -- --nocapture`), and checks that each
 /// type's `Real::PASSES` reaches rounding level while one pass fewer does not.
 #[test]
 fn passes_reach_rounding() {

@@ -50,7 +50,7 @@ fn dual_jacobian(x: [f64; 3], m: [f64; 3]) -> f64 {
 }
 
 /// Bounds, 10× the worst measured over 300 000 cases of these strategies: the values as in
-/// f64 (`core/tests/switches.rs`); the derivatives of `b`, `sin`, `cos` 6.5 ε (bound 65 ε);
+/// f64 (`core/tests/it/switches.rs`); the derivatives of `b`, `sin`, `cos` 6.5 ε (bound 65 ε);
 /// those of `a`, `c₂`, `c₃` 3.6e-11 relative (bound 4e-10), at `|ω|` just below
 /// `SMALL_ANGLE`, where the duals differentiate the truncated series (its first omitted term
 /// is below rounding for the value, not for the derivative); the duals' `∂(dexp_Xᵀm)/∂ω`
