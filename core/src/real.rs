@@ -37,7 +37,7 @@ pub trait Real:
     /// The passes the control law runs after its first iterate: their kind and number (see
     /// [`crate::law`]). Chosen per type by measurement as the fewest that bring `u_k` to this
     /// type's rounding on the paper's problem, of the kind that costs least
-    /// (`core/tests/law.rs::passes_reach_rounding` checks both).
+    /// (`core/tests/it/law.rs::passes_reach_rounding` checks both).
     const PASSES: Passes;
 
     /// The spacing of this type's numbers at 1 (for a compound type, of its value), as an
@@ -103,7 +103,7 @@ pub trait Real:
 
 impl Real for f64 {
     /// 1 Newton pass leaves ≤ 7e-15 of `|u_k|` (against 25), the first iterate alone 5e-6 and
-    /// 1 plain pass 2e-8 (see `core/tests/law.rs`).
+    /// 1 plain pass 2e-8 (see `core/tests/it/law.rs`).
     const PASSES: Passes = Passes::newton(1);
 
     #[inline(always)]
@@ -156,7 +156,7 @@ impl Real for f64 {
 
 impl Real for f32 {
     /// 1 plain pass leaves ≤ 7e-9 of the terms `u_k` is computed from (f32 rounding is 1.2e-7
-    /// of them), the first iterate alone 1.8e-7 (see `core/tests/law.rs`). A Newton pass
+    /// of them), the first iterate alone 1.8e-7 (see `core/tests/it/law.rs`). A Newton pass
     /// instead costs 844.4 instructions per step on the M4F against 660.4.
     const PASSES: Passes = Passes::plain(1);
     const EPSILON: f64 = f32::EPSILON as f64;

@@ -1,5 +1,5 @@
-//! One property suite over a scalar type (`f32`, `f64` in `core/tests/switches.rs`; the
-//! solver's dual numbers in `host-sim/purcell-solver/tests/switches.rs`): the SE(2)
+//! One property suite over a scalar type (`f32`, `f64` in `core/tests/it/switches.rs`; the
+//! solver's dual numbers in `host-sim/purcell-solver/tests/it/switches.rs`): the SE(2)
 //! coefficients the law and the KKT certificate evaluate, on both sides of every small-angle
 //! switch ([`crate::se2::SMALL_ANGLE`], [`crate::se2::C3_SERIES_LIMIT`]), against their Taylor
 //! series summed in f64 (independent of the switches). Each check returns its error in units
