@@ -6,15 +6,25 @@
 //! left, [`estimate::fit`] fits the drag ratio's relative error `ε̂` to the flight so far. If
 //! a drag-ratio error does not explain the data ([`estimate::Fit::explains`]: a link-length
 //! error, say), the estimate is given up and the flight stays on its current plan to the end
-//! (the open loop, if no re-plan came before). Otherwise, at the first estimate and whenever
-//! `|ε̂ − ε̂_plan| >` [`Rule::moved`] (`ε̂_plan` the estimate of the current plan), the rest is
-//! re-planned: the transition problem from the measured shape `α̂_k` and pose `ĝ_k` over the
-//! time left `(N − k)h`, the model at drag ratio `r(1 + ε̂)`, target `ĝ_k⁻¹ḡ` and end shape the
-//! gait's, solved by [`find`] from the current plan's remaining controls (its costates carried
-//! to the frame at step `k`: `μ' = Ad_{g_k}ᵀμ`), the global search where that reaches no
-//! admissible extremal. The flight goes on with the new plan's controls.
+//! (the open loop, if no re-plan came before). Otherwise, whenever `|ε̂ − ε̂_plan|` exceeds
+//! both [`Rule::moved`] and [`SIGNIFICANT`] standard errors of `ε̂` (`ε̂_plan` the estimate of
+//! the current plan, 0 for the gait), the rest is
+//! re-planned: the transition problem from the state `(α_k, ĝ_k)` over the time left
+//! `(N − k)h`, the model at drag ratio `r(1 + ε̂)`, target `ĝ_k⁻¹ḡ` and end shape the gait's,
+//! solved by [`find`] from the current plan's remaining controls (its costates carried to the
+//! frame at step `k`: `μ' = Ad_{g_k}ᵀμ`), the global search where that reaches no admissible
+//! extremal; at the first re-plan (where the estimate jumps from 0 and the gait's family may
+//! no longer be the cheapest, or may leave the shapes) also the global search, the cheaper
+//! kept. The flight goes on with the new plan's controls.
+//!
+//! The state: `α_k = ᾱ + h·Σ_{j<k} u_j`, the joint angles as commanded (the joints follow
+//! their commands exactly, in plant and model: MODEL.md §10; the encoders' noise does not
+//! enter), and `ĝ_k` the pose the fit's model predicts from every pose measured so far
+//! ([`estimate::Fit::pose`]), not the last measurement alone.
 
 pub mod estimate;
+
+use estimate::Verdict;
 
 use crate::find::{Note, find};
 use crate::robustness::FlightReport;
@@ -47,14 +57,14 @@ pub struct Rule {
 
 impl Default for Rule {
     /// From step 500 (5 s of the paper's gait, the tracking law's first estimate), every 500
-    /// steps while a fifth of the horizon is left, re-planning on a change of 0.005 in `ε̂`
-    /// (half a percent of `r`); the search with 128 starts.
+    /// steps while a fifth of the horizon is left, re-planning on a change of 0.001 in `ε̂`
+    /// (a tenth of a percent of `r`) beyond three standard errors; the search with 128 starts.
     fn default() -> Self {
         Rule {
             from: 500,
             every: 500,
             left: 0.2,
-            moved: 0.005,
+            moved: 0.001,
             options: SolveOptions {
                 starts: 128,
                 min_starts: 64,
@@ -63,6 +73,10 @@ impl Default for Rule {
         }
     }
 }
+
+/// How many standard errors of `ε̂` a change must exceed to re-plan (besides
+/// [`Rule::moved`]): a noise-driven estimate does not re-plan.
+pub const SIGNIFICANT: f64 = 3.0;
 
 /// One re-plan.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -153,6 +167,9 @@ pub struct Replanner<'a> {
 /// The flight so far: the plant's state, what was measured and flown.
 struct Flight {
     state: State<f64>,
+    /// The joint angles as commanded.
+    alpha: Vector2<f64>,
+    /// Per step: the joint angles as commanded and the pose as measured.
     measured: Vec<State<f64>>,
     flown: Vec<Vector2<f64>>,
     cost: f64,
@@ -188,6 +205,7 @@ impl Replanner<'_> {
         };
         let mut f = Flight {
             state: p.start(),
+            alpha: Vector2::from(p.alpha0),
             measured: Vec::new(),
             flown: Vec::new(),
             cost: 0.0,
@@ -201,44 +219,59 @@ impl Replanner<'_> {
                 step: k as u32,
                 error,
             };
-            f.measured.push(sensor.measure(&f.state));
+            f.measured.push(State {
+                alpha: f.alpha,
+                g: sensor.measure(&f.state).g,
+            });
             f.deviation.push(pose_deviation(&self.nominal.states[k], &f.state));
             f.max_abs_alpha = f.max_abs_alpha.max(f.state.alpha.amax());
             if given_up.is_none() && self.due(k) {
                 let fit = estimate::fit(&model, &p.start::<f64>().g, &f.measured, &f.flown)
                     .map_err(fail)?;
-                if !fit.explains(noise.pose) {
-                    given_up = Some(format!(
-                        "at step {k}: a drag-ratio error leaves {:.0} % of the drift                          unexplained (at most {:.0} %): kept on the current plan",
-                        100.0 * fit.residual / fit.drift,
-                        100.0 * estimate::UNEXPLAINED
-                    ));
-                } else if planned.is_none_or(|e| (fit.ratio_error - e).abs() > self.rule.moved) {
-                    estimate = fit.ratio_error;
-                    let t0 = Instant::now();
-                    let at = f.measured[k];
-                    let (route, cost) = match self.replan(k, &at, estimate, &plan, progress) {
-                        Ok((new, route)) => {
-                            let cost = new.cost(p.h);
-                            (plan, planned) = (new, Some(estimate));
-                            (route.to_string(), cost)
+                match fit.verdict(noise.pose) {
+                    Verdict::Agrees => {}
+                    Verdict::Unexplained(share) => {
+                        given_up = Some(format!(
+                            "at step {k}: a drag-ratio error leaves {:.0} % of the drift \
+                             unexplained (at most {:.0} %): kept on the current plan",
+                            100.0 * share,
+                            100.0 * estimate::UNEXPLAINED
+                        ));
+                    }
+                    Verdict::Ratio { estimate: e, error } => {
+                        let moved = self.rule.moved.max(SIGNIFICANT * error);
+                        if (e - planned.unwrap_or(0.0)).abs() > moved {
+                            estimate = e;
+                            let at = State {
+                                alpha: f.alpha,
+                                g: fit.pose,
+                            };
+                            let t0 = Instant::now();
+                            let (route, cost) = match self.replan(k, &at, e, &plan, progress) {
+                                Ok((new, route)) => {
+                                    let cost = new.cost(p.h);
+                                    (plan, planned) = (new, Some(e));
+                                    (route.to_string(), cost)
+                                }
+                                Err(why) => (why, f64::NAN),
+                            };
+                            replans.push(Replan {
+                                step: k as u32,
+                                time: p.h * k as f64,
+                                ratio_error: e,
+                                unexplained: fit.residual / fit.drift,
+                                cost,
+                                route,
+                                seconds: t0.elapsed().as_secs_f64(),
+                            });
                         }
-                        Err(why) => (why, f64::NAN),
-                    };
-                    replans.push(Replan {
-                        step: k as u32,
-                        time: p.h * k as f64,
-                        ratio_error: estimate,
-                        unexplained: fit.residual / fit.drift,
-                        cost,
-                        route,
-                        seconds: t0.elapsed().as_secs_f64(),
-                    });
+                    }
                 }
             }
             let u = plan.t.controls[k - plan.first];
             f.cost += 0.5 * p.h * u.norm_squared();
             f.flown.push(u);
+            f.alpha += u * p.h;
             f.state = plant.step(&f.state, &u).map_err(fail)?;
         }
         Ok(Replanned {
@@ -283,19 +316,28 @@ impl Replanner<'_> {
             options: self.rule.options,
         };
         let warm = plan.warm(k, &problem);
-        let found = find(&prepared, warm.as_ref(), &Within(progress))
-            .map_err(|u| format!("no plan: {}", u.error))?;
-        let route = match (&warm, found.notes.last()) {
-            (_, Some(Note::OverlapMargin { .. })) => "overlap margin",
-            (None, _) | (_, Some(Note::WarmFailed(_))) => "global search",
-            (Some(_), None) => "warm start",
+        let within = Within(progress);
+        let found = |warm: Option<&Warm>| {
+            let found = find(&prepared, warm, &within).ok()?;
+            let route = match (warm, found.notes.last()) {
+                (_, Some(Note::OverlapMargin { .. })) => "overlap margin",
+                (None, _) | (_, Some(Note::WarmFailed(_))) => "global search",
+                (Some(_), None) => "warm start",
+            };
+            let x = found.solution.extremals.into_iter().nth(found.solution.best)?;
+            Some((x, route))
         };
-        let x = found
-            .solution
-            .extremals
+        let warmed = found(warm.as_ref());
+        let searched = if plan.first == 0 && warm.is_some() {
+            found(None)
+        } else {
+            None
+        };
+        let (x, route) = [warmed, searched]
             .into_iter()
-            .nth(found.solution.best)
-            .ok_or("no plan: no extremal")?;
+            .flatten()
+            .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
+            .ok_or("no plan: neither the warm start nor the search found one")?;
         let plan = Plan {
             first: k,
             t: x.trajectory,
