@@ -129,7 +129,11 @@ struct Plan {
 impl Plan {
     /// `Σ h/2·|u_k|²` of its controls.
     fn cost(&self, h: f64) -> f64 {
-        self.t.controls.iter().map(|u| 0.5 * h * u.norm_squared()).sum()
+        self.t
+            .controls
+            .iter()
+            .map(|u| 0.5 * h * u.norm_squared())
+            .sum()
     }
 
     /// The warm start of `problem` (from flight step `k`) from this plan's remaining controls,
@@ -196,7 +200,9 @@ impl Replanner<'_> {
         progress: &dyn Progress,
     ) -> Result<Replanned, FlightFailure> {
         let p = self.params;
-        let model = p.kinematics::<f64>().map_err(|error| FlightFailure { step: 0, error })?;
+        let model = p
+            .kinematics::<f64>()
+            .map_err(|error| FlightFailure { step: 0, error })?;
         let mut sensor = Sensor::new(noise);
         let mut plan = Plan {
             first: 0,
@@ -223,7 +229,8 @@ impl Replanner<'_> {
                 alpha: f.alpha,
                 g: sensor.measure(&f.state).g,
             });
-            f.deviation.push(pose_deviation(&self.nominal.states[k], &f.state));
+            f.deviation
+                .push(pose_deviation(&self.nominal.states[k], &f.state));
             f.max_abs_alpha = f.max_abs_alpha.max(f.state.alpha.amax());
             if given_up.is_none() && self.due(k) {
                 let fit = estimate::fit(&model, &p.start::<f64>().g, &f.measured, &f.flown)
@@ -324,7 +331,11 @@ impl Replanner<'_> {
                 (None, _) | (_, Some(Note::WarmFailed(_))) => "global search",
                 (Some(_), None) => "warm start",
             };
-            let x = found.solution.extremals.into_iter().nth(found.solution.best)?;
+            let x = found
+                .solution
+                .extremals
+                .into_iter()
+                .nth(found.solution.best)?;
             Some((x, route))
         };
         let warmed = found(warm.as_ref());
