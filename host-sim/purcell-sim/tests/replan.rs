@@ -119,3 +119,22 @@ fn the_fit_separates_a_ratio_error_from_a_link_error() {
     };
     assert!(matches!(verdict(link), Verdict::Unexplained(s) if s > 0.5));
 }
+
+/// A transition back to the start pose (`--target 0,0,0`) solves: the coarse grid's resolution
+/// test measures it against the path's own motion (`Grid::resolves`), not the zero asked for.
+#[test]
+fn a_transition_to_a_zero_target_solves_and_lands() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (r, _) = Solve::paper()
+        .alpha0("1.0,0.8")
+        .flag("alpha-end", "0,0")
+        .target("0,0,0")
+        .no_plots()
+        .out(tmp.path())
+        .solved(std::time::Duration::from_secs(60));
+    let num = |k: &str| r[k].as_f64().unwrap();
+    // The bound of MODEL.md §12, |β − ᾱ|²/2T, lies below it.
+    assert!(num("cost") > (1.0 + 0.64) / 200.0, "{}", r["cost"]);
+    assert!(num("terminal_residual") < 1e-10 && r["local_min"].as_bool() == Some(true));
+    assert!(r["replays"][2]["alpha_error"].as_f64().unwrap() < 1e-6);
+}

@@ -426,7 +426,9 @@ fn text(
         let (o, k) = (&c.open, &c.closed);
         let larger = |f: &FlightReport| Some(f.g_error?.max(f.alpha_error?));
         let ratio = match (larger(o), larger(k)) {
-            (Some(a), Some(b)) if b > 0.0 => format!("{:.0}x", a / b),
+            (Some(a), Some(b)) if b > 0.0 && a / b < 1e4 => format!("{:.0}x", a / b),
+            // A landing to the solver's tolerance (`--replan`): the order of magnitude.
+            (Some(a), Some(b)) if b > 0.0 => format!("{:.0e}x", a / b),
             _ => "-".into(),
         };
         let _ = writeln!(

@@ -186,7 +186,7 @@ impl Replanner<'_> {
     fn due(&self, k: usize) -> bool {
         let (r, n) = (&self.rule, self.params.steps as usize);
         let (from, every) = (r.from as usize, r.every.max(1) as usize);
-        k >= from && (k - from) % every == 0 && (n - k) as f64 >= r.left * n as f64
+        k >= from && (k - from).is_multiple_of(every) && (n - k) as f64 >= r.left * n as f64
     }
 
     /// Flies the gait through `plant`, measured with `noise`, re-planning by the rule (module
