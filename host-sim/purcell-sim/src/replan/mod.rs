@@ -168,6 +168,16 @@ pub struct Replanner<'a> {
     pub rule: Rule,
 }
 
+/// What steers the flight: its plan, the estimate it was planned with (`None`: the gait), the
+/// last estimate, the re-plans so far, and why the estimate was given up, if it was.
+struct Steering {
+    plan: Plan,
+    planned: Option<f64>,
+    estimate: f64,
+    replans: Vec<Replan>,
+    given_up: Option<String>,
+}
+
 /// The flight so far: the plant's state, what was measured and flown.
 struct Flight {
     state: State<f64>,
@@ -200,14 +210,17 @@ impl Replanner<'_> {
         progress: &dyn Progress,
     ) -> Result<Replanned, FlightFailure> {
         let p = self.params;
-        let model = p
-            .kinematics::<f64>()
-            .map_err(|error| FlightFailure { step: 0, error })?;
         let mut sensor = Sensor::new(noise);
-        let mut plan = Plan {
-            first: 0,
-            t: self.nominal.clone(),
-            mu: Vector3::from(p.mu),
+        let mut s = Steering {
+            plan: Plan {
+                first: 0,
+                t: self.nominal.clone(),
+                mu: Vector3::from(p.mu),
+            },
+            planned: None,
+            estimate: 0.0,
+            replans: Vec::new(),
+            given_up: None,
         };
         let mut f = Flight {
             state: p.start(),
@@ -218,8 +231,6 @@ impl Replanner<'_> {
             max_abs_alpha: 0.0,
             deviation: Vec::new(),
         };
-        let (mut planned, mut estimate) = (None::<f64>, 0.0);
-        let (mut replans, mut given_up) = (Vec::new(), None);
         for k in 0..self.nominal.controls.len() {
             let fail = |error| FlightFailure {
                 step: k as u32,
@@ -232,50 +243,11 @@ impl Replanner<'_> {
             f.deviation
                 .push(pose_deviation(&self.nominal.states[k], &f.state));
             f.max_abs_alpha = f.max_abs_alpha.max(f.state.alpha.amax());
-            if given_up.is_none() && self.due(k) {
-                let fit = estimate::fit(&model, &p.start::<f64>().g, &f.measured, &f.flown)
+            if s.given_up.is_none() && self.due(k) {
+                self.steer(k, &f, &mut s, noise.pose, progress)
                     .map_err(fail)?;
-                match fit.verdict(noise.pose) {
-                    Verdict::Agrees => {}
-                    Verdict::Unexplained(share) => {
-                        given_up = Some(format!(
-                            "at step {k}: a drag-ratio error leaves {:.0} % of the drift \
-                             unexplained (at most {:.0} %): kept on the current plan",
-                            100.0 * share,
-                            100.0 * estimate::UNEXPLAINED
-                        ));
-                    }
-                    Verdict::Ratio { estimate: e, error } => {
-                        let moved = self.rule.moved.max(SIGNIFICANT * error);
-                        if (e - planned.unwrap_or(0.0)).abs() > moved {
-                            estimate = e;
-                            let at = State {
-                                alpha: f.alpha,
-                                g: fit.pose,
-                            };
-                            let t0 = Instant::now();
-                            let (route, cost) = match self.replan(k, &at, e, &plan, progress) {
-                                Ok((new, route)) => {
-                                    let cost = new.cost(p.h);
-                                    (plan, planned) = (new, Some(e));
-                                    (route.to_string(), cost)
-                                }
-                                Err(why) => (why, f64::NAN),
-                            };
-                            replans.push(Replan {
-                                step: k as u32,
-                                time: p.h * k as f64,
-                                ratio_error: e,
-                                unexplained: fit.residual / fit.drift,
-                                cost,
-                                route,
-                                seconds: t0.elapsed().as_secs_f64(),
-                            });
-                        }
-                    }
-                }
             }
-            let u = plan.t.controls[k - plan.first];
+            let u = s.plan.t.controls[k - s.plan.first];
             f.cost += 0.5 * p.h * u.norm_squared();
             f.flown.push(u);
             f.alpha += u * p.h;
@@ -285,11 +257,69 @@ impl Replanner<'_> {
             end: f.state,
             cost: f.cost,
             max_abs_alpha: f.max_abs_alpha.max(f.state.alpha.amax()),
-            estimate,
+            estimate: s.estimate,
             deviation: f.deviation,
-            replans,
-            given_up,
+            replans: s.replans,
+            given_up: s.given_up,
         })
+    }
+
+    /// At an estimate's step `k` of flight `f` (pose noise `sigma`): the fit's verdict, and a
+    /// re-plan if it calls for one (module docs), into `s`.
+    ///
+    /// Errors: the fit's.
+    fn steer(
+        &self,
+        k: usize,
+        f: &Flight,
+        s: &mut Steering,
+        sigma: f64,
+        progress: &dyn Progress,
+    ) -> Result<(), purcell_core::Error> {
+        let p = self.params;
+        let model = p.kinematics::<f64>()?;
+        let fit = estimate::fit(&model, &p.start::<f64>().g, &f.measured, &f.flown)?;
+        let (e, error) = match fit.verdict(sigma) {
+            Verdict::Agrees => return Ok(()),
+            Verdict::Unexplained(share) => {
+                s.given_up = Some(format!(
+                    "at step {k}: a drag-ratio error leaves {:.0} % of the drift unexplained \
+                     (at most {:.0} %): kept on the current plan",
+                    100.0 * share,
+                    100.0 * estimate::UNEXPLAINED
+                ));
+                return Ok(());
+            }
+            Verdict::Ratio { estimate, error } => (estimate, error),
+        };
+        let moved = self.rule.moved.max(SIGNIFICANT * error);
+        if (e - s.planned.unwrap_or(0.0)).abs() <= moved {
+            return Ok(());
+        }
+        s.estimate = e;
+        let at = State {
+            alpha: f.alpha,
+            g: fit.pose,
+        };
+        let t0 = Instant::now();
+        let (route, cost) = match self.replan(k, &at, e, &s.plan, progress) {
+            Ok((new, route)) => {
+                let cost = new.cost(p.h);
+                (s.plan, s.planned) = (new, Some(e));
+                (route.to_string(), cost)
+            }
+            Err(why) => (why, f64::NAN),
+        };
+        s.replans.push(Replan {
+            step: k as u32,
+            time: p.h * k as f64,
+            ratio_error: e,
+            unexplained: fit.residual / fit.drift,
+            cost,
+            route,
+            seconds: t0.elapsed().as_secs_f64(),
+        });
+        Ok(())
     }
 
     /// The rest of the flight from step `k` at the measured `at`, planned with `ε̂ = eps`
