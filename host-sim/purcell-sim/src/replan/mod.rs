@@ -4,7 +4,7 @@
 //! The flight starts on the gait's own controls (the open loop). At step [`Rule::from`] and
 //! every [`Rule::every`] steps after it, while at least [`Rule::left`] of the horizon is
 //! left, [`estimate::fit`] fits the drag ratio's relative error `ε̂` to the flight so far. If
-//! a drag-ratio error does not explain the data ([`estimate::Fit::explains`]: a link-length
+//! a drag-ratio error does not explain the data ([`estimate::Fit::verdict`]: a link-length
 //! error, say), the estimate is given up and the flight stays on its current plan to the end
 //! (the open loop, if no re-plan came before). Otherwise, whenever `|ε̂ − ε̂_plan|` exceeds
 //! both [`Rule::moved`] and [`SIGNIFICANT`] standard errors of `ε̂` (`ε̂_plan` the estimate of
