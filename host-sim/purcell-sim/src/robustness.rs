@@ -1,7 +1,9 @@
 //! What `robustness` reports of a gait flown through a mismatched plant: each flight's and each
 //! case's results, as the command prints them and its figure draws them.
 
-use crate::replan::Replan;
+use crate::replan::{Replan, Replanned};
+use purcell_core::gait::GaitParams;
+use purcell_solver::tracking::FlightFailure;
 use serde::Serialize;
 
 /// One flight's result.
@@ -43,6 +45,29 @@ impl FlightReport {
             deviation: Vec::new(),
             replans: Vec::new(),
             given_up: None,
+        }
+    }
+}
+
+impl FlightReport {
+    /// The report of a re-planned flight of the gait of `params`.
+    pub fn replanned(params: &GaitParams, flight: Result<Replanned, FlightFailure>) -> Self {
+        match flight {
+            Ok(r) => {
+                let e = params.terminal_error(&r.end);
+                FlightReport {
+                    alpha_error: Some(e.alpha),
+                    g_error: Some(e.g),
+                    cost: Some(r.cost),
+                    max_abs_alpha: Some(r.max_abs_alpha),
+                    estimated_ratio_error: Some(r.estimate),
+                    failure: None,
+                    deviation: r.deviation,
+                    replans: r.replans,
+                    given_up: r.given_up,
+                }
+            }
+            Err(e) => FlightReport::failed(e.to_string()),
         }
     }
 }

@@ -7,7 +7,7 @@ use super::args::{Failure, GaitInput, PrintArgs, Progress, fail, output_failure,
 use super::replay::check_stored;
 use crate::budget::Work;
 use crate::costate_file::CostateFile;
-use crate::replan::{self, Replanner, Rule};
+use crate::replan::Replanner;
 use crate::robustness::{CaseReport, FlightReport, percent};
 use crate::{output, plots};
 use clap::Args;
@@ -186,7 +186,7 @@ fn fly_case(
             limit: joint_bound(p.alpha_max),
         })?,
         Closed::Replan(replanner, progress) => {
-            replan::report(p, replanner.fly(&plant, &noise, *progress))
+            FlightReport::replanned(p, replanner.fly(&plant, &noise, *progress))
         }
     };
     Ok(CaseReport {
@@ -255,11 +255,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     let nominal = nominal(&gait).map_err(|e| refused(&e))?;
     let (k, source) =
         table_of(&gait, &nominal, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
-    let feedforward = match &source {
-        Feedforward::Extremal => json!({ "from": "extremal" }),
-        Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
-        Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
-    };
+    let feedforward = feedforward_json(&source);
     progress.tick();
     let nominal_cost: f64 = nominal
         .controls
@@ -268,11 +264,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
         .sum();
     let cases = cases(&a);
     progress.phase("flights", cases.len(), "cases");
-    let replanner = Replanner {
-        params: gait.params(),
-        nominal: &nominal,
-        rule: Rule::default(),
-    };
+    let replanner = Replanner::new(gait.params(), &nominal);
     let closed = if a.replan {
         Closed::Replan(&replanner, &progress)
     } else {
@@ -318,6 +310,15 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     } else {
         text(&file, nominal_cost, &source, &reports)
     })
+}
+
+/// Where the table's gain on `ε` comes from, as the report says it.
+fn feedforward_json(source: &Feedforward) -> serde_json::Value {
+    match source {
+        Feedforward::Extremal => json!({ "from": "extremal" }),
+        Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
+        Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
+    }
 }
 
 /// The tracking law's design from the flags, for a gait within `alpha_max`.

@@ -27,7 +27,6 @@ pub mod estimate;
 use estimate::Verdict;
 
 use crate::find::{Note, find};
-use crate::robustness::FlightReport;
 use crate::spec::{CHECKPOINT_EVERY, Prepared};
 use nalgebra::{Vector2, Vector3};
 use purcell_core::gait::GaitParams;
@@ -191,7 +190,16 @@ struct Flight {
     deviation: Vec<f64>,
 }
 
-impl Replanner<'_> {
+impl<'a> Replanner<'a> {
+    /// The gait of `params` with its nominal trajectory, by the default [`Rule`].
+    pub fn new(params: &'a GaitParams, nominal: &'a Trajectory) -> Self {
+        Replanner {
+            params,
+            nominal,
+            rule: Rule::default(),
+        }
+    }
+
     /// Whether step `k` estimates (module docs).
     fn due(&self, k: usize) -> bool {
         let (r, n) = (&self.rule, self.params.steps as usize);
@@ -385,26 +393,5 @@ impl Replanner<'_> {
             mu: x.mu,
         };
         Ok((plan, route))
-    }
-}
-
-/// The report of a re-planned flight of the gait of `params`.
-pub fn report(params: &GaitParams, flight: Result<Replanned, FlightFailure>) -> FlightReport {
-    match flight {
-        Ok(r) => {
-            let e = params.terminal_error(&r.end);
-            FlightReport {
-                alpha_error: Some(e.alpha),
-                g_error: Some(e.g),
-                cost: Some(r.cost),
-                max_abs_alpha: Some(r.max_abs_alpha),
-                estimated_ratio_error: Some(r.estimate),
-                failure: None,
-                deviation: r.deviation,
-                replans: r.replans,
-                given_up: r.given_up,
-            }
-        }
-        Err(e) => FlightReport::failed(e.to_string()),
     }
 }
