@@ -7,7 +7,7 @@
 //! binary gait export); [`output`] and [`plots`] the outputs (written atomically) and figures;
 //! [`decimal`] writes times and grid values as exact decimals;
 //! [`replay`] replays a costate file through the core in `f64`/`f32`; [`robustness`] holds what
-//! a gait flown through a mismatched plant reports; [`input`] reads input files (bounded, JSON
+//! a gait flown through a mismatched plant reports, [`replan`] re-plans such a flight; [`input`] reads input files (bounded, JSON
 //! without repeated keys); [`budget`] the step and memory budget of every reader of a stored
 //! gait; [`suite`] the problems file of the public solver suite.
 #![deny(missing_docs)]
@@ -21,6 +21,7 @@ pub mod find;
 pub mod input;
 pub mod output;
 pub mod plots;
+pub mod replan;
 pub mod replay;
 pub mod report;
 pub mod robustness;

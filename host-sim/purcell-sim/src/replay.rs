@@ -235,7 +235,7 @@ pub fn standard_replays(gait: &Gait<'_>) -> Vec<ReplayReport> {
 pub fn text(gait: &Gait<'_>, reports: &[ReplayReport]) -> String {
     let p = gait.params();
     let mut s = format!(
-        "gait: crc={:#010x} steps={} h={} checkpoints={} arcs={} alpha_max={} alpha0={:?} target={:?}\n",
+        "gait: crc={:#010x} steps={} h={} checkpoints={} arcs={} alpha_max={} alpha0={:?}{} target={:?}\n",
         gait.crc(),
         p.steps,
         p.h,
@@ -243,6 +243,9 @@ pub fn text(gait: &Gait<'_>, reports: &[ReplayReport]) -> String {
         gait.arc_count(),
         p.alpha_max.map_or("none".into(), |a| a.to_string()),
         p.alpha0,
+        // A transition's end shape (a loop ends where it starts).
+        p.alpha_end
+            .map_or(String::new(), |b| format!(" alpha_end={b:?}")),
         p.target
     );
     for r in reports {

@@ -1,6 +1,9 @@
 //! What `robustness` reports of a gait flown through a mismatched plant: each flight's and each
 //! case's results, as the command prints them and its figure draws them.
 
+use crate::replan::{Replan, Replanned};
+use purcell_core::gait::GaitParams;
+use purcell_solver::tracking::FlightFailure;
 use serde::Serialize;
 
 /// One flight's result.
@@ -18,9 +21,55 @@ pub struct FlightReport {
     pub estimated_ratio_error: Option<f64>,
     /// Why the flight stopped, if it did.
     pub failure: Option<String>,
+    /// With `--replan`: each re-plan ([`crate::replan`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub replans: Vec<Replan>,
+    /// With `--replan`: why the estimate was given up, if it was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub given_up: Option<String>,
     /// The pose error against the nominal pose, per step (not in the report).
     #[serde(skip)]
     pub deviation: Vec<f64>,
+}
+
+impl FlightReport {
+    /// A flight that stopped, and why.
+    pub fn failed(why: String) -> Self {
+        FlightReport {
+            alpha_error: None,
+            g_error: None,
+            cost: None,
+            max_abs_alpha: None,
+            estimated_ratio_error: None,
+            failure: Some(why),
+            deviation: Vec::new(),
+            replans: Vec::new(),
+            given_up: None,
+        }
+    }
+}
+
+impl FlightReport {
+    /// The report of a re-planned flight of the gait of `params`.
+    pub fn replanned(params: &GaitParams, flight: Result<Replanned, FlightFailure>) -> Self {
+        match flight {
+            Ok(r) => {
+                let e = params.terminal_error(&r.end);
+                FlightReport {
+                    alpha_error: Some(e.alpha),
+                    g_error: Some(e.g),
+                    cost: Some(r.cost),
+                    max_abs_alpha: Some(r.max_abs_alpha),
+                    estimated_ratio_error: Some(r.estimate),
+                    failure: None,
+                    deviation: r.deviation,
+                    replans: r.replans,
+                    given_up: r.given_up,
+                }
+            }
+            Err(e) => FlightReport::failed(e.to_string()),
+        }
+    }
 }
 
 /// One case: the plant's errors, the noise, and both flights.

@@ -101,7 +101,8 @@ pub(super) fn run_replay(a: ReplayArgs, quiet: bool) -> Result<String, Failure> 
         let p = gait.params();
         let report = json!({ "format": REPLAY_REPORT, "version": 1,
                              "crc": format!("{:#010x}", gait.crc()), "target": p.target,
-                             "alpha0": p.alpha0, "replays": results });
+                             "alpha0": p.alpha0, "alpha_end": p.end_shape(),
+                             "replays": results });
         let json = serde_json::to_string_pretty(&report).map_err(|e| fail(1, e))? + "\n";
         out.commit(json.as_bytes()).map_err(output_failure(false))?;
     }

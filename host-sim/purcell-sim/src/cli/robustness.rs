@@ -7,6 +7,7 @@ use super::args::{Failure, GaitInput, PrintArgs, Progress, fail, output_failure,
 use super::replay::check_stored;
 use crate::budget::Work;
 use crate::costate_file::CostateFile;
+use crate::replan::Replanner;
 use crate::robustness::{CaseReport, FlightReport, percent};
 use crate::{output, plots};
 use clap::Args;
@@ -85,6 +86,10 @@ pub struct RobustnessArgs {
     /// instead of the LQR's own: the plant's cheapest gait to first order (docs/ROBUSTNESS.md).
     #[arg(long)]
     pub plan: bool,
+    /// Re-plan the closed loop from the measured state with the estimated drag ratio instead
+    /// of the tracking law (docs/ROBUSTNESS.md, "Re-planning"); each re-plan in the report.
+    #[arg(long, conflicts_with_all = ["f32", "plan"])]
+    pub replan: bool,
     /// Run the law and the tracking law in f32 (the table rounded), as the Cortex-M4F would;
     /// the plant stays f64.
     #[arg(long)]
@@ -92,7 +97,7 @@ pub struct RobustnessArgs {
     /// Fly the one case closed loop in f32 with the tracking table stored in --gait (export
     /// --tracking), as the M4F firmware does (firmware/mcu/examples/closed_loop.rs), and
     /// print its digest and terminal error.
-    #[arg(long, requires = "gait", conflicts_with_all = ["table", "out", "json"])]
+    #[arg(long, requires = "gait", conflicts_with_all = ["table", "out", "json", "replan"])]
     pub digest: bool,
     /// Print the JSON report instead of the summary.
     #[command(flatten)]
@@ -137,25 +142,25 @@ fn flight_report(gait: &Gait<'_>, r: Result<Outcome, impl ToString>) -> FlightRe
                 estimated_ratio_error: Some(o.estimate),
                 failure: None,
                 deviation: o.deviation,
+                replans: Vec::new(),
+                given_up: None,
             }
         }
-        Err(e) => FlightReport {
-            alpha_error: None,
-            g_error: None,
-            cost: None,
-            max_abs_alpha: None,
-            estimated_ratio_error: None,
-            failure: Some(e.to_string()),
-            deviation: Vec::new(),
-        },
+        Err(e) => FlightReport::failed(e.to_string()),
     }
+}
+
+/// How the closed loop flies: the tracking law with its table (in `f32` if asked), or
+/// re-planned.
+enum Closed<'a> {
+    Tracking(&'a Table, bool),
+    Replan(&'a Replanner<'a>, &'a dyn purcell_solver::solver::Progress),
 }
 
 /// Flies one case open and closed loop.
 fn fly_case(
     gait: &Gait<'_>,
-    table: &Table,
-    f32: bool,
+    closed: &Closed<'_>,
     (mismatch, noise): (Mismatch, Noise),
 ) -> Result<CaseReport, Failure> {
     let p = gait.params();
@@ -163,6 +168,7 @@ fn fly_case(
     let plant = mismatch
         .plant(&model)
         .map_err(|e| fail(2, format!("the plant: {e}")))?;
+    let f32 = matches!(closed, Closed::Tracking(_, true));
     let run = |control: Control<'_>| {
         let flight = if f32 {
             let replay = gait.replay::<f32>().map_err(|e| fail(2, e))?;
@@ -174,10 +180,15 @@ fn fly_case(
         Ok::<_, Failure>(flight_report(gait, flight))
     };
     let open = run(Control::Open)?;
-    let closed = run(Control::Closed {
-        table,
-        limit: joint_bound(p.alpha_max),
-    })?;
+    let closed = match closed {
+        Closed::Tracking(table, _) => run(Control::Closed {
+            table,
+            limit: joint_bound(p.alpha_max),
+        })?,
+        Closed::Replan(replanner, progress) => {
+            FlightReport::replanned(p, replanner.fly(&plant, &noise, *progress))
+        }
+    };
     Ok(CaseReport {
         ratio_error: mismatch.ratio,
         drag_error: mismatch.drag,
@@ -244,11 +255,7 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     let nominal = nominal(&gait).map_err(|e| refused(&e))?;
     let (k, source) =
         table_of(&gait, &nominal, &design).map_err(|e| refused(&format!("tracking table: {e}")))?;
-    let feedforward = match &source {
-        Feedforward::Extremal => json!({ "from": "extremal" }),
-        Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
-        Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
-    };
+    let feedforward = feedforward_json(&source);
     progress.tick();
     let nominal_cost: f64 = nominal
         .controls
@@ -257,10 +264,16 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
         .sum();
     let cases = cases(&a);
     progress.phase("flights", cases.len(), "cases");
+    let replanner = Replanner::new(gait.params(), &nominal);
+    let closed = if a.replan {
+        Closed::Replan(&replanner, &progress)
+    } else {
+        Closed::Tracking(&k, a.f32)
+    };
     let reports = cases
         .into_iter()
         .map(|c| {
-            let report = fly_case(&gait, &k, a.f32, c);
+            let report = fly_case(&gait, &closed, c);
             progress.tick();
             report
         })
@@ -297,6 +310,15 @@ pub(super) fn run_robustness(a: RobustnessArgs, quiet: bool) -> Result<String, F
     } else {
         text(&file, nominal_cost, &source, &reports)
     })
+}
+
+/// Where the table's gain on `ε` comes from, as the report says it.
+fn feedforward_json(source: &Feedforward) -> serde_json::Value {
+    match source {
+        Feedforward::Extremal => json!({ "from": "extremal" }),
+        Feedforward::Lqr(PlanError::Off) => json!({ "from": "lqr" }),
+        Feedforward::Lqr(why) => json!({ "from": "lqr", "no_plan": why.to_string() }),
+    }
 }
 
 /// The tracking law's design from the flags, for a gait within `alpha_max`.
@@ -405,7 +427,9 @@ fn text(
         let (o, k) = (&c.open, &c.closed);
         let larger = |f: &FlightReport| Some(f.g_error?.max(f.alpha_error?));
         let ratio = match (larger(o), larger(k)) {
-            (Some(a), Some(b)) if b > 0.0 => format!("{:.0}x", a / b),
+            (Some(a), Some(b)) if b > 0.0 && a / b < 1e4 => format!("{:.0}x", a / b),
+            // A landing to the solver's tolerance (`--replan`): the order of magnitude.
+            (Some(a), Some(b)) if b > 0.0 => format!("{:.0e}x", a / b),
             _ => "-".into(),
         };
         let _ = writeln!(

@@ -90,7 +90,9 @@ impl Grid {
 
     /// Whether the net motion of the controls `u` is resolved by this grid: the end of their
     /// shape path integrated 16 times finer by the midpoint rule (second order) lies within a
-    /// fifth of the displacement asked for from the end of `u`'s own rollout. A solution that
+    /// fifth of the displacement asked for from the end of `u`'s own rollout (for a transition,
+    /// of the larger of it and a fifth of the farthest the path goes from the start: a
+    /// transition back to the start pose asks for none). A solution that
     /// exists only through the discretisation error of a coarse grid (e.g. with equal drag
     /// along and across the links, where no loop moves the body) fails this.
     pub fn resolves(&self, u: &[Vector2<f64>]) -> bool {
@@ -110,7 +112,19 @@ impl Grid {
         let dist = |p: &StageState, q: &StageState| {
             ((p[2] - q[2]).powi(2) + (p[3] - q[3]).powi(2) + (scale * (p[4] - q[4])).powi(2)).sqrt()
         };
-        dist(a, b) <= 0.2 * dist(&self.terminal.target, &self.start)
+        let asked = dist(&self.terminal.target, &self.start);
+        // A transition may be asked to return the body where it started (`ḡ = e`): its scale
+        // is then the motion along the path, a fifth of the farthest the accurate path goes.
+        let transition = (0..2).any(|i| self.terminal.target[i] != self.start[i]);
+        let scale = if transition {
+            let reach = accurate
+                .iter()
+                .fold(0.0, |m: f64, p| m.max(dist(p, &self.start)));
+            asked.max(0.2 * reach)
+        } else {
+            asked
+        };
+        dist(a, b) <= 0.2 * scale
     }
 
     /// The states `s_0 … s_N` under the controls `u`; with a barrier, `Err(ShapeLimit)` unless

@@ -44,16 +44,31 @@ impl Gaussian {
     }
 }
 
-impl Noise {
-    /// `state` as measured: each number plus its noise (the exact state without noise).
-    fn measure(&self, rng: &mut Gaussian, state: &State<f64>) -> State<f64> {
-        let mut m = *state;
-        if self.shape > 0.0 {
-            m.alpha += Vector2::new(rng.normal(), rng.normal()) * self.shape;
+/// A sensor with [`Noise`]: its draws in order, one reading after another.
+pub struct Sensor {
+    noise: Noise,
+    rng: Gaussian,
+}
+
+impl Sensor {
+    /// A sensor with `noise`, its generator at `noise.seed`.
+    pub fn new(noise: &Noise) -> Self {
+        Sensor {
+            noise: *noise,
+            rng: Gaussian(noise.seed),
         }
-        if self.pose > 0.0 {
+    }
+
+    /// `state` as measured: each number plus its noise (the exact state without noise).
+    pub fn measure(&mut self, state: &State<f64>) -> State<f64> {
+        let (noise, rng) = (&self.noise, &mut self.rng);
+        let mut m = *state;
+        if noise.shape > 0.0 {
+            m.alpha += Vector2::new(rng.normal(), rng.normal()) * noise.shape;
+        }
+        if noise.pose > 0.0 {
             let g = &state.g;
-            let d = [rng.normal(), rng.normal(), rng.normal()].map(|n| n * self.pose);
+            let d = [rng.normal(), rng.normal(), rng.normal()].map(|n| n * noise.pose);
             m.g = Se2::new(g.x() + d[0], g.y() + d[1], g.theta() + d[2]);
         }
         m
@@ -121,7 +136,7 @@ pub fn fly<T: Real, I>(
 where
     I: Iterator<Item = Result<Sample<T>, Error>>,
 {
-    let mut rng = Gaussian(noise.seed);
+    let mut sensor = Sensor::new(noise);
     let mut tracker = Tracker::<T>::new();
     let (limit_t, h_t) = match control {
         Control::Closed { limit, .. } => (T::from_f64(limit), T::from_f64(plant.h())),
@@ -152,7 +167,7 @@ where
             Control::Closed { table, .. } => {
                 let (record, first) = table.at(k).ok_or(fail(Error::CapacityExceeded))?;
                 let record = record.map(T::from_f64);
-                let measured = rounded::<T>(&noise.measure(&mut rng, &state));
+                let measured = rounded::<T>(&sensor.measure(&state));
                 let e = tracking_error(&sample.state, &measured);
                 if first {
                     tracker.update(&record, &e);
@@ -185,6 +200,6 @@ where
 }
 
 /// The larger component of the pose error of `state` against `nominal`.
-fn pose_deviation(nominal: &State<f64>, state: &State<f64>) -> f64 {
+pub fn pose_deviation(nominal: &State<f64>, state: &State<f64>) -> f64 {
     TerminalError::new(state, &nominal.alpha, &nominal.g).g
 }

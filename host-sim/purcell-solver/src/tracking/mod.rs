@@ -11,7 +11,7 @@ pub mod flight;
 pub mod gains;
 pub mod plan;
 
-pub use flight::{Control, FlightFailure, Noise, Outcome, fly};
+pub use flight::{Control, FlightFailure, Noise, Outcome, Sensor, fly, pose_deviation};
 pub use gains::{Design, Table, table};
 pub use plan::{PLAN_STEP, PlanError, PlanStep, neighbouring};
 pub use purcell_core::tracking::{Mismatch, joint_bound};
