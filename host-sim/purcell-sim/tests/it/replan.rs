@@ -2,7 +2,7 @@
 //! estimated drag ratio lands far nearer than the open loop; a link-length error, which a
 //! drag-ratio error does not explain, leaves it on the open loop (never worse).
 
-mod common;
+use crate::common;
 
 use common::*;
 use purcell_sim::replan::estimate::{Verdict, fit};
