@@ -1,56 +1,23 @@
 //! Seeds 0–7 of the global search agree on new problems of each class of issue 33: other
 //! swimmers (drag ratio, unequal links), far and turning targets and bent starts, a joint
 //! limit. For each problem, every seed's cheapest admissible coarse minimum runs the same
-//! shape path ([`same_path`]) and costs within the coarse grid's error ([`COARSE_COST_ERROR`],
-//! with a limit [`LIMITED_COARSE_COST_ERROR`]) of the cheapest gait on the problem's grid, which `purcell-sim solve --seed S` returned for every
-//! seed 0–7 (the costs below, the command in each problem's note). The refinement that follows
-//! the search is deterministic, so the same coarse minimum gives the same gait.
+//! shape path and costs within the coarse grid's error ([`COARSE_COST_ERROR`], with a limit
+//! [`LIMITED_COARSE_COST_ERROR`]) of the cheapest gait on the problem's grid, which
+//! `purcell-sim solve --seed S` returned for every seed 0–7 (the costs below, the command in
+//! each problem's note; docs/MEASUREMENTS.md). The refinement that follows the search is
+//! deterministic, so the same coarse minimum gives the same gait.
 
 use purcell_solver::problem::{Problem, Spec};
-use purcell_solver::solver::grid::same_path;
-use purcell_solver::solver::search::Candidate;
 use purcell_solver::solver::settings::{COARSE_COST_ERROR, LIMITED_COARSE_COST_ERROR};
-use purcell_solver::solver::{SolveOptions, coarse_grid, search_coarse};
+use purcell_solver::testkit::seeds_agree;
 
-/// Seeds checked.
-const SEEDS: u64 = 8;
-
-/// Runs the coarse search of `spec` for seeds `0..SEEDS` and checks that each seed's cheapest
-/// admissible minimum is the same shape path, within the coarse grid's error of `cheapest`
-/// (the problem's cost on its own grid).
+/// Seeds 0–7 agree on `spec` ([`seeds_agree`]), whose cost on its own grid is `cheapest`.
 fn every_seed_agrees(name: &str, spec: Spec, cheapest: f64) {
-    let problem = Problem::new(&spec).unwrap();
     let error = match spec.alpha_max {
         None => COARSE_COST_ERROR,
         Some(_) => LIMITED_COARSE_COST_ERROR,
     };
-    let h = coarse_grid(&problem, &SolveOptions::default()).unwrap().h();
-    let best: Vec<Candidate> = (0..SEEDS)
-        .map(|seed| {
-            let options = SolveOptions {
-                seed,
-                ..SolveOptions::default()
-            };
-            let found = search_coarse(&problem, &options, &|| {}).unwrap();
-            let b = found
-                .candidates
-                .iter()
-                .find(|c| problem.admits(c.max_abs_alpha))
-                .cloned();
-            b.unwrap_or_else(|| panic!("{name}, seed {seed}: no admissible minimum"))
-        })
-        .collect();
-    for (seed, b) in best.iter().enumerate() {
-        assert!(
-            (b.cost / cheapest - 1.0).abs() <= error,
-            "{name}, seed {seed}: cheapest admissible coarse minimum {} (the problem's {cheapest})",
-            b.cost
-        );
-        assert!(
-            same_path(&b.u, &best[0].u, h),
-            "{name}: seed {seed} vs seed 0"
-        );
-    }
+    seeds_agree(name, &Problem::new(&spec).unwrap(), 0..8, cheapest, error);
 }
 
 /// Other swimmers: drag ratios 1.5 and 2.5, unequal links.
