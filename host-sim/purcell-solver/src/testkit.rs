@@ -1,13 +1,15 @@
 //! What the test crates share (behind the `test-kit` feature, as nalgebra exports its
 //! proptest strategies behind one): a small problem that solves in a moment ([`small`]), the
 //! extremal a solve returns ([`cheapest`]), and the contract every returned extremal is held
-//! to ([`check_extremal`], with the certificates' bounds of [`crate::solver::settings`]), and
-//! the power a swimmer dissipates computed link by link ([`dissipated`]), independently of the
-//! power cost's metric.
+//! to ([`check_extremal`], with the certificates' bounds of [`crate::solver::settings`]), the
+//! seeds' agreement on a problem's cheapest coarse minimum ([`seeds_agree`]), and the power a
+//! swimmer dissipates computed link by link ([`dissipated`]), independently of the power
+//! cost's metric.
 
 use crate::problem::{Problem, Spec};
+use crate::solver::grid::same_path;
 use crate::solver::settings::{KKT_TOL, LAW_TOL, TERMINAL_TOL};
-use crate::solver::{Extremal, SolveOptions, solve};
+use crate::solver::{Extremal, SolveOptions, coarse_grid, search_coarse, solve};
 use nalgebra::Vector2;
 use purcell_core::Swimmer;
 
@@ -31,6 +33,46 @@ pub fn small(alpha_max: Option<f64>) -> Problem {
 pub fn cheapest(problem: &Problem) -> Extremal {
     let s = solve(problem, &SolveOptions::default(), &|| {}).expect("the problem solves");
     s.extremals[s.best].clone()
+}
+
+/// Checks that the global search of `problem` with each seed of `seeds` finds the same
+/// cheapest admissible coarse minimum: the same shape path as the first seed's, its cost within
+/// `error` (relative) of `cheapest`, the problem's cost on its own grid (`name` in the
+/// messages).
+///
+/// # Panics
+/// If a seed finds no admissible minimum, or the seeds disagree.
+pub fn seeds_agree(
+    name: &str,
+    problem: &Problem,
+    seeds: core::ops::Range<u64>,
+    cheapest: f64,
+    error: f64,
+) {
+    let h = coarse_grid(problem, &SolveOptions::default())
+        .expect("the coarse grid")
+        .h();
+    let mut first: Option<Vec<Vector2<f64>>> = None;
+    for seed in seeds {
+        let options = SolveOptions {
+            seed,
+            ..SolveOptions::default()
+        };
+        let found = search_coarse(problem, &options, &|| {}).expect("the search runs");
+        let b = (found.candidates.iter())
+            .find(|c| problem.admits(c.max_abs_alpha))
+            .unwrap_or_else(|| panic!("{name}, seed {seed}: no admissible minimum"));
+        assert!(
+            (b.cost / cheapest - 1.0).abs() <= error,
+            "{name}, seed {seed}: cheapest admissible coarse minimum {} (the problem's {cheapest})",
+            b.cost
+        );
+        let u = first.get_or_insert_with(|| b.u.clone());
+        assert!(
+            same_path(&b.u, u, h),
+            "{name}: seed {seed} vs the first seed"
+        );
+    }
 }
 
 /// Checks what a returned extremal `x` of `problem` must satisfy (`name` in the messages):

@@ -3,10 +3,8 @@
 //! basin of a single start loop of the family (`purcell_solver::solver::search`, pulls).
 
 use purcell_solver::problem::{Problem, Spec};
-use purcell_solver::solver::grid::same_path;
-use purcell_solver::solver::search::Candidate;
 use purcell_solver::solver::settings::COARSE_COST_ERROR;
-use purcell_solver::solver::{SolveOptions, coarse_grid, search_coarse};
+use purcell_solver::testkit::seeds_agree;
 
 /// The paper's target at drag ratio 1.9, no joint limit: the cheapest admissible gait costs
 /// 0.6532276 on the problem's grid (`purcell-sim solve --ratio 1.9`, every seed 0–3); the
@@ -25,28 +23,5 @@ fn every_seed_finds_the_cheapest_gait_past_the_overlap_family() {
         ..Spec::default()
     })
     .unwrap();
-    let h = coarse_grid(&problem, &SolveOptions::default()).unwrap().h();
-    let best: Vec<Candidate> = (0..4)
-        .map(|seed| {
-            let options = SolveOptions {
-                seed,
-                ..SolveOptions::default()
-            };
-            let found = search_coarse(&problem, &options, &|| {}).unwrap();
-            let b = found
-                .candidates
-                .iter()
-                .find(|c| problem.admits(c.max_abs_alpha))
-                .cloned();
-            b.unwrap_or_else(|| panic!("seed {seed}: no admissible minimum"))
-        })
-        .collect();
-    for (seed, b) in best.iter().enumerate() {
-        assert!(
-            (b.cost / CHEAPEST - 1.0).abs() <= COARSE_COST_ERROR,
-            "seed {seed}: cheapest admissible coarse minimum {} (the problem's {CHEAPEST})",
-            b.cost
-        );
-        assert!(same_path(&b.u, &best[0].u, h), "seed {seed} vs seed 0");
-    }
+    seeds_agree("ratio 1.9", &problem, 0..4, CHEAPEST, COARSE_COST_ERROR);
 }

@@ -1,0 +1,84 @@
+//! Seeds 0–7 of the global search agree on new problems of each class of issue 33: other
+//! swimmers (drag ratio, unequal links), far and turning targets and bent starts, a joint
+//! limit. For each problem, every seed's cheapest admissible coarse minimum runs the same
+//! shape path and costs within the coarse grid's error ([`COARSE_COST_ERROR`], with a limit
+//! [`LIMITED_COARSE_COST_ERROR`]) of the cheapest gait on the problem's grid, which
+//! `purcell-sim solve --seed S` returned for every seed 0–7 (the costs below, the command in
+//! each problem's note; docs/MEASUREMENTS.md). The refinement that follows the search is
+//! deterministic, so the same coarse minimum gives the same gait.
+
+use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::settings::{COARSE_COST_ERROR, LIMITED_COARSE_COST_ERROR};
+use purcell_solver::testkit::seeds_agree;
+
+/// Seeds 0–7 agree on `spec` ([`seeds_agree`]), whose cost on its own grid is `cheapest`.
+fn every_seed_agrees(name: &str, spec: Spec, cheapest: f64) {
+    let error = match spec.alpha_max {
+        None => COARSE_COST_ERROR,
+        Some(_) => LIMITED_COARSE_COST_ERROR,
+    };
+    seeds_agree(name, &Problem::new(&spec).unwrap(), 0..8, cheapest, error);
+}
+
+/// Other swimmers: drag ratios 1.5 and 2.5, unequal links.
+#[test]
+fn other_swimmers() {
+    // `solve --ratio 1.5`: 0.7491627 for seeds 0–7.
+    let ratio = Spec {
+        ratio: 1.5,
+        ..Spec::default()
+    };
+    every_seed_agrees("ratio 1.5", ratio, 0.7491627);
+    // `solve --links 1,0.8,1.2 --target 0.1,0.05,0.2`: 0.2534228 for seeds 0–7.
+    let links = Spec {
+        links: [1.0, 0.8, 1.2],
+        target: [0.1, 0.05, 0.2],
+        ..Spec::default()
+    };
+    every_seed_agrees("links 1, 0.8, 1.2", links, 0.2534228);
+    // `solve --ratio 2.5 --target 0.05,0,0.5`: 0.1923286 for seeds 0–7.
+    let turning = Spec {
+        ratio: 2.5,
+        target: [0.05, 0.0, 0.5],
+        ..Spec::default()
+    };
+    every_seed_agrees("ratio 2.5, turning", turning, 0.1923286);
+}
+
+/// Far and turning targets, a bent start.
+#[test]
+fn far_and_turning_targets() {
+    // `solve --target 0.4,0,0`: 0.8852669 for seeds 0–7.
+    let far = Spec {
+        target: [0.4, 0.0, 0.0],
+        ..Spec::default()
+    };
+    every_seed_agrees("0.4 m ahead", far, 0.8852669);
+    // `solve --target 0,0,1.0`: 0.3671974 for seeds 0–7.
+    let turn = Spec {
+        target: [0.0, 0.0, 1.0],
+        ..Spec::default()
+    };
+    every_seed_agrees("a turn of 1 rad", turn, 0.3671974);
+    // `solve --alpha0 0.4,-0.3 --target 0.2,0.1,0.3`: 0.4315017 for seeds 0–7.
+    let bent = Spec {
+        alpha0: [0.4, -0.3],
+        target: [0.2, 0.1, 0.3],
+        ..Spec::default()
+    };
+    every_seed_agrees("bent start, far", bent, 0.4315017);
+}
+
+/// A joint limit with a bent start and a turning target.
+#[test]
+fn a_joint_limit_and_a_bent_start() {
+    // `solve --alpha-max 1.8 --alpha0 0.3,-0.3 --target 0.05,0.05,0.2`: 0.3168819 for seeds
+    // 0–7.
+    let limited = Spec {
+        alpha_max: Some(1.8),
+        alpha0: [0.3, -0.3],
+        target: [0.05, 0.05, 0.2],
+        ..Spec::default()
+    };
+    every_seed_agrees("limit 1.8, bent start", limited, 0.3168819);
+}
