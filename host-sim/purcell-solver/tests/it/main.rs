@@ -7,6 +7,7 @@ mod curvature;
 mod limited;
 mod power;
 mod seeds;
+mod seeds_classes;
 mod sweep;
 mod switches;
 mod tracking;
