@@ -20,6 +20,7 @@
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
 use crate::arc::{Arc, ArcTable, Exits};
+use crate::cost::{Cost, Effort, Power};
 use crate::kinematics::{Kinematics, State};
 use crate::law::{Free, LawStep, OnArcs};
 use crate::sample::Sample;
@@ -167,6 +168,11 @@ pub struct Replay<'a, T> {
     arc_ends: [u32; 2],
     /// The joints on an arc at this step.
     on_arcs: OnArcs,
+    /// The running cost whose law the replay runs ([`Replay::with_cost`]).
+    cost: Cost,
+    /// Whether the step leaves the effort's free law: on an arc, or another cost. The one
+    /// test a free step of the effort makes.
+    detour: bool,
     failed: Option<Error>,
 }
 
@@ -267,6 +273,8 @@ impl<'a, T: Real> Replay<'a, T> {
             arcs,
             arc_ends: [0; 2],
             on_arcs: OnArcs::NONE,
+            cost: Cost::Effort,
+            detour: false,
             failed: None,
         })
     }
@@ -286,31 +294,57 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k == self.next_event {
             self.event();
         }
-        if self.on_arcs != OnArcs::NONE {
-            return self.step_on_arcs();
+        if self.detour {
+            return self.step_detour();
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
-        let step =
-            self.kinematics
-                .law_step_trusted(&self.state, &self.xi, &self.mu, Free, T::PASSES);
-        self.record(step)
-    }
-
-    /// [`Replay::step`] on an arc: the law with the joints on it at rest
-    /// ([`Kinematics::law_step`] with the joints on arcs). Out of line, so that the free step
-    /// stays the code it is without arcs (measured on the M4F: an arc step costs no more than a
-    /// free one).
-    #[inline(never)]
-    fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
         let step = self.kinematics.law_step_trusted(
             &self.state,
             &self.xi,
             &self.mu,
-            self.on_arcs,
+            Effort,
+            Free,
             T::PASSES,
         );
         self.record(step)
+    }
+
+    /// [`Replay::step`] on an arc or of a cost other than the effort: the cost's law with the
+    /// joints on an arc at rest ([`Kinematics::law_step_for`]). Out of line, so that the
+    /// effort's free step stays the code it is without arcs (measured on the M4F: an arc step
+    /// costs no more than a free one).
+    #[inline(never)]
+    fn step_detour(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        let (s, xi, mu, on) = (&self.state, &self.xi, &self.mu, self.on_arcs);
+        let kin = &self.kinematics;
+        let step = match self.cost {
+            Cost::Effort => kin.law_step_trusted(s, xi, mu, Effort, on, T::PASSES),
+            Cost::Power => {
+                kin.law_step_trusted(s, xi, mu, Power::new(kin.swimmer()), on, T::POWER_PASSES)
+            }
+        };
+        self.record(step)
+    }
+
+    /// The replay of the running cost `cost`'s law ([`Kinematics::law_step_for`]; a new
+    /// replay runs the effort's): the cost the costate was solved for.
+    pub fn with_cost(mut self, cost: Cost) -> Self {
+        self.cost = cost;
+        self.set_on_arcs(self.on_arcs);
+        self
+    }
+
+    /// The running cost whose law the replay runs.
+    pub fn cost(&self) -> Cost {
+        self.cost
+    }
+
+    /// Sets the joints on an arc, and with them whether a step takes the detour.
+    #[inline(always)]
+    fn set_on_arcs(&mut self, on: OnArcs) {
+        self.on_arcs = on;
+        self.detour = on != OnArcs::NONE || self.cost != Cost::Effort;
     }
 
     /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
@@ -356,7 +390,7 @@ impl<'a, T: Real> Replay<'a, T> {
             }
             // An arc may exit here.
             if self.arc_ends != [0; 2] {
-                self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
+                self.set_on_arcs(OnArcs(self.arc_ends.map(|end| k < end)));
             }
             self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
         }
@@ -376,7 +410,7 @@ impl<'a, T: Real> Replay<'a, T> {
             }
             self.next_arc = self.arcs.next_first().unwrap_or(u32::MAX);
         }
-        self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
+        self.set_on_arcs(OnArcs(self.arc_ends.map(|end| k < end)));
     }
 
     /// The current state: `(α_k, g_k)` before step `k`, `(α_N, g_N)` at the end.

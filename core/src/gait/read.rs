@@ -4,7 +4,7 @@ use crate::arc::{self, Arc, ArcTable};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
-    TRACKING_TAG, VERSION, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
+    TRACKING_TAG, VERSION, VERSION_COST, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
 };
 use crate::gait::records::Records;
 use crate::gait::schema::{GaitParams, Model};
@@ -12,7 +12,7 @@ use crate::gait::track::{TRACKING_RECORD_LEN, TrackingTable, check_tracking};
 use crate::gait::validate::check;
 use crate::replay::{CheckpointTable, Replay};
 use crate::table::{Table, record_len};
-use crate::{Error, Real};
+use crate::{Cost, Error, Real};
 use core::mem::size_of;
 
 /// The scalars a gait stores a checkpoint table in: `f32` (section `CK32`) and `f64`
@@ -78,9 +78,10 @@ impl<'a> Cursor<'a> {
             1 => None,
             _ => Some(f64::from_le_bytes(self.take()?)).filter(|&a| a != 0.0),
         };
-        let alpha_end = match version {
-            VERSION_END_SHAPE => Some(self.f64s()?),
-            _ => None,
+        let (cost, alpha_end) = match version {
+            VERSION_END_SHAPE => (Cost::Effort, Some(self.f64s()?)),
+            VERSION_COST => self.cost_and_end()?,
+            _ => (Cost::Effort, None),
         };
         Ok(GaitParams {
             model: Model { links, drag, ratio },
@@ -93,7 +94,21 @@ impl<'a> Cursor<'a> {
             checkpoint_every,
             alpha_max,
             alpha_end,
+            cost,
         })
+    }
+
+    /// Version 5's tail of `PARM`: the cost (a known code), whether the end shape is stored
+    /// (0 or 1) and the end shape (zero if not); else [`Error::GaitLayout`].
+    fn cost_and_end(&mut self) -> Result<(Cost, Option<[f64; 2]>), Error> {
+        let cost = Cost::from_code(self.u32()?).ok_or(Error::GaitLayout)?;
+        let stored = self.u32()?;
+        let end = self.f64s()?;
+        match stored {
+            1 => Ok((cost, Some(end))),
+            0 if end == [0.0; 2] => Ok((cost, None)),
+            _ => Err(Error::GaitLayout),
+        }
     }
 }
 
@@ -124,7 +139,7 @@ impl<'a> Sections<'a> {
         // Version 3 has a tracking table, version 4 one if it has a fifth section: read as an
         // empty one otherwise.
         let tracked = version == VERSION_TRACKING
-            || (version == VERSION_END_SHAPE && sections == SECTIONS + 1);
+            || (matches!(version, VERSION_END_SHAPE | VERSION_COST) && sections == SECTIONS + 1);
         let mut tracking = (!tracked).then_some((&[][..], 0));
         for _ in 0..sections {
             let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
@@ -188,8 +203,9 @@ impl<'a> Gait<'a> {
     /// ```
     ///
     /// Reads version [`VERSION`], version 1 (no `α_max`, no arcs), version
-    /// [`VERSION_TRACKING`] (with a tracking table) and version [`VERSION_END_SHAPE`] (with
-    /// an end shape, and a tracking table or not).
+    /// [`VERSION_TRACKING`] (with a tracking table), version [`VERSION_END_SHAPE`] (with
+    /// an end shape, and a tracking table or not) and version [`VERSION_COST`] (a cost other
+    /// than the effort, with an end shape or not, a tracking table or not).
     ///
     /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
     /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
@@ -207,7 +223,10 @@ impl<'a> Gait<'a> {
         }
         let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
         let version = header.u16().map_err(|_| Error::GaitLength)?;
-        if !matches!(version, 1 | VERSION | VERSION_TRACKING | VERSION_END_SHAPE) {
+        if !matches!(
+            version,
+            1 | VERSION | VERSION_TRACKING | VERSION_END_SHAPE | VERSION_COST
+        ) {
             return Err(Error::GaitVersion(version));
         }
         let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
@@ -302,8 +321,8 @@ impl<'a> Gait<'a> {
     }
 
     /// A replay of the whole gait in `T` that restores the checkpoints from the table stored
-    /// in `T`, read in place as the replay reaches them, and runs the law on the arcs
-    /// ([`Replay::with_arcs`]).
+    /// in `T`, read in place as the replay reaches them, and runs the law of the gait's cost
+    /// ([`Replay::with_cost`]) on the arcs ([`Replay::with_arcs`]).
     ///
     /// Errors: as [`Replay::new`] (the parameters and checkpoints rounded to `T` are checked
     /// again, e.g. an angle that rounds up to `π` in `f32`).
@@ -327,7 +346,7 @@ impl<'a> Gait<'a> {
         } else {
             self.table64
         };
-        Replay::with_tables(
+        Ok(Replay::with_tables(
             p.kinematics()?,
             p.start(),
             p.costate(),
@@ -335,6 +354,7 @@ impl<'a> Gait<'a> {
             CheckpointTable::Stored(table),
             ArcTable::Stored(self.arcs),
             periodic,
-        )
+        )?
+        .with_cost(p.cost))
     }
 }

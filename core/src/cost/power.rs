@@ -1,0 +1,223 @@
+//! The power the fluid dissipates, `ℓ = h/2·uᵀG(α)u` (MODEL.md §11), in the law.
+//!
+//! **The metric from the step's frame.** `G = k·(R_uu − W_αᵀA)` with `R_uu = diag(w₁, w₂)`,
+//! `w_i = r·L_i³/3` (an outer link turning about its hinge: `r·k·L(L/2)² + r·k·L³/12`), and
+//! `W_αᵀA = W_αᵀW_ξ⁻¹W_α` symmetric. Its derivative, with the brackets `E_i = ∂W_α/∂α_i −
+//! ∂W_ξ/∂α_i·A` of [`crate::swimmer`] and `∂W_α/∂α_i = σ_iρ_iτ_i e_iᵀ`:
+//!
+//! ```text
+//! ∂G/∂α_i = −k·(∂W_α/∂α_iᵀA + AᵀE_i),   so with y = Au, ε_i = E_iu:
+//! (∂G/∂α_i u)_j = −k·(δ_ij σ_iρ_i τ_i·y + a_j·ε_i),   c_i = uᵀ∂G/∂α_i u
+//! ```
+//!
+//! all from what the step already has (the joints' sines and cosines are the frame's: no trig).
+//!
+//! **The law.** Step `k` solves `R(u) = (G − hB(ζ(u)))u − (h/2)c(u) − ξ^{k−1} + Aᵀζ(u) = 0`;
+//! `c` is quadratic in `u` (`∂c_i/∂u = 2(∂G/∂α_i u)ᵀ`, written `2D(u)`), and enters with `h`:
+//!
+//! 1. **First iterate**: the effort's, with `G` in place of `I` (`c` has no linear part at
+//!    `u = 0`): `M = G − hB(m) − (h/2)κJ`, `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`; then one Newton step on
+//!    `c` with `ζ` still linear: `u¹ = u⁰ + (M − hD(u⁰))⁻¹(h/2)c(u⁰)`. Without it the first
+//!    iterate misses `(h/2)c`, about `5e-3` of `G u`; with it, the effort's first-iterate
+//!    error is what is left (`cargo test -p purcell-core --test power_law -- --nocapture`).
+//! 2. **Plain pass** (`f32`): `ζ(u)`, then `c` linearised at `u`:
+//!    `(G − hB(ζ) − hD(u))u' = ξ^{k−1} − Aᵀζ − (h/2)c(u)`.
+//! 3. **Newton pass** (`f64`): the effort's Jacobian with `G` for `I` and `−hD(u)` added, the
+//!    residual `Gu − (h/2)c(u) − ξ^{k−1} + (Aᵀ − V(u))ζ`.
+//!
+//! Each returns `ξ^k = ξ^{k−1} + hB(ζ)u' + (h/2)c(u')` with `(h/2)c(u') = hD(u)u' − (h/2)c(u)`
+//! up to `O(|u' − u|²)`. On an arc (MODEL.md §11, "Joint limits") the resting joint's costate
+//! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
+
+use super::{Law, Solution, Step};
+use crate::law::{Equation, Mat2, Rows, mul};
+use crate::se2::ExpCoefficients;
+use crate::swimmer::{Swimmer, connection_mul, sym_mul_vec};
+use crate::{Error, Real};
+use nalgebra::{Matrix3x2, Vector2, Vector3};
+
+/// The power of a swimmer of drag coefficient `k` (it scales `G`, and so the costate).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Power<T> {
+    drag: T,
+}
+
+impl<T: Real> Power<T> {
+    /// The power of `swimmer`.
+    #[inline(always)]
+    pub(crate) fn new(swimmer: &Swimmer<T>) -> Self {
+        Power {
+            drag: swimmer.drag(),
+        }
+    }
+}
+
+/// The power at one step: `G(α_k)` (symmetric, `(g11, g12, g12, g22)`) and `h·k`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PowerStep<T> {
+    g: Mat2<T>,
+    hk: T,
+}
+
+impl<T: Real> Law<T> for Power<T> {
+    type Step = PowerStep<T>;
+
+    #[inline(always)]
+    fn at(self, eq: &Equation<T>) -> PowerStep<T> {
+        let f = &eq.frame;
+        let (a1, a2) = (f.a.column(0), f.a.column(1));
+        let k = self.drag;
+        let g12 = -(k * f.wa[0].dot(&a2));
+        PowerStep {
+            g: (
+                k * (f.w[0] - f.wa[0].dot(&a1)),
+                g12,
+                g12,
+                k * (f.w[1] - f.wa[1].dot(&a2)),
+            ),
+            hk: eq.h * k,
+        }
+    }
+}
+
+/// The cost's shape terms at a control `u`: `hD(u)` (row `i`: `(h∂G/∂α_i u)ᵀ`), `(h/2)c(u)`
+/// and `ε_i = E_iu`.
+struct Shape<T: Real> {
+    hd: Mat2<T>,
+    half_hc: Vector2<T>,
+    eps: [Vector3<T>; 2],
+}
+
+impl<T: Real> PowerStep<T> {
+    /// [`Shape`] at `u` (module docs).
+    #[inline(always)]
+    fn shape(&self, eq: &Equation<T>, u: &Vector2<T>) -> Shape<T> {
+        let f = &eq.frame;
+        let y = connection_mul(&f.a, u);
+        let [[e11, e12], [e21, e22]] = &f.e;
+        let eps = [e11 * u.x + e12 * u.y, e21 * u.x + e22 * u.y];
+        let (a1, a2) = (f.a.column(0), f.a.column(1));
+        let m = -self.hk;
+        let hd = (
+            m * (f.dwa[0].dot(&y) + a1.dot(&eps[0])),
+            m * a2.dot(&eps[0]),
+            m * a1.dot(&eps[1]),
+            m * (f.dwa[1].dot(&y) + a2.dot(&eps[1])),
+        );
+        let half = T::half();
+        Shape {
+            half_hc: Vector2::new(
+                half * (hd.0 * u.x + hd.1 * u.y),
+                half * (hd.2 * u.x + hd.3 * u.y),
+            ),
+            hd,
+            eps,
+        }
+    }
+
+    /// `G − P` for the law's other terms `P`.
+    #[inline(always)]
+    fn minus(&self, p: &Mat2<T>) -> Mat2<T> {
+        let g = &self.g;
+        (g.0 - p.0, g.1 - p.1, g.2 - p.2, g.3 - p.3)
+    }
+
+    /// `ξ^k` of the solved rows (`xi`, at `ζ`), the resting joints' `(Gu)_i + (Aᵀζ)_i`.
+    #[inline(always)]
+    fn costate<R: Rows<T>>(
+        &self,
+        rows: R,
+        xi: Vector2<T>,
+        a: &Matrix3x2<T>,
+        z: &Vector3<T>,
+        u: &Vector2<T>,
+    ) -> Vector2<T> {
+        let xi = rows.costate(xi, a, z);
+        let [r1, r2] = rows.resting();
+        let gu = mul(&self.g, u);
+        Vector2::new(
+            if r1 { gu.x + xi.x } else { xi.x },
+            if r2 { gu.y + xi.y } else { xi.y },
+        )
+    }
+}
+
+/// `P + Q`.
+#[inline(always)]
+fn add<T: Real>(p: &Mat2<T>, q: &Mat2<T>) -> Mat2<T> {
+    (p.0 + q.0, p.1 + q.1, p.2 + q.2, p.3 + q.3)
+}
+
+impl<T: Real> Step<T> for PowerStep<T> {
+    #[inline(always)]
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
+        let m = &eq.m;
+        let hb = eq.hb(m);
+        let hk = eq.half_h_kappa();
+        let mm = self.minus(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3));
+        let u0 = rows.solve(&mm, &eq.rhs(m))?;
+        let s = self.shape(eq, &u0);
+        let p = self.minus(&add(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3), &s.hd));
+        let u = u0 + rows.solve(&p, &s.half_hc)?;
+        let xi = eq.xi_prev + mul(&add(&hb, &s.hd), &u) - s.half_hc;
+        Ok((u, self.costate(rows, xi, &eq.frame.a, m, &u)))
+    }
+
+    #[inline(always)]
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        let z = eq.zeta(u);
+        let hb = eq.hb(&z);
+        let s = self.shape(eq, u);
+        let p = add(&hb, &s.hd);
+        let u = rows.solve(&self.minus(&p), &(eq.rhs(&z) - s.half_hc))?;
+        let xi = eq.xi_prev + mul(&p, &u) - s.half_hc;
+        Ok((u, self.costate(rows, xi, &eq.frame.a, &z, &u)))
+    }
+
+    #[inline(always)]
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        let (a, m) = (&eq.frame.a, &eq.m);
+        let x = eq.twist(u);
+        let k = ExpCoefficients::new(x.z);
+        let z = k.dexp_transpose_mul(&x, m);
+        let dz = k.dexp_transpose_mul_jacobian(&x, m);
+        let mh = -eq.h;
+        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let hb = eq.hb(&z);
+        let s = self.shape(eq, u);
+        let v1 = sym_mul_vec(&eq.hw_inv, &s.eps[0]);
+        let v2 = sym_mul_vec(&eq.hw_inv, &s.eps[1]);
+        let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
+        let lead = self.minus(&add(&hb, &s.hd));
+        let jac = (
+            lead.0 + g1.dot(&d1),
+            lead.1 + g1.dot(&d2),
+            lead.2 + g2.dot(&d1),
+            lead.3 + g2.dot(&d2),
+        );
+        // R(u) = Gu − (h/2)c(u) − ξ^{k−1} + (Aᵀ − V(u))ζ.
+        let gu = mul(&self.g, u);
+        let res = Vector2::new(
+            (gu.x - s.half_hc.x - eq.xi_prev.x) + g1.dot(&z),
+            (gu.y - s.half_hc.y - eq.xi_prev.y) + g2.dot(&z),
+        );
+        let du = -rows.solve(&jac, &res)?;
+        let z1 = z + d1 * du.x + d2 * du.y;
+        let xi = eq.xi_prev
+            + Vector2::new(v1.dot(&z1), v2.dot(&z1))
+            + mul(&add(&hb, &s.hd), &du)
+            + s.half_hc;
+        let u = u + du;
+        Ok((u, self.costate(rows, xi, a, &z1, &u)))
+    }
+}
