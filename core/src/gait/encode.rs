@@ -1,6 +1,5 @@
 //! Writing a gait file ([`encode`], [`encoded_len`]).
 
-use crate::{Cost, Error};
 use crate::arc::{self, Arc};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
@@ -12,6 +11,7 @@ use crate::gait::track::{TRACKING_RECORD_LEN, check_tracking};
 use crate::gait::validate::check;
 use crate::table::record_len;
 use crate::tracking::Record;
+use crate::{Cost, Error};
 
 /// Writes little-endian fields front to back; running out is [`Error::CapacityExceeded`].
 struct Out<'a>(&'a mut [u8]);

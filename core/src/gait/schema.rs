@@ -64,10 +64,7 @@ pub struct GaitParams {
     pub alpha_end: Option<[f64; 2]>,
     /// The running cost the costate was solved for, whose law replays it (MODEL.md §11);
     /// absent (the effort) from a file that does not store one.
-    #[cfg_attr(
-        feature = "serde",
-        serde(default, skip_serializing_if = "is_effort")
-    )]
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "is_effort"))]
     pub cost: Cost,
 }
 
