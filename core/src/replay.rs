@@ -295,7 +295,10 @@ impl<'a, T: Real> Replay<'a, T> {
             self.event();
         }
         if self.detour {
-            return self.step_detour();
+            return match self.cost {
+                Cost::Effort => self.step_on_arcs(),
+                Cost::Power => self.step_power(),
+            };
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
@@ -310,20 +313,35 @@ impl<'a, T: Real> Replay<'a, T> {
         self.record(step)
     }
 
-    /// [`Replay::step`] on an arc or of a cost other than the effort: the cost's law with the
-    /// joints on an arc at rest ([`Kinematics::law_step_for`]). Out of line, so that the
-    /// effort's free step stays the code it is without arcs (measured on the M4F: an arc step
-    /// costs no more than a free one).
+    /// [`Replay::step`] of the effort on an arc: the law with the joints on it at rest
+    /// ([`Kinematics::law_step`] with the joints on arcs). Out of line, so that the free step
+    /// stays the code it is without arcs (measured on the M4F: an arc step costs no more than a
+    /// free one).
     #[inline(never)]
-    fn step_detour(&mut self) -> Result<Option<&Sample<T>>, Error> {
-        let (s, xi, mu, on) = (&self.state, &self.xi, &self.mu, self.on_arcs);
-        let kin = &self.kinematics;
-        let step = match self.cost {
-            Cost::Effort => kin.law_step_trusted(s, xi, mu, Effort, on, T::PASSES),
-            Cost::Power => {
-                kin.law_step_trusted(s, xi, mu, Power::new(kin.swimmer()), on, T::POWER_PASSES)
-            }
-        };
+    fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        let step = self.kinematics.law_step_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            Effort,
+            self.on_arcs,
+            T::PASSES,
+        );
+        self.record(step)
+    }
+
+    /// [`Replay::step`] of the power ([`Kinematics::law_step_for`]), free or on an arc. Out of
+    /// line, as [`Replay::step_on_arcs`].
+    #[inline(never)]
+    fn step_power(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        let step = self.kinematics.law_step_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            Power::new(self.kinematics.swimmer()),
+            self.on_arcs,
+            T::POWER_PASSES,
+        );
         self.record(step)
     }
 

@@ -53,11 +53,11 @@ fn a_gait_file_round_trips_its_cost() {
         assert_eq!(bytes[8..10], version.to_le_bytes());
         assert_eq!(back.replay::<f32>().unwrap().cost(), cost);
     }
-    // An unknown cost code, an end-shape flag neither 0 nor 1 and an end shape stored as
+    // An unknown cost code, the effort's (its gaits are the older versions), an end-shape flag neither 0 nor 1 and an end shape stored as
     // absent but not zero are refused: `PARM` at 80 (header, four directory entries), its
     // code after version 2's 144 bytes, then the flag, then the end shape.
     let code = 16 + 4 * 16 + 144;
-    for (at, value) in [(code, 7u32), (code + 4, 2), (code + 8, 1)] {
+    for (at, value) in [(code, 7u32), (code, 0), (code + 4, 2), (code + 8, 1)] {
         let mut bytes = POWER.to_vec();
         bytes[at..at + 4].copy_from_slice(&value.to_le_bytes());
         let n = bytes.len();

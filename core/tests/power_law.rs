@@ -4,7 +4,7 @@
 //! how fast the passes converge (`-- --nocapture` prints the table MODEL.md §11 quotes).
 
 use nalgebra::{Matrix2, Vector2, Vector3};
-use purcell_core::{Cost, Kinematics, OnArcs, Passes, Real, Se2, State, Swimmer, se2};
+use purcell_core::{Cost, Kinematics, LawStep, OnArcs, Passes, Real, Se2, State, Swimmer, se2};
 
 /// `uᵀG(α)u`: the power the three links dissipate with the body moving as the connection says
 /// (`ξ = −A(α)u`), each link's drag from its own centre's velocity (MODEL.md §2).
@@ -66,15 +66,14 @@ fn shape_gradient(sw: &Swimmer<f64>, alpha: &Vector2<f64>, u: &Vector2<f64>) -> 
 /// `Gu − ξ^k + Aᵀζ` (rows of the joints not on an arc) and, for a joint on an arc, `u_i = 0`
 /// and `ξ^k_i = (Gu)_i + (Aᵀζ)_i`; with `ξ^k = ξ^{k−1} + hBu + (h/2)c` off the arc.
 fn law_residual(
-    sw: &Swimmer<f64>,
-    h: f64,
+    kin: &Kinematics<f64>,
     s: &State<f64>,
     xi_prev: &Vector2<f64>,
     mu: &Vector3<f64>,
-    u: &Vector2<f64>,
-    xi: &Vector2<f64>,
+    step: &LawStep<f64>,
     on: OnArcs,
 ) -> f64 {
+    let (sw, h, u, xi) = (kin.swimmer(), kin.h(), &step.u, &step.xi);
     let c = sw.connection_with_derivatives(&s.alpha).unwrap();
     let zeta = se2::dexp(&(c.a * u * -h)).transpose() * s.g.adjoint_transpose_mul(mu);
     let bu = Vector2::new(zeta.dot(&(c.da[0] * u)), zeta.dot(&(c.da[1] * u)));
@@ -151,7 +150,7 @@ fn a_power_step_solves_the_power_law_free_and_on_arcs() {
                 let step = kin
                     .law_step_for(Cost::Power, &s, &xi, &mu, on, f64::POWER_PASSES)
                     .unwrap();
-                let r = law_residual(&sw, h, &s, &xi, &mu, &step.u, &step.xi, on);
+                let r = law_residual(&kin, &s, &xi, &mu, &step, on);
                 assert!(r < 1e-9, "f64 {on:?}: residual {r:.1e}");
                 // On an arc the joint rests exactly.
                 for i in 0..2 {

@@ -98,10 +98,13 @@ impl<'a> Cursor<'a> {
         })
     }
 
-    /// Version 5's tail of `PARM`: the cost (a known code), whether the end shape is stored
-    /// (0 or 1) and the end shape (zero if not); else [`Error::GaitLayout`].
+    /// Version 5's tail of `PARM`: the cost (a known code, not the effort's, whose gaits are
+    /// the older versions), whether the end shape is stored (0 or 1) and the end shape (zero
+    /// if not); else [`Error::GaitLayout`].
     fn cost_and_end(&mut self) -> Result<(Cost, Option<[f64; 2]>), Error> {
-        let cost = Cost::from_code(self.u32()?).ok_or(Error::GaitLayout)?;
+        let cost = Cost::from_code(self.u32()?)
+            .filter(|&c| c != Cost::Effort)
+            .ok_or(Error::GaitLayout)?;
         let stored = self.u32()?;
         let end = self.f64s()?;
         match stored {

@@ -112,6 +112,12 @@ pub enum CostateFileError {
         /// The field.
         field: &'static str,
     },
+    /// A version-5 file of the effort (its gaits are versions 3 and 4).
+    #[error(
+        "invalid costate file: version 5 is a gait of a cost other than the effort (an effort \
+         gait is version 3, or 4 with an end shape)"
+    )]
+    EffortCost,
     /// `version` is not a non-negative integer.
     #[error("invalid costate file: version must be a non-negative integer")]
     BadVersion,
@@ -232,6 +238,9 @@ impl CostateFile {
         object.entry("arcs").or_insert(Value::Array(Vec::new()));
         let file: CostateFile =
             serde_json::from_value(Value::Object(object)).map_err(CostateFileError::Malformed)?;
+        if version == VERSION_COST && file.cost == purcell_core::Cost::Effort {
+            return Err(CostateFileError::EffortCost);
+        }
         purcell_core::gait::check(
             &file.gait,
             file.checkpoints.iter().copied(),

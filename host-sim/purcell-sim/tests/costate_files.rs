@@ -94,6 +94,12 @@ fn version_2_costate_files_are_read_strictly() {
             "version 6 (this build reads versions 2, 3, 4 and 5)",
         ),
         (
+            "v2-cost.json",
+            "\"h\":0.01",
+            "\"h\":0.01,\"cost\":\"power\"",
+            "version 2 does not have the field \"cost\"",
+        ),
+        (
             "v2-end.json",
             "\"h\":0.01",
             "\"h\":0.01,\"alpha_end\":[0.5,0]",
