@@ -138,6 +138,9 @@ impl<T: Real> CheckpointTable<'_, T> {
     }
 }
 
+/// A step of [`Replay`] out of line ([`Replay::step_on_arcs`], [`Replay::step_power`]).
+type Detour<'a, T> = for<'r> fn(&'r mut Replay<'a, T>) -> Result<Option<&'r Sample<T>>, Error>;
+
 /// Runs `N` steps of the control law from a start state and an initial costate, with the
 /// joint-limit arcs of a constrained gait ([`crate::arc`]) if it has any.
 #[derive(Clone, Debug)]
@@ -170,9 +173,11 @@ pub struct Replay<'a, T> {
     on_arcs: OnArcs,
     /// The running cost whose law the replay runs ([`Replay::with_cost`]).
     cost: Cost,
-    /// Whether the step leaves the effort's free law: on an arc, or another cost. The one
-    /// test a free step of the effort makes.
-    detour: bool,
+    /// The out-of-line step of a gait with arcs or of another cost ([`Replay::with_cost`]);
+    /// `None`: the effort's free law, inline. Set once, so that a step makes one test.
+    detour: Option<Detour<'a, T>>,
+    /// [`Replay::detour`] off the arcs and on an arc, by the cost.
+    routes: [Option<Detour<'a, T>>; 2],
     failed: Option<Error>,
 }
 
@@ -274,7 +279,8 @@ impl<'a, T: Real> Replay<'a, T> {
             arc_ends: [0; 2],
             on_arcs: OnArcs::NONE,
             cost: Cost::Effort,
-            detour: false,
+            detour: None,
+            routes: [None, Some(Self::step_on_arcs)],
             failed: None,
         })
     }
@@ -294,11 +300,8 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k == self.next_event {
             self.event();
         }
-        if self.detour {
-            return match self.cost {
-                Cost::Effort => self.step_on_arcs(),
-                Cost::Power => self.step_power(),
-            };
+        if let Some(detour) = self.detour {
+            return detour(self);
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
@@ -313,10 +316,10 @@ impl<'a, T: Real> Replay<'a, T> {
         self.record(step)
     }
 
-    /// [`Replay::step`] of the effort on an arc: the law with the joints on it at rest
-    /// ([`Kinematics::law_step`] with the joints on arcs). Out of line, so that the free step
-    /// stays the code it is without arcs (measured on the M4F: an arc step costs no more than a
-    /// free one).
+    /// [`Replay::step`] of the effort in a gait with arcs: the law with the joints on an arc
+    /// at rest ([`Kinematics::law_step`] with the joints on arcs, none off them). Out of
+    /// line, so that the free step of a gait without arcs stays the code it is (measured on
+    /// the M4F: this step costs no more than the inline free one).
     #[inline(never)]
     fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
         let step = self.kinematics.law_step_trusted(
@@ -349,8 +352,20 @@ impl<'a, T: Real> Replay<'a, T> {
     /// replay runs the effort's): the cost the costate was solved for.
     pub fn with_cost(mut self, cost: Cost) -> Self {
         self.cost = cost;
+        self.routes = match cost {
+            Cost::Effort => [None, Some(Self::step_on_arcs)],
+            Cost::Power => [Some(Self::step_power); 2],
+        };
         self.set_on_arcs(self.on_arcs);
         self
+    }
+
+    /// Sets the joints on an arc, and with them the step's route.
+    #[inline(always)]
+    fn set_on_arcs(&mut self, on: OnArcs) {
+        self.on_arcs = on;
+        let [free, arc] = self.routes;
+        self.detour = if on == OnArcs::NONE { free } else { arc };
     }
 
     /// The running cost whose law the replay runs.
@@ -358,12 +373,6 @@ impl<'a, T: Real> Replay<'a, T> {
         self.cost
     }
 
-    /// Sets the joints on an arc, and with them whether a step takes the detour.
-    #[inline(always)]
-    fn set_on_arcs(&mut self, on: OnArcs) {
-        self.on_arcs = on;
-        self.detour = on != OnArcs::NONE || self.cost != Cost::Effort;
-    }
 
     /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
     #[inline(always)]
