@@ -373,7 +373,6 @@ impl<'a, T: Real> Replay<'a, T> {
         self.cost
     }
 
-
     /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
     #[inline(always)]
     fn record(&mut self, step: Result<LawStep<T>, Error>) -> Result<Option<&Sample<T>>, Error> {

@@ -10,7 +10,9 @@
 //! (∂G/∂α_i u)_j = −k·(δ_ij σ_iρ_i τ_i·y + a_j·ε_i),   c_i = uᵀ∂G/∂α_i u
 //! ```
 //!
-//! all from what the step already has (the joints' sines and cosines are the frame's: no trig).
+//! all from what the step already has (the joints' sines and cosines are the frame's: no trig),
+//! once per step (`h∂G/∂α_i` as two symmetric 2×2 matrices); `∂G/∂α_i u` is then a 2×2
+//! product at each `u` the step tries.
 //!
 //! **The law.** Step `k` solves `R(u) = (G − hB(ζ(u)))u − (h/2)c(u) − ξ^{k−1} + Aᵀζ(u) = 0`;
 //! `c` is quadratic in `u` (`∂c_i/∂u = 2(∂G/∂α_i u)ᵀ`, written `2D(u)`), and enters with `h`:
@@ -32,7 +34,7 @@
 use super::{Law, Solution, Step};
 use crate::law::{Equation, Mat2, Rows, mul};
 use crate::se2::ExpCoefficients;
-use crate::swimmer::{Swimmer, connection_mul, sym_mul_vec};
+use crate::swimmer::{Swimmer, sym_mul_vec};
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
 
@@ -52,11 +54,11 @@ impl<T: Real> Power<T> {
     }
 }
 
-/// The power at one step: `G(α_k)` (symmetric, `(g11, g12, g12, g22)`) and `h·k`.
+/// The power at one step: `G(α_k)` and `h·∂G/∂α_i(α_k)`, each symmetric, `(m11, m12, m12, m22)`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PowerStep<T> {
     g: Mat2<T>,
-    hk: T,
+    hdg: [Mat2<T>; 2],
 }
 
 impl<T: Real> Law<T> for Power<T> {
@@ -68,6 +70,12 @@ impl<T: Real> Law<T> for Power<T> {
         let (a1, a2) = (f.a.column(0), f.a.column(1));
         let k = self.drag;
         let g12 = -(k * f.wa[0].dot(&a2));
+        // h∂G/∂α_i = −hk·(∂W_α/∂α_iᵀA + AᵀE_i): (j, l) = −hk·(δ_ij σ_iρ_iτ_i·a_l + a_j·E_ie_l),
+        // the upper triangle of each.
+        let m = -(eq.h * k);
+        let [[e11, e12], [e21, e22]] = &f.e;
+        let d1 = m * (f.dwa[0].dot(&a2) + a1.dot(e12));
+        let d2 = m * a1.dot(e22);
         PowerStep {
             g: (
                 k * (f.w[0] - f.wa[0].dot(&a1)),
@@ -75,43 +83,39 @@ impl<T: Real> Law<T> for Power<T> {
                 g12,
                 k * (f.w[1] - f.wa[1].dot(&a2)),
             ),
-            hk: eq.h * k,
+            hdg: [
+                (
+                    m * (f.dwa[0].dot(&a1) + a1.dot(e11)),
+                    d1,
+                    d1,
+                    m * a2.dot(e12),
+                ),
+                (
+                    m * a1.dot(e21),
+                    d2,
+                    d2,
+                    m * (f.dwa[1].dot(&a2) + a2.dot(e22)),
+                ),
+            ],
         }
     }
 }
 
-/// The cost's shape terms at a control `u`: `hD(u)` (row `i`: `(h∂G/∂α_i u)ᵀ`), `(h/2)c(u)`
-/// and `ε_i = E_iu`.
+/// The cost's shape terms at a control `u`: `hD(u)` (row `i`: `(h∂G/∂α_i u)ᵀ`) and `(h/2)c(u)`.
 struct Shape<T: Real> {
     hd: Mat2<T>,
     half_hc: Vector2<T>,
-    eps: [Vector3<T>; 2],
 }
 
 impl<T: Real> PowerStep<T> {
-    /// [`Shape`] at `u` (module docs).
+    /// [`Shape`] at `u`.
     #[inline(always)]
-    fn shape(&self, eq: &Equation<T>, u: &Vector2<T>) -> Shape<T> {
-        let f = &eq.frame;
-        let y = connection_mul(&f.a, u);
-        let [[e11, e12], [e21, e22]] = &f.e;
-        let eps = [e11 * u.x + e12 * u.y, e21 * u.x + e22 * u.y];
-        let (a1, a2) = (f.a.column(0), f.a.column(1));
-        let m = -self.hk;
-        let hd = (
-            m * (f.dwa[0].dot(&y) + a1.dot(&eps[0])),
-            m * a2.dot(&eps[0]),
-            m * a1.dot(&eps[1]),
-            m * (f.dwa[1].dot(&y) + a2.dot(&eps[1])),
-        );
+    fn shape(&self, u: &Vector2<T>) -> Shape<T> {
+        let [r1, r2] = self.hdg.map(|d| mul(&d, u));
         let half = T::half();
         Shape {
-            half_hc: Vector2::new(
-                half * (hd.0 * u.x + hd.1 * u.y),
-                half * (hd.2 * u.x + hd.3 * u.y),
-            ),
-            hd,
-            eps,
+            hd: (r1.x, r1.y, r2.x, r2.y),
+            half_hc: Vector2::new(half * r1.dot(u), half * r2.dot(u)),
         }
     }
 
@@ -156,7 +160,7 @@ impl<T: Real> Step<T> for PowerStep<T> {
         let hk = eq.half_h_kappa();
         let mm = self.minus(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3));
         let u0 = rows.solve(&mm, &eq.rhs(m))?;
-        let s = self.shape(eq, &u0);
+        let s = self.shape(&u0);
         let p = self.minus(&add(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3), &s.hd));
         let u = u0 + rows.solve(&p, &s.half_hc)?;
         let xi = eq.xi_prev + mul(&add(&hb, &s.hd), &u) - s.half_hc;
@@ -172,7 +176,7 @@ impl<T: Real> Step<T> for PowerStep<T> {
     ) -> Result<Solution<T>, Error> {
         let z = eq.zeta(u);
         let hb = eq.hb(&z);
-        let s = self.shape(eq, u);
+        let s = self.shape(u);
         let p = add(&hb, &s.hd);
         let u = rows.solve(&self.minus(&p), &(eq.rhs(&z) - s.half_hc))?;
         let xi = eq.xi_prev + mul(&p, &u) - s.half_hc;
@@ -194,9 +198,10 @@ impl<T: Real> Step<T> for PowerStep<T> {
         let mh = -eq.h;
         let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
         let hb = eq.hb(&z);
-        let s = self.shape(eq, u);
-        let v1 = sym_mul_vec(&eq.hw_inv, &s.eps[0]);
-        let v2 = sym_mul_vec(&eq.hw_inv, &s.eps[1]);
+        let s = self.shape(u);
+        let [[e11, e12], [e21, e22]] = &eq.frame.e;
+        let v1 = sym_mul_vec(&eq.hw_inv, &(e11 * u.x + e12 * u.y));
+        let v2 = sym_mul_vec(&eq.hw_inv, &(e21 * u.x + e22 * u.y));
         let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
         let lead = self.minus(&add(&hb, &s.hd));
         let jac = (
