@@ -360,6 +360,27 @@ impl<T: Real> Equation<T> {
         Ok((u, rows.costate(self.xi(&hb, &u), &self.frame.a, &z)))
     }
 
+    /// What a Newton pass from `u` needs besides the cost (see [`Equation::newton_pass`]).
+    #[inline(always)]
+    pub(crate) fn newton_terms(&self, u: &Vector2<T>) -> NewtonTerms<T> {
+        let (a, m) = (&self.frame.a, &self.m);
+        let x = self.twist(u);
+        let k = ExpCoefficients::new(x.z);
+        let z = k.dexp_transpose_mul(&x, m);
+        let dz = k.dexp_transpose_mul_jacobian(&x, m);
+        let mh = -self.h;
+        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
+        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
+        NewtonTerms {
+            z,
+            d: [d1, d2],
+            v: [v1, v2],
+            g: [a.column(0) - v1, a.column(1) - v2],
+        }
+    }
+
     /// A Newton pass from `u`: `u' = u − J⁻¹R(u)` with `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ`
     /// and its Jacobian `J = I − hB(ζ) + (Aᵀ − V(u))·∂ζ/∂u`, where `V(u) = [(h∂A/∂α_i u)ᵀ]_i`
     /// (so that `hB(ζ)u = V(u)ζ`) and `∂ζ/∂u = ∂(dexp_Xᵀm)/∂X·(−hA)`. Returns `u'` and
@@ -373,19 +394,15 @@ impl<T: Real> Equation<T> {
         u: &Vector2<T>,
         rows: R,
     ) -> Result<(Vector2<T>, Vector2<T>), Error> {
-        let (a, m) = (&self.frame.a, &self.m);
-        let x = self.twist(u);
-        let k = ExpCoefficients::new(x.z);
-        let z = k.dexp_transpose_mul(&x, m);
-        let dz = k.dexp_transpose_mul_jacobian(&x, m);
-        let mh = -self.h;
-        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let a = &self.frame.a;
+        let NewtonTerms {
+            z,
+            d: [d1, d2],
+            v: [v1, v2],
+            g: [g1, g2],
+        } = self.newton_terms(u);
         let hb = self.hb(&z);
         let (b11, b12, b21, b22) = hb;
-        let [[e11, e12], [e21, e22]] = &self.frame.e;
-        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
-        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
-        let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
         let jac = (
             T::one() - b11 + g1.dot(&d1),
             g1.dot(&d2) - b12,
@@ -402,6 +419,15 @@ impl<T: Real> Equation<T> {
         let xi = self.xi_prev + Vector2::new(v1.dot(&z1), v2.dot(&z1)) + mul(&hb, &du);
         Ok((u + du, rows.costate(xi, a, &z1)))
     }
+}
+
+/// The terms of a Newton pass at `u`: `ζ(u)`, `∂ζ/∂u_j`, the rows `v_i` of `V(u)` and
+/// `g_i = a_i − v_i` (the columns of `Aᵀ − V(u)`, transposed).
+pub(crate) struct NewtonTerms<T: Real> {
+    pub(crate) z: Vector3<T>,
+    pub(crate) d: [Vector3<T>; 2],
+    pub(crate) v: [Vector3<T>; 2],
+    pub(crate) g: [Vector3<T>; 2],
 }
 
 /// `P·v` for a 2×2 `P`.

@@ -32,9 +32,8 @@
 //! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
 
 use super::{Law, Solution, Step};
-use crate::law::{Equation, Mat2, Rows, mul};
-use crate::se2::ExpCoefficients;
-use crate::swimmer::{Swimmer, sym_mul_vec};
+use crate::law::{Equation, Mat2, NewtonTerms, Rows, mul};
+use crate::swimmer::Swimmer;
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
 
@@ -190,19 +189,15 @@ impl<T: Real> Step<T> for PowerStep<T> {
         u: &Vector2<T>,
         rows: R,
     ) -> Result<Solution<T>, Error> {
-        let (a, m) = (&eq.frame.a, &eq.m);
-        let x = eq.twist(u);
-        let k = ExpCoefficients::new(x.z);
-        let z = k.dexp_transpose_mul(&x, m);
-        let dz = k.dexp_transpose_mul_jacobian(&x, m);
-        let mh = -eq.h;
-        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let a = &eq.frame.a;
+        let NewtonTerms {
+            z,
+            d: [d1, d2],
+            v: [v1, v2],
+            g: [g1, g2],
+        } = eq.newton_terms(u);
         let hb = eq.hb(&z);
         let s = self.shape(u);
-        let [[e11, e12], [e21, e22]] = &eq.frame.e;
-        let v1 = sym_mul_vec(&eq.hw_inv, &(e11 * u.x + e12 * u.y));
-        let v2 = sym_mul_vec(&eq.hw_inv, &(e21 * u.x + e22 * u.y));
-        let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
         let lead = self.minus(&add(&hb, &s.hd));
         let jac = (
             lead.0 + g1.dot(&d1),
