@@ -44,7 +44,7 @@
 //! `u_k = 0`. The same code runs both (a `Rows` parameter): the free law solves all rows, an
 //! arc step fewer.
 
-use crate::cost::{Cost, Effort, Law, Power, Step};
+use crate::cost::{Cost, Effort, Law, PowerLaw, Step};
 use crate::kinematics::{Kinematics, State};
 use crate::passes::{PassKind, Passes};
 use crate::se2::{self, ExpCoefficients, Tangent};
@@ -118,7 +118,7 @@ impl<T: Real> Kinematics<T> {
             (Cost::Effort, true) => self.law_step_trusted(state, xi_prev, mu, Effort, Free, passes),
             (Cost::Effort, false) => self.law_step_trusted(state, xi_prev, mu, Effort, on, passes),
             (Cost::Power, _) => {
-                let power = Power::new(self.swimmer());
+                let power = PowerLaw::new(self.swimmer());
                 self.law_step_trusted(state, xi_prev, mu, power, on, passes)
             }
         }

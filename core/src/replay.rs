@@ -20,12 +20,13 @@
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
 use crate::arc::{Arc, ArcTable, Exits};
-use crate::cost::{Cost, Effort, Power};
+use crate::cost::{Cost, Effort, PowerLaw, RunningCost};
 use crate::kinematics::{Kinematics, State};
 use crate::law::{Free, LawStep, OnArcs};
 use crate::sample::Sample;
 use crate::table::{Table, VALUES};
 use crate::{Error, Real, Se2, TrajectoryDigest};
+use core::marker::PhantomData;
 use nalgebra::{Vector2, Vector3};
 
 /// The initial costate: constant spatial momentum `μ` and `ξ^{−1}`.
@@ -138,13 +139,11 @@ impl<T: Real> CheckpointTable<'_, T> {
     }
 }
 
-/// A step of [`Replay`] out of line ([`Replay::step_on_arcs`], [`Replay::step_power`]).
-type Detour<'a, T> = for<'r> fn(&'r mut Replay<'a, T>) -> Result<Option<&'r Sample<T>>, Error>;
-
-/// Runs `N` steps of the control law from a start state and an initial costate, with the
-/// joint-limit arcs of a constrained gait ([`crate::arc`]) if it has any.
+/// Runs `N` steps of the control law of the running cost `C` ([`crate::cost`]; the effort by
+/// default) from a start state and an initial costate, with the joint-limit arcs of a
+/// constrained gait ([`crate::arc`]) if it has any.
 #[derive(Clone, Debug)]
-pub struct Replay<'a, T> {
+pub struct Replay<'a, T, C = Effort> {
     kinematics: Kinematics<T>,
     mu: Vector3<T>,
     /// The step just done (its `state` is `(α_k, g_k)`, its `xi` is `ξ^k`).
@@ -171,13 +170,8 @@ pub struct Replay<'a, T> {
     arc_ends: [u32; 2],
     /// The joints on an arc at this step.
     on_arcs: OnArcs,
-    /// The running cost whose law the replay runs ([`Replay::with_cost`]).
-    cost: Cost,
-    /// The out-of-line step of a gait with arcs or of another cost ([`Replay::with_cost`]);
-    /// `None`: the effort's free law, inline. Set once, so that a step makes one test.
-    detour: Option<Detour<'a, T>>,
-    /// [`Replay::detour`] off the arcs and on an arc, by the cost.
-    routes: [Option<Detour<'a, T>>; 2],
+    /// The running cost whose law the replay runs.
+    law: PhantomData<C>,
     failed: Option<Error>,
 }
 
@@ -222,7 +216,9 @@ impl<'a, T: Real> Replay<'a, T> {
             true,
         )
     }
+}
 
+impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
     /// A replay with checkpoints from a slice or a gait file's table, and arcs likewise.
     /// Without `periodic`, only the arcs' exits restore their checkpoints (and only theirs are
     /// checked): the replay from `(μ, ξ^{−1})` and the arc table alone.
@@ -278,9 +274,7 @@ impl<'a, T: Real> Replay<'a, T> {
             arcs,
             arc_ends: [0; 2],
             on_arcs: OnArcs::NONE,
-            cost: Cost::Effort,
-            detour: None,
-            routes: [None, Some(Self::step_on_arcs)],
+            law: PhantomData,
             failed: None,
         })
     }
@@ -300,8 +294,12 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k == self.next_event {
             self.event();
         }
-        if let Some(detour) = self.detour {
-            return detour(self);
+        // A constant: each cost's replay compiles only its own branch.
+        if C::COST == Cost::Power {
+            return self.step_power();
+        }
+        if self.on_arcs != OnArcs::NONE {
+            return self.step_on_arcs();
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
@@ -316,10 +314,10 @@ impl<'a, T: Real> Replay<'a, T> {
         self.record(step)
     }
 
-    /// [`Replay::step`] of the effort in a gait with arcs: the law with the joints on an arc
-    /// at rest ([`Kinematics::law_step`] with the joints on arcs, none off them). Out of
-    /// line, so that the free step of a gait without arcs stays the code it is (measured on
-    /// the M4F: this step costs no more than the inline free one).
+    /// [`Replay::step`] of the effort on an arc: the law with the joints on it at rest
+    /// ([`Kinematics::law_step`] with the joints on arcs). Out of line, so that the free step
+    /// stays the code it is without arcs (measured on the M4F: an arc step costs no more than a
+    /// free one).
     #[inline(never)]
     fn step_on_arcs(&mut self) -> Result<Option<&Sample<T>>, Error> {
         let step = self.kinematics.law_step_trusted(
@@ -341,36 +339,60 @@ impl<'a, T: Real> Replay<'a, T> {
             &self.state,
             &self.xi,
             &self.mu,
-            Power::new(self.kinematics.swimmer()),
+            PowerLaw::new(self.kinematics.swimmer()),
             self.on_arcs,
             T::POWER_PASSES,
         );
         self.record(step)
     }
 
-    /// The replay of the running cost `cost`'s law ([`Kinematics::law_step_for`]; a new
-    /// replay runs the effort's): the cost the costate was solved for.
-    pub fn with_cost(mut self, cost: Cost) -> Self {
-        self.cost = cost;
-        self.routes = match cost {
-            Cost::Effort => [None, Some(Self::step_on_arcs)],
-            Cost::Power => [Some(Self::step_power); 2],
-        };
-        self.set_on_arcs(self.on_arcs);
-        self
+    /// The same replay running the law of the cost `D` from where it is (a new replay runs
+    /// the effort's; [`crate::Gait::replay_for`] the gait's): the cost the costate was solved
+    /// for, or another to compare.
+    pub fn with_law<D: RunningCost>(self) -> Replay<'a, T, D> {
+        let Replay {
+            kinematics,
+            mu,
+            sample,
+            state,
+            xi,
+            k,
+            steps,
+            next_event,
+            next_checkpoint,
+            next_arc,
+            checkpoints,
+            periodic,
+            arcs,
+            arc_ends,
+            on_arcs,
+            law: _,
+            failed,
+        } = self;
+        Replay {
+            kinematics,
+            mu,
+            sample,
+            state,
+            xi,
+            k,
+            steps,
+            next_event,
+            next_checkpoint,
+            next_arc,
+            checkpoints,
+            periodic,
+            arcs,
+            arc_ends,
+            on_arcs,
+            law: PhantomData,
+            failed,
+        }
     }
 
-    /// Sets the joints on an arc, and with them the step's route.
-    #[inline(always)]
-    fn set_on_arcs(&mut self, on: OnArcs) {
-        self.on_arcs = on;
-        let [free, arc] = self.routes;
-        self.detour = if on == OnArcs::NONE { free } else { arc };
-    }
-
-    /// The running cost whose law the replay runs.
+    /// The running cost whose law the replay runs, `C`'s.
     pub fn cost(&self) -> Cost {
-        self.cost
+        C::COST
     }
 
     /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
@@ -416,7 +438,7 @@ impl<'a, T: Real> Replay<'a, T> {
             }
             // An arc may exit here.
             if self.arc_ends != [0; 2] {
-                self.set_on_arcs(OnArcs(self.arc_ends.map(|end| k < end)));
+                self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
             }
             self.next_checkpoint = self.checkpoints.next_k().unwrap_or(u32::MAX);
         }
@@ -436,7 +458,7 @@ impl<'a, T: Real> Replay<'a, T> {
             }
             self.next_arc = self.arcs.next_first().unwrap_or(u32::MAX);
         }
-        self.set_on_arcs(OnArcs(self.arc_ends.map(|end| k < end)));
+        self.on_arcs = OnArcs(self.arc_ends.map(|end| k < end));
     }
 
     /// The current state: `(α_k, g_k)` before step `k`, `(α_N, g_N)` at the end.
@@ -549,7 +571,7 @@ impl TerminalError {
 }
 
 /// Owned samples; after an error the iterator yields it once and then ends.
-impl<T: Real> Iterator for Replay<'_, T> {
+impl<T: Real, C: RunningCost> Iterator for Replay<'_, T, C> {
     type Item = Result<Sample<T>, Error>;
 
     fn next(&mut self) -> Option<Self::Item> {
@@ -569,4 +591,4 @@ impl<T: Real> Iterator for Replay<'_, T> {
     }
 }
 
-impl<T: Real> core::iter::FusedIterator for Replay<'_, T> {}
+impl<T: Real, C: RunningCost> core::iter::FusedIterator for Replay<'_, T, C> {}

@@ -3,7 +3,8 @@
 //! replay runs the power's law to the target, `f64` within 1e-10 and `f32` with its
 //! checkpoints within 1e-5; the effort's law from the same costate does not get there.
 
-use purcell_core::{Cost, Gait, Replay, gait};
+use purcell_core::cost::{Effort, Power};
+use purcell_core::{Cost, Error, Gait, Replay, gait};
 
 static POWER: &[u8] = include_bytes!("../examples/paper-power.gait");
 
@@ -16,13 +17,25 @@ fn the_power_gait_replays_to_the_target_through_the_power_law() {
         (p.cost, p.steps, g.checkpoint_count()),
         (Cost::Power, 10_000, 99)
     );
-    let e64 = p.terminal_error(&g.replay::<f64>().unwrap().finish().unwrap());
-    let e32 = p.terminal_error(&g.replay::<f32>().unwrap().fly(Replay::step).unwrap().end);
+    let r64 = g.replay_for::<f64, Power>(true).unwrap();
+    assert_eq!(r64.cost(), Cost::Power);
+    let e64 = p.terminal_error(&r64.finish().unwrap());
+    let r32 = g.replay_for::<f32, Power>(true).unwrap();
+    let e32 = p.terminal_error(&r32.fly(Replay::step).unwrap().end);
     assert!(e64.alpha.max(e64.g) < 1e-10, "f64: {e64:?}");
     assert!(e32.alpha.max(e32.g) < 1e-5, "f32: {e32:?}");
-    // The cost is what replays it: the effort's law from the power's costate, restarting at
-    // every checkpoint, ends far from the target.
-    let effort = g.replay::<f64>().unwrap().with_cost(Cost::Effort);
+    // The gait's cost is the only law it replays with: the effort's replay is refused, and
+    // the effort's law from the power's costate, restarting at every checkpoint, ends far
+    // from the target.
+    assert_eq!(g.replay::<f64>().err(), Some(Error::InvalidParameters));
+    assert_eq!(
+        g.replay_for::<f32, Effort>(false).err(),
+        Some(Error::InvalidParameters)
+    );
+    let effort = g
+        .replay_for::<f64, Power>(true)
+        .unwrap()
+        .with_law::<Effort>();
     let wrong = effort.finish().map(|end| p.terminal_error(&end));
     assert!(wrong.is_err() || wrong.is_ok_and(|e| e.alpha.max(e.g) > 1e-3));
 }
@@ -51,7 +64,11 @@ fn a_gait_file_round_trips_its_cost() {
             gait::VERSION_COST
         };
         assert_eq!(bytes[8..10], version.to_le_bytes());
-        assert_eq!(back.replay::<f32>().unwrap().cost(), cost);
+        let power = back.replay_for::<f32, Power>(true).map(|r| r.cost());
+        let effort = back.replay::<f32>().map(|r| r.cost());
+        let expected = Ok(cost);
+        assert!(power == expected || effort == expected, "{cost:?}");
+        assert!(power.is_err() || effort.is_err());
     }
     // An unknown cost code, the effort's (its gaits are the older versions), an end-shape flag neither 0 nor 1 and an end shape stored as
     // absent but not zero are refused: `PARM` at 80 (header, four directory entries), its

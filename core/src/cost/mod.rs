@@ -14,10 +14,16 @@
 //!
 //! A third cost is a module with a [`Law`]: its first iterate and its two kinds of passes
 //! ([`crate::passes`]), and a name here.
+//!
+//! [`Effort`] and [`Power`] are also types: the [`RunningCost`] parameter of a
+//! [`crate::Replay`], so that a replay's law is fixed when it is built (one compiled step per
+//! cost, the effort's the same code as before the power existed) and a caller that reads the
+//! cost from a gait file chooses once, outside its loop of steps
+//! ([`crate::Gait::replay_for`]).
 
 mod power;
 
-pub(crate) use power::Power;
+pub(crate) use power::PowerLaw;
 
 use crate::law::{Equation, Rows};
 use crate::{Error, Real};
@@ -62,6 +68,31 @@ impl Cost {
     }
 }
 
+/// A running cost as a type, the law a [`crate::Replay`] runs: [`Effort`] or [`Power`].
+pub trait RunningCost: Copy + Default + core::fmt::Debug + sealed::Sealed {
+    /// The cost's name.
+    const COST: Cost;
+}
+
+mod sealed {
+    /// Only the core's costs have a law.
+    pub trait Sealed {}
+    impl Sealed for super::Effort {}
+    impl Sealed for super::Power {}
+}
+
+impl RunningCost for Effort {
+    const COST: Cost = Cost::Effort;
+}
+
+/// The power the fluid dissipates as a [`RunningCost`] ([`Cost::Power`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Power;
+
+impl RunningCost for Power {
+    const COST: Cost = Cost::Power;
+}
+
 /// A step's `u_k` and `ξ^k`.
 pub(crate) type Solution<T> = (Vector2<T>, Vector2<T>);
 
@@ -94,9 +125,9 @@ pub(crate) trait Step<T: Real> {
     ) -> Result<Solution<T>, Error>;
 }
 
-/// The effort `ℓ = h/2·|u|²`: the law of [`crate::law`] as it is.
+/// The effort `ℓ = h/2·|u|²`: the law of [`crate::law`] as it is ([`Cost::Effort`]).
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Effort;
+pub struct Effort;
 
 impl<T: Real> Law<T> for Effort {
     type Step = Effort;

@@ -39,15 +39,15 @@ use nalgebra::{Matrix3x2, Vector2, Vector3};
 
 /// The power of a swimmer of drag coefficient `k` (it scales `G`, and so the costate).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Power<T> {
+pub(crate) struct PowerLaw<T> {
     drag: T,
 }
 
-impl<T: Real> Power<T> {
+impl<T: Real> PowerLaw<T> {
     /// The power of `swimmer`.
     #[inline(always)]
     pub(crate) fn new(swimmer: &Swimmer<T>) -> Self {
-        Power {
+        PowerLaw {
             drag: swimmer.drag(),
         }
     }
@@ -60,7 +60,7 @@ pub(crate) struct PowerStep<T> {
     hdg: [Mat2<T>; 2],
 }
 
-impl<T: Real> Law<T> for Power<T> {
+impl<T: Real> Law<T> for PowerLaw<T> {
     type Step = PowerStep<T>;
 
     #[inline(always)]

@@ -1,6 +1,7 @@
 //! Reading a gait file in place ([`Gait::from_bytes`]) and replaying it ([`Gait::replay`]).
 
 use crate::arc::{self, Arc, ArcTable};
+use crate::cost::RunningCost;
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
@@ -324,40 +325,52 @@ impl<'a> Gait<'a> {
     }
 
     /// A replay of the whole gait in `T` that restores the checkpoints from the table stored
-    /// in `T`, read in place as the replay reaches them, and runs the law of the gait's cost
-    /// ([`Replay::with_cost`]) on the arcs ([`Replay::with_arcs`]).
+    /// in `T`, read in place as the replay reaches them, and runs the effort's law on the arcs
+    /// ([`Replay::with_arcs`]). A gait of another cost: [`Gait::replay_for`].
     ///
     /// Errors: as [`Replay::new`] (the parameters and checkpoints rounded to `T` are checked
-    /// again, e.g. an angle that rounds up to `π` in `f32`).
+    /// again, e.g. an angle that rounds up to `π` in `f32`); [`Error::InvalidParameters`] for a
+    /// gait solved for another cost than the effort.
     pub fn replay<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
-        self.replay_with(true)
+        self.replay_for(true)
     }
 
     /// A replay of the whole gait in `T` from `(μ, ξ^{−1})` and the arc table alone: the
     /// only checkpoints it restores are those at the arcs' exits, which the law needs (MODEL.md
     /// §9); none for a gait without arcs.
     ///
-    /// Errors: as [`Replay::new`] (only the checkpoints it restores are checked in `T`).
+    /// Errors: as [`Gait::replay`] (only the checkpoints it restores are checked in `T`).
     pub fn replay_without_checkpoints<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
-        self.replay_with(false)
+        self.replay_for(false)
     }
 
-    fn replay_with<T: Stored>(&self, periodic: bool) -> Result<Replay<'a, T>, Error> {
+    /// [`Gait::replay`] (with `checkpoints`) or [`Gait::replay_without_checkpoints`] running
+    /// the law of the cost `C`, which must be the gait's (`params().cost`): a caller that flies
+    /// gaits of any cost matches on it once and runs each cost's replay (see
+    /// [`crate::cost`]).
+    ///
+    /// Errors: as [`Gait::replay`]; [`Error::InvalidParameters`] if `C` is not the gait's cost.
+    pub fn replay_for<T: Stored, C: RunningCost>(
+        &self,
+        checkpoints: bool,
+    ) -> Result<Replay<'a, T, C>, Error> {
         let p = &self.params;
+        if p.cost != C::COST {
+            return Err(Error::InvalidParameters);
+        }
         let table = if size_of::<T>() == 4 {
             self.table32
         } else {
             self.table64
         };
-        Ok(Replay::with_tables(
+        Replay::with_tables(
             p.kinematics()?,
             p.start(),
             p.costate(),
             p.steps,
             CheckpointTable::Stored(table),
             ArcTable::Stored(self.arcs),
-            periodic,
-        )?
-        .with_cost(p.cost))
+            checkpoints,
+        )
     }
 }

@@ -7,6 +7,7 @@
 mod common;
 
 use common::*;
+use purcell_core::cost::Power;
 use purcell_core::{Cost, Gait, Replay, Swimmer};
 use purcell_sim::costate_file::{CostateFile, VERSION_COST};
 use purcell_solver::testkit::dissipated;
@@ -22,7 +23,7 @@ fn replay(file: &CostateFile) -> (f64, f64, f64) {
     assert_eq!(bytes[8..10], purcell_core::gait::VERSION_COST.to_le_bytes());
     let p = gait.params();
     let sw = Swimmer::new(p.model.links, p.model.drag, p.model.ratio).unwrap();
-    let r64 = gait.replay::<f64>().unwrap();
+    let r64 = gait.replay_for::<f64, Power>(true).unwrap();
     assert_eq!(r64.cost(), Cost::Power);
     let mut sum = 0.0;
     let mut r = r64;
@@ -30,7 +31,8 @@ fn replay(file: &CostateFile) -> (f64, f64, f64) {
         sum += dissipated(&sw, &s.state.alpha, &s.u);
     }
     let e64 = p.terminal_error(r.state());
-    let end32 = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap().end;
+    let end32 = gait.replay_for::<f32, Power>(true).unwrap();
+    let end32 = end32.fly(Replay::step).unwrap().end;
     let e32 = p.terminal_error(&end32);
     (e64.alpha.max(e64.g), e32.alpha.max(e32.g), 0.5 * p.h * sum)
 }
