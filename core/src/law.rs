@@ -44,7 +44,6 @@
 //! `u_k = 0`. The same code runs both (a `Rows` parameter): the free law solves all rows, an
 //! arc step fewer.
 
-use crate::cost::{Cost, Effort, Law, PowerLaw, Step};
 use crate::kinematics::{Kinematics, State};
 use crate::passes::{PassKind, Passes};
 use crate::se2::{self, ExpCoefficients, Tangent};
@@ -95,36 +94,16 @@ impl<T: Real> Kinematics<T> {
         on: OnArcs,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
-        self.law_step_for(Cost::Effort, state, xi_prev, mu, on, passes)
-    }
-
-    /// [`Kinematics::law_step`] of the running cost `cost` (MODEL.md §11): the stationarity
-    /// `G(α_k)u_k = ξ^k − A(α_k)ᵀζ^k` and the shape costate's update with the cost's shape
-    /// gradient (see [`crate::cost`]); [`Cost::Effort`] is [`Kinematics::law_step`]. Errors as
-    /// [`Kinematics::law_step`].
-    #[inline]
-    pub fn law_step_for(
-        &self,
-        cost: Cost,
-        state: &State<T>,
-        xi_prev: &Vector2<T>,
-        mu: &Vector3<T>,
-        on: OnArcs,
-        passes: Passes,
-    ) -> Result<LawStep<T>, Error> {
         check_inputs(state, xi_prev, mu)?;
         // Off the arcs, the free rows: the code a replay's free step runs.
-        match (cost, on == OnArcs::NONE) {
-            (Cost::Effort, true) => self.law_step_trusted(state, xi_prev, mu, Effort, Free, passes),
-            (Cost::Effort, false) => self.law_step_trusted(state, xi_prev, mu, Effort, on, passes),
-            (Cost::Power, _) => {
-                let power = PowerLaw::new(self.swimmer());
-                self.law_step_trusted(state, xi_prev, mu, power, on, passes)
-            }
+        if on == OnArcs::NONE {
+            self.law_step_trusted(state, xi_prev, mu, Effort, Free, passes)
+        } else {
+            self.law_step_trusted(state, xi_prev, mu, Effort, on, passes)
         }
     }
 
-    /// [`Kinematics::law_step_for`] of the cost's law `cost` solving the law's rows `rows`
+    /// [`Kinematics::law_step`] of the cost's law `cost` solving the law's rows `rows`
     /// ([`Free`], or the joints off their [`OnArcs`]), for inputs already known to be valid: `state` passes
     /// [`State::check`], `ξ^{k−1}` and `μ` are finite (a [`crate::Replay`] knows this from its
     /// start checks and the previous step's output checks). Still checks every output, so it
@@ -174,7 +153,7 @@ impl<T: Real> Kinematics<T> {
 }
 
 /// `Ok` if `ξ^{k−1}` and `μ` are finite and `state` passes [`State::check`].
-fn check_inputs<T: Real>(
+pub(crate) fn check_inputs<T: Real>(
     state: &State<T>,
     xi_prev: &Vector2<T>,
     mu: &Vector3<T>,
@@ -183,6 +162,77 @@ fn check_inputs<T: Real>(
         return Err(Error::NonFinite);
     }
     state.check()
+}
+
+/// A step's `u_k` and `ξ^k`.
+pub(crate) type Solution<T> = (Vector2<T>, Vector2<T>);
+
+/// The law's equations of a cost: [`Law::at`] takes what the cost needs at a step's shape.
+pub(crate) trait Law<T: Real>: Copy {
+    /// The cost at one step.
+    type Step: Step<T>;
+    /// The cost at the step of `eq`.
+    fn at(self, eq: &Equation<T>) -> Self::Step;
+}
+
+/// The three parts of a step's solve (see [`crate::law`]), each solving `rows`.
+pub(crate) trait Step<T: Real> {
+    /// The root of the law's equation linearised at `u = 0` (and, for a cost whose shape
+    /// gradient is not zero, its quadratic term taken in by a Newton step), with its `ξ^k`.
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error>;
+    /// A plain pass from `u` ([`crate::PassKind::Plain`]).
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error>;
+    /// A Newton pass from `u` ([`crate::PassKind::Newton`]).
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error>;
+}
+
+/// The effort `ℓ = h/2·|u|²`: the law of [`crate::law`] as it is ([`crate::Cost::Effort`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Effort;
+
+impl<T: Real> Law<T> for Effort {
+    type Step = Effort;
+    #[inline(always)]
+    fn at(self, _: &Equation<T>) -> Effort {
+        Effort
+    }
+}
+
+impl<T: Real> Step<T> for Effort {
+    #[inline(always)]
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
+        eq.first_iterate(rows)
+    }
+
+    #[inline(always)]
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        eq.plain_pass(u, rows)
+    }
+
+    #[inline(always)]
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        eq.newton_pass(u, rows)
+    }
 }
 
 /// A 2×2 matrix `(m11, m12, m21, m22)`.

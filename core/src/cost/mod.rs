@@ -1,5 +1,5 @@
 //! The running cost the law minimises (MODEL.md §11), behind one type: [`Cost`] names it (a
-//! gait file stores the name), [`Law`] is what the law of [`crate::law`] asks of it.
+//! gait file stores the name), `Law` is what the law of [`crate::law`] asks of it.
 //!
 //! A cost `J = Σ_k ℓ(α_k, u_k)` enters the law's equations only through the stationarity in
 //! `u_k` and the shape costate's update:
@@ -10,9 +10,9 @@
 //!
 //! - [`Effort`]: `ℓ = h/2·|u|²`, the paper's (MODEL.md §5): `u_k = ξ^k − Aᵀζ^k`.
 //! - [`Power`]: `ℓ = h/2·uᵀG(α)u`, the power the fluid dissipates: `G(α_k)u_k = ξ^k − Aᵀζ^k`,
-//!   `ξ^k = ξ^{k−1} + hB_ku_k + (h/2)c_k`, `c_{k,i} = u_kᵀ∂G/∂α_i u_k` ([`power`]).
+//!   `ξ^k = ξ^{k−1} + hB_ku_k + (h/2)c_k`, `c_{k,i} = u_kᵀ∂G/∂α_i u_k` (`cost/power.rs`).
 //!
-//! A third cost is a module with a [`Law`]: its first iterate and its two kinds of passes
+//! A third cost is a module with a `Law` (in [`crate::law`]): its first iterate and its two kinds of passes
 //! ([`crate::passes`]), and a name here.
 //!
 //! [`Effort`] and [`Power`] are also types: the [`RunningCost`] parameter of a
@@ -25,9 +25,12 @@ mod power;
 
 pub(crate) use power::PowerLaw;
 
-use crate::law::{Equation, Rows};
+use crate::kinematics::{Kinematics, State};
+pub use crate::law::Effort;
+use crate::law::{Free, LawStep, OnArcs, check_inputs};
+use crate::passes::Passes;
 use crate::{Error, Real};
-use nalgebra::Vector2;
+use nalgebra::{Vector2, Vector3};
 
 /// The costs the core's law runs, by the name a gait file and a costate file store.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -93,73 +96,30 @@ impl RunningCost for Power {
     const COST: Cost = Cost::Power;
 }
 
-/// A step's `u_k` and `ξ^k`.
-pub(crate) type Solution<T> = (Vector2<T>, Vector2<T>);
-
-/// The law's equations of a cost: [`Law::at`] takes what the cost needs at a step's shape.
-pub(crate) trait Law<T: Real>: Copy {
-    /// The cost at one step.
-    type Step: Step<T>;
-    /// The cost at the step of `eq`.
-    fn at(self, eq: &Equation<T>) -> Self::Step;
-}
-
-/// The three parts of a step's solve (see [`crate::law`]), each solving `rows`.
-pub(crate) trait Step<T: Real> {
-    /// The root of the law's equation linearised at `u = 0` (and, for a cost whose shape
-    /// gradient is not zero, its quadratic term taken in by a Newton step), with its `ξ^k`.
-    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error>;
-    /// A plain pass from `u` ([`crate::PassKind::Plain`]).
-    fn plain_pass<R: Rows<T>>(
+impl<T: Real> Kinematics<T> {
+    /// [`Kinematics::law_step`] of the running cost `cost` (MODEL.md §11): the stationarity
+    /// `G(α_k)u_k = ξ^k − A(α_k)ᵀζ^k` and the shape costate's update with the cost's shape
+    /// gradient (see [`crate::cost`]); [`Cost::Effort`] is [`Kinematics::law_step`]. Errors as
+    /// [`Kinematics::law_step`].
+    #[inline]
+    pub fn law_step_for(
         &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error>;
-    /// A Newton pass from `u` ([`crate::PassKind::Newton`]).
-    fn newton_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error>;
-}
-
-/// The effort `ℓ = h/2·|u|²`: the law of [`crate::law`] as it is ([`Cost::Effort`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Effort;
-
-impl<T: Real> Law<T> for Effort {
-    type Step = Effort;
-    #[inline(always)]
-    fn at(self, _: &Equation<T>) -> Effort {
-        Effort
-    }
-}
-
-impl<T: Real> Step<T> for Effort {
-    #[inline(always)]
-    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
-        eq.first_iterate(rows)
-    }
-
-    #[inline(always)]
-    fn plain_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
-        eq.plain_pass(u, rows)
-    }
-
-    #[inline(always)]
-    fn newton_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
-        eq.newton_pass(u, rows)
+        cost: Cost,
+        state: &State<T>,
+        xi_prev: &Vector2<T>,
+        mu: &Vector3<T>,
+        on: OnArcs,
+        passes: Passes,
+    ) -> Result<LawStep<T>, Error> {
+        check_inputs(state, xi_prev, mu)?;
+        // Off the arcs, the free rows: the code a replay's free step runs.
+        match (cost, on == OnArcs::NONE) {
+            (Cost::Effort, true) => self.law_step_trusted(state, xi_prev, mu, Effort, Free, passes),
+            (Cost::Effort, false) => self.law_step_trusted(state, xi_prev, mu, Effort, on, passes),
+            (Cost::Power, _) => {
+                let power = PowerLaw::new(self.swimmer());
+                self.law_step_trusted(state, xi_prev, mu, power, on, passes)
+            }
+        }
     }
 }

@@ -31,8 +31,7 @@
 //! up to `O(|u' − u|²)`. On an arc (MODEL.md §11, "Joint limits") the resting joint's costate
 //! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
 
-use super::{Law, Solution, Step};
-use crate::law::{Equation, Mat2, NewtonTerms, Rows, mul};
+use crate::law::{Equation, Law, Mat2, NewtonTerms, Rows, Solution, Step, mul};
 use crate::swimmer::Swimmer;
 use crate::{Error, Real};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
