@@ -10,8 +10,8 @@
 #  2b. the committed power-optimal gait core/examples/paper-power.gait (solve --cost power: the
 #     power's law, MODEL.md §11) flies on the M4F bit-identical to `purcell-sim replay --gait …
 #     --precision f32`, mean instructions per step <= PURCELL_MCU_POWER_MAX_INSN (default 920, a
-#     regression guard: measured 905.5, above issue 37's 850), largest
-#     <= PURCELL_MCU_POWER_MAX_STEP_INSN (default 1000, measured 979);
+#     regression guard: measured 898.5, above issue 37's 850), largest
+#     <= PURCELL_MCU_POWER_MAX_STEP_INSN (default 1000, measured 969);
 #  3. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
 #  4. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
 #     to the host f32 flight, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 685,
