@@ -346,50 +346,6 @@ impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
         self.record(step)
     }
 
-    /// The same replay running the law of the cost `D` from where it is (a new replay runs
-    /// the effort's; [`crate::Gait::replay_for`] the gait's): the cost the costate was solved
-    /// for, or another to compare.
-    pub fn with_law<D: RunningCost>(self) -> Replay<'a, T, D> {
-        let Replay {
-            kinematics,
-            mu,
-            sample,
-            state,
-            xi,
-            k,
-            steps,
-            next_event,
-            next_checkpoint,
-            next_arc,
-            checkpoints,
-            periodic,
-            arcs,
-            arc_ends,
-            on_arcs,
-            law: _,
-            failed,
-        } = self;
-        Replay {
-            kinematics,
-            mu,
-            sample,
-            state,
-            xi,
-            k,
-            steps,
-            next_event,
-            next_checkpoint,
-            next_arc,
-            checkpoints,
-            periodic,
-            arcs,
-            arc_ends,
-            on_arcs,
-            law: PhantomData,
-            failed,
-        }
-    }
-
     /// The running cost whose law the replay runs, `C`'s.
     pub fn cost(&self) -> Cost {
         C::COST

@@ -32,10 +32,15 @@ fn the_power_gait_replays_to_the_target_through_the_power_law() {
         g.replay_for::<f32, Effort>(false).err(),
         Some(Error::InvalidParameters)
     );
-    let effort = g
-        .replay_for::<f64, Power>(true)
-        .unwrap()
-        .with_law::<Effort>();
+    // The same file labelled with the effort.
+    let params = gait::GaitParams {
+        cost: Cost::Effort,
+        ..*p
+    };
+    let records: Vec<_> = g.checkpoints().collect();
+    let mut bytes = vec![0; gait::encoded_len_of(&params, records.len(), 0, 0)];
+    gait::encode(&params, &records, &[], &mut bytes).unwrap();
+    let effort = Gait::from_bytes(&bytes).unwrap().replay::<f64>().unwrap();
     let wrong = effort.finish().map(|end| p.terminal_error(&end));
     assert!(wrong.is_err() || wrong.is_ok_and(|e| e.alpha.max(e.g) > 1e-3));
 }
