@@ -7,6 +7,11 @@
 #     |alpha_i| <= 1.5: five joint-limit arcs) flies on the M4F bit-identical to `purcell-sim
 #     replay --gait … --precision f32`, within the M4F budgets, its steps on the arcs no
 #     dearer than its free steps on average (every step within the per-step budget);
+#  2b. the committed power-optimal gait core/examples/paper-power.gait (solve --cost power: the
+#     power's law, MODEL.md §11) flies on the M4F bit-identical to `purcell-sim replay --gait …
+#     --precision f32`, mean instructions per step <= PURCELL_MCU_POWER_MAX_INSN (default 920, a
+#     regression guard: measured 898.5, above issue 37's 850), largest
+#     <= PURCELL_MCU_POWER_MAX_STEP_INSN (default 1000, measured 969);
 #  3. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
 #  4. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
 #     to the host f32 flight, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 685,
@@ -91,13 +96,17 @@ fly() {
   echo "flash: $name $("$size" -A "$elf" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" {s[$1] = $2} END {printf ".text=%d .rodata=%d .vector_table=%d bytes", s[".text"], s[".rodata"], s[".vector_table"]}')"
 }
 
-# $1 name, $2 gait file: flies it on the M4F (PURCELL_GAIT), checks the log against the host
-# (budgets included) and the digest line against `purcell-sim replay --gait … --precision f32`.
+# $1 name, $2 gait file[, budget flags (default: the M4F's)]: flies it on the M4F
+# (PURCELL_GAIT), checks the log against the host (budgets included) and the digest line against
+# `purcell-sim replay --gait … --precision f32`.
 fly_gait() {
   local name=$1 gait=$2
+  shift 2
+  local budget=("${m4f_budget[@]}")
+  if (($#)); then budget=("$@"); fi
   sim replay --gait "$gait" --precision f32 | tee "$gaits/$name-host.txt"
   PURCELL_GAIT=$gait m4f_run 2>"$out/$name.stderr" | tee "$out/$name.log"
-  PURCELL_GAIT=$gait tool check "$out/$name.log" "${m4f_budget[@]}" --max-stack 2048
+  PURCELL_GAIT=$gait tool check "$out/$name.log" "${budget[@]}" --max-stack 2048
   local host_digest mcu_digest
   host_digest=$(grep '^digest: ' "$gaits/$name-host.txt")
   mcu_digest=$(grep '^digest: ' "$out/$name.log")
@@ -118,6 +127,10 @@ fly_gait gait "$gaits/solved.gait"
 
 echo "--- constrained gait: the paper's target within |alpha_i| <= 1.5, on its joint limit on five arcs"
 fly_gait limit core/examples/paper-limit.gait
+
+echo "--- power gait: the paper's target at least power (solve --cost power, MODEL.md §11), the power's law"
+fly_gait power core/examples/paper-power.gait --max-insn "${PURCELL_MCU_POWER_MAX_INSN:-920}" \
+  --max-step-insn "${PURCELL_MCU_POWER_MAX_STEP_INSN:-1000}"
 
 echo "--- corrupted gait: one flipped byte in the checkpoint table must be refused (exit 1)"
 cp "$gaits/solved.gait" "$gaits/corrupt.gait"

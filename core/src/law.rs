@@ -97,37 +97,39 @@ impl<T: Real> Kinematics<T> {
         check_inputs(state, xi_prev, mu)?;
         // Off the arcs, the free rows: the code a replay's free step runs.
         if on == OnArcs::NONE {
-            self.law_step_trusted(state, xi_prev, mu, Free, passes)
+            self.law_step_trusted(state, xi_prev, mu, Effort, Free, passes)
         } else {
-            self.law_step_trusted(state, xi_prev, mu, on, passes)
+            self.law_step_trusted(state, xi_prev, mu, Effort, on, passes)
         }
     }
 
-    /// [`Kinematics::law_step`] solving the law's rows `rows` ([`Free`], or the joints off
-    /// their [`OnArcs`]), for inputs already known to be valid: `state` passes
+    /// [`Kinematics::law_step`] of the cost's law `cost` solving the law's rows `rows`
+    /// ([`Free`], or the joints off their [`OnArcs`]), for inputs already known to be valid: `state` passes
     /// [`State::check`], `ξ^{k−1}` and `μ` are finite (a [`crate::Replay`] knows this from its
     /// start checks and the previous step's output checks). Still checks every output, so it
     /// cannot return a non-finite or inadmissible result. Always inlined: a replay's free step
     /// and its out-of-line arc step are each this code.
     #[inline(always)]
-    pub(crate) fn law_step_trusted<R: Rows<T>>(
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn law_step_trusted<C: Law<T>, R: Rows<T>>(
         &self,
         state: &State<T>,
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
+        cost: C,
         rows: R,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
         let frame = self.swimmer().frame(&state.alpha)?;
         let eq = Equation::new(frame, self.h(), state.g.adjoint_transpose_mul(mu), *xi_prev);
-        let (u0, xi0) = eq.first_iterate(rows)?;
+        let step = cost.at(&eq);
+        let (u0, xi0) = step.first_iterate(&eq, rows)?;
         let (u, xi) = match passes.kind {
             PassKind::Plain => {
-                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.plain_pass(&u, rows))?
+                (0..passes.count).try_fold((u0, xi0), |(u, _), _| step.plain_pass(&eq, &u, rows))?
             }
-            PassKind::Newton => {
-                (0..passes.count).try_fold((u0, xi0), |(u, _), _| eq.newton_pass(&u, rows))?
-            }
+            PassKind::Newton => (0..passes.count)
+                .try_fold((u0, xi0), |(u, _), _| step.newton_pass(&eq, &u, rows))?,
         };
         self.finish(state, &eq, u, xi)
     }
@@ -151,7 +153,7 @@ impl<T: Real> Kinematics<T> {
 }
 
 /// `Ok` if `ξ^{k−1}` and `μ` are finite and `state` passes [`State::check`].
-fn check_inputs<T: Real>(
+pub(crate) fn check_inputs<T: Real>(
     state: &State<T>,
     xi_prev: &Vector2<T>,
     mu: &Vector3<T>,
@@ -162,8 +164,79 @@ fn check_inputs<T: Real>(
     state.check()
 }
 
+/// A step's `u_k` and `ξ^k`.
+pub(crate) type Solution<T> = (Vector2<T>, Vector2<T>);
+
+/// The law's equations of a cost: [`Law::at`] takes what the cost needs at a step's shape.
+pub(crate) trait Law<T: Real>: Copy {
+    /// The cost at one step.
+    type Step: Step<T>;
+    /// The cost at the step of `eq`.
+    fn at(self, eq: &Equation<T>) -> Self::Step;
+}
+
+/// The three parts of a step's solve (see [`crate::law`]), each solving `rows`.
+pub(crate) trait Step<T: Real> {
+    /// The root of the law's equation linearised at `u = 0` (and, for a cost whose shape
+    /// gradient is not zero, its quadratic term taken in by a Newton step), with its `ξ^k`.
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error>;
+    /// A plain pass from `u` ([`crate::PassKind::Plain`]).
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error>;
+    /// A Newton pass from `u` ([`crate::PassKind::Newton`]).
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error>;
+}
+
+/// The effort `ℓ = h/2·|u|²`: the law of [`crate::law`] as it is ([`crate::Cost::Effort`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Effort;
+
+impl<T: Real> Law<T> for Effort {
+    type Step = Effort;
+    #[inline(always)]
+    fn at(self, _: &Equation<T>) -> Effort {
+        Effort
+    }
+}
+
+impl<T: Real> Step<T> for Effort {
+    #[inline(always)]
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
+        eq.first_iterate(rows)
+    }
+
+    #[inline(always)]
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        eq.plain_pass(u, rows)
+    }
+
+    #[inline(always)]
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        eq.newton_pass(u, rows)
+    }
+}
+
 /// A 2×2 matrix `(m11, m12, m21, m22)`.
-type Mat2<T> = (T, T, T, T);
+pub(crate) type Mat2<T> = (T, T, T, T);
 
 /// Which rows of the law's equation a step solves: all ([`Free`]), or those of the joints off
 /// their limit ([`OnArcs`]: `u_i = 0` in place of row `i`, and `ξ^k_i = (Aᵀζ)_i`).
@@ -173,6 +246,8 @@ pub(crate) trait Rows<T: Real>: Copy {
     /// `ξ^k` from the free rows' `ξ` and the `ζ` it goes with: the components of the joints
     /// on an arc replaced by `(Aᵀζ)_i`.
     fn costate(self, xi: Vector2<T>, a: &Matrix3x2<T>, z: &Vector3<T>) -> Vector2<T>;
+    /// The joints on an arc, `[joint 1, joint 2]`.
+    fn resting(self) -> [bool; 2];
 }
 
 /// Every row: the free law.
@@ -188,6 +263,11 @@ impl<T: Real> Rows<T> for Free {
     #[inline(always)]
     fn costate(self, xi: Vector2<T>, _: &Matrix3x2<T>, _: &Vector3<T>) -> Vector2<T> {
         xi
+    }
+
+    #[inline(always)]
+    fn resting(self) -> [bool; 2] {
+        [false; 2]
     }
 }
 
@@ -218,22 +298,27 @@ impl<T: Real> Rows<T> for OnArcs {
             },
         )
     }
+
+    #[inline(always)]
+    fn resting(self) -> [bool; 2] {
+        self.0
+    }
 }
 
 /// The law's equation `R(u) = 0` at one step: the connection's [`Frame`] at `α_k`, with
 /// `h·W_ξ⁻¹` so that `hB(ζ)` comes from `λ = h·W_ξ⁻¹ζ` against the brackets' columns (see
 /// [`crate::swimmer`]), `m_k` and `ξ^{k−1}`.
-struct Equation<T: Real> {
-    frame: Frame<T>,
-    hw_inv: Sym3<T>,
-    h: T,
-    m: Vector3<T>,
-    xi_prev: Vector2<T>,
+pub(crate) struct Equation<T: Real> {
+    pub(crate) frame: Frame<T>,
+    pub(crate) hw_inv: Sym3<T>,
+    pub(crate) h: T,
+    pub(crate) m: Vector3<T>,
+    pub(crate) xi_prev: Vector2<T>,
 }
 
 impl<T: Real> Equation<T> {
     #[inline(always)]
-    fn new(frame: Frame<T>, h: T, m: Vector3<T>, xi_prev: Vector2<T>) -> Self {
+    pub(crate) fn new(frame: Frame<T>, h: T, m: Vector3<T>, xi_prev: Vector2<T>) -> Self {
         Equation {
             hw_inv: frame.w_inv.map(|v| v * h),
             frame,
@@ -245,7 +330,7 @@ impl<T: Real> Equation<T> {
 
     /// `hB(ζ)_ij = ζᵀ h∂A/∂α_i e_j = λ·E_i e_j` with `λ = h·W_ξ⁻¹ζ`.
     #[inline(always)]
-    fn hb(&self, z: &Vector3<T>) -> Mat2<T> {
+    pub(crate) fn hb(&self, z: &Vector3<T>) -> Mat2<T> {
         let lam = sym_mul_vec(&self.hw_inv, z);
         let [[e11, e12], [e21, e22]] = &self.frame.e;
         (lam.dot(e11), lam.dot(e12), lam.dot(e21), lam.dot(e22))
@@ -259,7 +344,7 @@ impl<T: Real> Equation<T> {
 
     /// `X = −hAu`.
     #[inline(always)]
-    fn twist(&self, u: &Vector2<T>) -> Tangent<T> {
+    pub(crate) fn twist(&self, u: &Vector2<T>) -> Tangent<T> {
         connection_mul(
             &self.frame.a,
             &Vector2::new(-(self.h * u.x), -(self.h * u.y)),
@@ -268,7 +353,7 @@ impl<T: Real> Equation<T> {
 
     /// `ξ^{k−1} − Aᵀζ`.
     #[inline(always)]
-    fn rhs(&self, z: &Vector3<T>) -> Vector2<T> {
+    pub(crate) fn rhs(&self, z: &Vector3<T>) -> Vector2<T> {
         let a = &self.frame.a;
         Vector2::new(
             self.xi_prev.x - (a.m11 * z.x + a.m21 * z.y + a.m31 * z.z),
@@ -278,7 +363,7 @@ impl<T: Real> Equation<T> {
 
     /// `ζ(u) = dexp_Xᵀ m_k` at `X = −hAu`.
     #[inline(always)]
-    fn zeta(&self, u: &Vector2<T>) -> Vector3<T> {
+    pub(crate) fn zeta(&self, u: &Vector2<T>) -> Vector3<T> {
         let x = self.twist(u);
         ExpCoefficients::new(x.z).dexp_transpose_mul(&x, &self.m)
     }
@@ -286,13 +371,14 @@ impl<T: Real> Equation<T> {
     /// The first iterate `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)` and its `ξ = ξ^{k−1} + hB(m)u⁰` (see the
     /// module docs), solving `rows`.
     #[inline(always)]
-    fn first_iterate<R: Rows<T>>(&self, rows: R) -> Result<(Vector2<T>, Vector2<T>), Error> {
+    pub(crate) fn first_iterate<R: Rows<T>>(
+        &self,
+        rows: R,
+    ) -> Result<(Vector2<T>, Vector2<T>), Error> {
         let (a, m) = (&self.frame.a, &self.m);
         let hb = self.hb(m);
         let (b11, b12, b21, b22) = hb;
-        // κ = a₁ᵀK(m)a₂ = m_x (a₁z a₂y − a₁y a₂z) + m_y (a₁x a₂z − a₁z a₂x).
-        let kappa = m.x * (a.m31 * a.m22 - a.m21 * a.m32) + m.y * (a.m11 * a.m32 - a.m31 * a.m12);
-        let hk = T::half() * self.h * kappa;
+        let hk = self.half_h_kappa();
         let u = rows.solve(
             &(T::one() - b11, -(b12 + hk), hk - b21, T::one() - b22),
             &self.rhs(m),
@@ -300,10 +386,19 @@ impl<T: Real> Equation<T> {
         Ok((u, rows.costate(self.xi(&hb, &u), a, m)))
     }
 
+    /// `(h/2)κ` of the first iterate's matrix: `κ = a₁ᵀK(m)a₂ = m_x (a₁z a₂y − a₁y a₂z) +
+    /// m_y (a₁x a₂z − a₁z a₂x)`.
+    #[inline(always)]
+    pub(crate) fn half_h_kappa(&self) -> T {
+        let (a, m) = (&self.frame.a, &self.m);
+        let kappa = m.x * (a.m31 * a.m22 - a.m21 * a.m32) + m.y * (a.m11 * a.m32 - a.m31 * a.m12);
+        T::half() * self.h * kappa
+    }
+
     /// A plain pass from `u`: `ζ(u)`, then `u' = (I − hB(ζ))⁻¹(ξ^{k−1} − Aᵀζ)`; returns `u'`
     /// and `ξ^{k−1} + hB(ζ)u'` (solving `rows`).
     #[inline(always)]
-    fn plain_pass<R: Rows<T>>(
+    pub(crate) fn plain_pass<R: Rows<T>>(
         &self,
         u: &Vector2<T>,
         rows: R,
@@ -315,6 +410,27 @@ impl<T: Real> Equation<T> {
         Ok((u, rows.costate(self.xi(&hb, &u), &self.frame.a, &z)))
     }
 
+    /// What a Newton pass from `u` needs besides the cost (see [`Equation::newton_pass`]).
+    #[inline(always)]
+    pub(crate) fn newton_terms(&self, u: &Vector2<T>) -> NewtonTerms<T> {
+        let (a, m) = (&self.frame.a, &self.m);
+        let x = self.twist(u);
+        let k = ExpCoefficients::new(x.z);
+        let z = k.dexp_transpose_mul(&x, m);
+        let dz = k.dexp_transpose_mul_jacobian(&x, m);
+        let mh = -self.h;
+        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let [[e11, e12], [e21, e22]] = &self.frame.e;
+        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
+        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
+        NewtonTerms {
+            z,
+            d: [d1, d2],
+            v: [v1, v2],
+            g: [a.column(0) - v1, a.column(1) - v2],
+        }
+    }
+
     /// A Newton pass from `u`: `u' = u − J⁻¹R(u)` with `R(u) = (I − hB(ζ))u − ξ^{k−1} + Aᵀζ`
     /// and its Jacobian `J = I − hB(ζ) + (Aᵀ − V(u))·∂ζ/∂u`, where `V(u) = [(h∂A/∂α_i u)ᵀ]_i`
     /// (so that `hB(ζ)u = V(u)ζ`) and `∂ζ/∂u = ∂(dexp_Xᵀm)/∂X·(−hA)`. Returns `u'` and
@@ -323,24 +439,20 @@ impl<T: Real> Equation<T> {
     /// step from the first iterate (`|δu| ≈ 5e-6·|u|`). Solving `rows`, `δu_i = 0` for a
     /// joint on an arc.
     #[inline(always)]
-    fn newton_pass<R: Rows<T>>(
+    pub(crate) fn newton_pass<R: Rows<T>>(
         &self,
         u: &Vector2<T>,
         rows: R,
     ) -> Result<(Vector2<T>, Vector2<T>), Error> {
-        let (a, m) = (&self.frame.a, &self.m);
-        let x = self.twist(u);
-        let k = ExpCoefficients::new(x.z);
-        let z = k.dexp_transpose_mul(&x, m);
-        let dz = k.dexp_transpose_mul_jacobian(&x, m);
-        let mh = -self.h;
-        let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
+        let a = &self.frame.a;
+        let NewtonTerms {
+            z,
+            d: [d1, d2],
+            v: [v1, v2],
+            g: [g1, g2],
+        } = self.newton_terms(u);
         let hb = self.hb(&z);
         let (b11, b12, b21, b22) = hb;
-        let [[e11, e12], [e21, e22]] = &self.frame.e;
-        let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
-        let v2 = sym_mul_vec(&self.hw_inv, &(e21 * u.x + e22 * u.y));
-        let (g1, g2) = (a.column(0) - v1, a.column(1) - v2);
         let jac = (
             T::one() - b11 + g1.dot(&d1),
             g1.dot(&d2) - b12,
@@ -359,15 +471,24 @@ impl<T: Real> Equation<T> {
     }
 }
 
+/// The terms of a Newton pass at `u`: `ζ(u)`, `∂ζ/∂u_j`, the rows `v_i` of `V(u)` and
+/// `g_i = a_i − v_i` (the columns of `Aᵀ − V(u)`, transposed).
+pub(crate) struct NewtonTerms<T: Real> {
+    pub(crate) z: Vector3<T>,
+    pub(crate) d: [Vector3<T>; 2],
+    pub(crate) v: [Vector3<T>; 2],
+    pub(crate) g: [Vector3<T>; 2],
+}
+
 /// `P·v` for a 2×2 `P`.
 #[inline(always)]
-fn mul<T: Real>(p: &Mat2<T>, v: &Vector2<T>) -> Vector2<T> {
+pub(crate) fn mul<T: Real>(p: &Mat2<T>, v: &Vector2<T>) -> Vector2<T> {
     Vector2::new(p.0 * v.x + p.1 * v.y, p.2 * v.x + p.3 * v.y)
 }
 
 /// `P⁻¹r` by Cramer's rule, or `Err(Singular)` (see [`inverse_det`]).
 #[inline(always)]
-fn solve<T: Real>(p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error> {
+pub(crate) fn solve<T: Real>(p: &Mat2<T>, r: &Vector2<T>) -> Result<Vector2<T>, Error> {
     let inv = inverse_det(p.0 * p.3 - p.1 * p.2)?;
     Ok(Vector2::new(
         (p.3 * r.x - p.1 * r.y) * inv,

@@ -13,6 +13,7 @@
 )]
 
 pub mod arc;
+pub mod cost;
 pub mod digest;
 pub mod error;
 pub mod gait;
@@ -30,6 +31,7 @@ pub mod testkit;
 pub mod tracking;
 
 pub use arc::Arc;
+pub use cost::Cost;
 pub use digest::TrajectoryDigest;
 pub use error::Error;
 pub use gait::Gait;
@@ -57,6 +59,7 @@ const _: () = {
     loggable::<LawStep<f32>>();
     loggable::<Arc>();
     loggable::<OnArcs>();
+    loggable::<Cost>();
     loggable::<Costate<f32>>();
     loggable::<Checkpoint<f32>>();
     loggable::<Sample<f32>>();

@@ -40,6 +40,11 @@ pub trait Real:
     /// (`core/tests/it/law.rs::passes_reach_rounding` checks both).
     const PASSES: Passes;
 
+    /// The passes of the power cost's law ([`crate::Cost::Power`], MODEL.md §11): its
+    /// equations are nonlinear in `u_k` through its shape gradient as well, so its first
+    /// iterate leaves more (`core/tests/power_law.rs` measures it). Defaults to [`Real::PASSES`].
+    const POWER_PASSES: Passes = Self::PASSES;
+
     /// The spacing of this type's numbers at 1 (for a compound type, of its value), as an
     /// `f64`: series are cut where their truncation falls below it. Defaults to `f64`'s.
     const EPSILON: f64 = f64::EPSILON;
@@ -105,6 +110,9 @@ impl Real for f64 {
     /// 1 Newton pass leaves ≤ 7e-15 of `|u_k|` (against 25), the first iterate alone 5e-6 and
     /// 1 plain pass 2e-8 (see `core/tests/it/law.rs`).
     const PASSES: Passes = Passes::newton(1);
+    /// The power's first iterate leaves up to 1e-4 of `|u_k|` at `|u_k| ≈ 2` rad/s, and one
+    /// Newton pass 2e-11; a second brings it to rounding (`core/tests/power_law.rs`).
+    const POWER_PASSES: Passes = Passes::newton(2);
 
     #[inline(always)]
     fn from_f64(x: f64) -> Self {

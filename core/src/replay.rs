@@ -20,11 +20,13 @@
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
 use crate::arc::{Arc, ArcTable, Exits};
+use crate::cost::{Cost, Effort, PowerLaw, RunningCost};
 use crate::kinematics::{Kinematics, State};
 use crate::law::{Free, LawStep, OnArcs};
 use crate::sample::Sample;
 use crate::table::{Table, VALUES};
 use crate::{Error, Real, Se2, TrajectoryDigest};
+use core::marker::PhantomData;
 use nalgebra::{Vector2, Vector3};
 
 /// The initial costate: constant spatial momentum `μ` and `ξ^{−1}`.
@@ -137,10 +139,11 @@ impl<T: Real> CheckpointTable<'_, T> {
     }
 }
 
-/// Runs `N` steps of the control law from a start state and an initial costate, with the
-/// joint-limit arcs of a constrained gait ([`crate::arc`]) if it has any.
+/// Runs `N` steps of the control law of the running cost `C` ([`crate::cost`]; the effort by
+/// default) from a start state and an initial costate, with the joint-limit arcs of a
+/// constrained gait ([`crate::arc`]) if it has any.
 #[derive(Clone, Debug)]
-pub struct Replay<'a, T> {
+pub struct Replay<'a, T, C = Effort> {
     kinematics: Kinematics<T>,
     mu: Vector3<T>,
     /// The step just done (its `state` is `(α_k, g_k)`, its `xi` is `ξ^k`).
@@ -167,6 +170,8 @@ pub struct Replay<'a, T> {
     arc_ends: [u32; 2],
     /// The joints on an arc at this step.
     on_arcs: OnArcs,
+    /// The running cost whose law the replay runs.
+    law: PhantomData<C>,
     failed: Option<Error>,
 }
 
@@ -211,7 +216,9 @@ impl<'a, T: Real> Replay<'a, T> {
             true,
         )
     }
+}
 
+impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
     /// A replay with checkpoints from a slice or a gait file's table, and arcs likewise.
     /// Without `periodic`, only the arcs' exits restore their checkpoints (and only theirs are
     /// checked): the replay from `(μ, ξ^{−1})` and the arc table alone.
@@ -267,6 +274,7 @@ impl<'a, T: Real> Replay<'a, T> {
             arcs,
             arc_ends: [0; 2],
             on_arcs: OnArcs::NONE,
+            law: PhantomData,
             failed: None,
         })
     }
@@ -286,18 +294,27 @@ impl<'a, T: Real> Replay<'a, T> {
         if self.k == self.next_event {
             self.event();
         }
+        // A constant: each cost's replay compiles only its own branch.
+        if C::COST == Cost::Power {
+            return self.step_power();
+        }
         if self.on_arcs != OnArcs::NONE {
             return self.step_on_arcs();
         }
         // The state and ξ were checked by `new` (start, checkpoints) or as the previous
         // step's outputs, and μ by `new`.
-        let step =
-            self.kinematics
-                .law_step_trusted(&self.state, &self.xi, &self.mu, Free, T::PASSES);
+        let step = self.kinematics.law_step_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            Effort,
+            Free,
+            T::PASSES,
+        );
         self.record(step)
     }
 
-    /// [`Replay::step`] on an arc: the law with the joints on it at rest
+    /// [`Replay::step`] of the effort on an arc: the law with the joints on it at rest
     /// ([`Kinematics::law_step`] with the joints on arcs). Out of line, so that the free step
     /// stays the code it is without arcs (measured on the M4F: an arc step costs no more than a
     /// free one).
@@ -307,10 +324,31 @@ impl<'a, T: Real> Replay<'a, T> {
             &self.state,
             &self.xi,
             &self.mu,
+            Effort,
             self.on_arcs,
             T::PASSES,
         );
         self.record(step)
+    }
+
+    /// [`Replay::step`] of the power ([`Kinematics::law_step_for`]), free or on an arc. Out of
+    /// line, as [`Replay::step_on_arcs`].
+    #[inline(never)]
+    fn step_power(&mut self) -> Result<Option<&Sample<T>>, Error> {
+        let step = self.kinematics.law_step_trusted(
+            &self.state,
+            &self.xi,
+            &self.mu,
+            PowerLaw::new(self.kinematics.swimmer()),
+            self.on_arcs,
+            T::POWER_PASSES,
+        );
+        self.record(step)
+    }
+
+    /// The running cost whose law the replay runs, `C`'s.
+    pub fn cost(&self) -> Cost {
+        C::COST
     }
 
     /// Takes the result of step `k`: the sample, the next state and `ξ^k`, or the failure.
@@ -489,7 +527,7 @@ impl TerminalError {
 }
 
 /// Owned samples; after an error the iterator yields it once and then ends.
-impl<T: Real> Iterator for Replay<'_, T> {
+impl<T: Real, C: RunningCost> Iterator for Replay<'_, T, C> {
     type Item = Result<Sample<T>, Error>;
 
     fn next(&mut self) -> Option<Self::Item> {
@@ -509,4 +547,4 @@ impl<T: Real> Iterator for Replay<'_, T> {
     }
 }
 
-impl<T: Real> core::iter::FusedIterator for Replay<'_, T> {}
+impl<T: Real, C: RunningCost> core::iter::FusedIterator for Replay<'_, T, C> {}

@@ -262,6 +262,12 @@ pub(crate) struct Frame<T> {
     /// `E_i e_j`, the columns of the brackets `E_i = ∂W_α/∂α_i − ∂W_ξ/∂α_i·A`, so that
     /// `∂A/∂α_i e_j = W_ξ⁻¹ E_i e_j` and `ζᵀ∂A/∂α_i e_j = λ·E_i e_j` with `λ = W_ξ⁻¹ζ`.
     pub(crate) e: [[Vector3<T>; 2]; 2],
+    /// The columns of `W_α` (the power's metric `G = k·(diag(w) − W_αᵀA)`, MODEL.md §11).
+    pub(crate) wa: [Vector3<T>; 2],
+    /// `w_i = r·L_i³/3`, the turning drag of the outer links about their hinges.
+    pub(crate) w: [T; 2],
+    /// `∂W_α/∂α_i e_i = σ_iρ_i·τ_i` (front `−ρ₁τ₁`, rear `ρ₂τ₂`; `∂W_α/∂α_i e_j = 0`, `j ≠ i`).
+    pub(crate) dwa: [Vector3<T>; 2],
 }
 
 impl<T: Real> Frame<T> {
@@ -329,7 +335,16 @@ impl<T: Real> Frame<T> {
             [col(0), col(1)]
         };
         let e = [bracket(front, lf, 0), bracket(rear, lr, 1)];
-        Ok(Frame { w_inv, a, e })
+        // What only the power's law reads (dead code for the effort's, after inlining).
+        let dwa = [front.0 * -lf.rho, rear.0 * lr.rho];
+        Ok(Frame {
+            w_inv,
+            a,
+            e,
+            wa: [col1, col2],
+            w: [lf.w, lr.w],
+            dwa,
+        })
     }
 }
 

@@ -46,6 +46,7 @@ impl ProblemKw {
             starts: starts(self.starts)?,
             seed: self.seed,
             checkpoint_every: self.checkpoint_every,
+            cost: Default::default(),
         })
     }
 

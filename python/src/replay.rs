@@ -4,8 +4,9 @@
 use crate::solution::Solution;
 use crate::{array1, array2, error, input_error, py_any, repr};
 use numpy::{PyArray1, PyArray2};
+use purcell_core::cost::{Effort, Power, RunningCost};
 use purcell_core::gait::Stored;
-use purcell_core::{Gait, Real};
+use purcell_core::{Cost, Gait, Real};
 use purcell_sim::budget::Work;
 use purcell_sim::costate_file::CostateFile;
 use purcell_sim::replay::{ReplayReport, check_stored, replay_gait};
@@ -172,13 +173,20 @@ struct Path {
     g: Vec<[f64; 3]>,
 }
 
-/// Replays `gait` in `T` recording every state and control.
+/// Replays `gait` in `T` with the law of its cost, recording every state and control.
 fn record<T: Stored>(gait: &Gait<'_>, checkpoints: bool) -> Result<Path, purcell_core::Error> {
-    let mut r = if checkpoints {
-        gait.replay::<T>()?
-    } else {
-        gait.replay_without_checkpoints::<T>()?
-    };
+    match gait.params().cost {
+        Cost::Effort => record_for::<T, Effort>(gait, checkpoints),
+        Cost::Power => record_for::<T, Power>(gait, checkpoints),
+    }
+}
+
+/// [`record`] with the law of `C`, the gait's cost.
+fn record_for<T: Stored, C: RunningCost>(
+    gait: &Gait<'_>,
+    checkpoints: bool,
+) -> Result<Path, purcell_core::Error> {
+    let mut r = gait.replay_for::<T, C>(checkpoints)?;
     let mut path = Path {
         alpha: Vec::new(),
         u: Vec::new(),

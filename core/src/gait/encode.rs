@@ -1,17 +1,17 @@
 //! Writing a gait file ([`encode`], [`encoded_len`]).
 
-use crate::Error;
 use crate::arc::{self, Arc};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
-    TRACKING_TAG, VERSION, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
+    TRACKING_TAG, VERSION, VERSION_COST, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
 };
 use crate::gait::schema::{CheckpointRecord, GaitParams};
 use crate::gait::track::{TRACKING_RECORD_LEN, check_tracking};
 use crate::gait::validate::check;
 use crate::table::record_len;
 use crate::tracking::Record;
+use crate::{Cost, Error};
 
 /// Writes little-endian fields front to back; running out is [`Error::CapacityExceeded`].
 struct Out<'a>(&'a mut [u8]);
@@ -34,8 +34,8 @@ impl Out<'_> {
         xs.iter().try_for_each(|x| self.put(&x.to_le_bytes()))
     }
 
-    /// The `PARM` record of version 2, or 4 with the end shape ([`params_len`]).
-    fn params(&mut self, p: &GaitParams) -> Result<(), Error> {
+    /// The `PARM` record of `version` ([`params_len`]).
+    fn params(&mut self, p: &GaitParams, version: u16) -> Result<(), Error> {
         self.u32(p.steps as usize)?;
         self.u32(p.checkpoint_every as usize)?;
         self.f64s(&p.model.links)?;
@@ -45,6 +45,11 @@ impl Out<'_> {
         self.f64s(&p.mu)?;
         self.f64s(&p.xi0)?;
         self.f64s(&[p.alpha_max.unwrap_or(0.0)])?;
+        if version == VERSION_COST {
+            self.u32(p.cost.code() as usize)?;
+            self.u32(usize::from(p.alpha_end.is_some()))?;
+            return self.f64s(&p.alpha_end.unwrap_or([0.0; 2]));
+        }
         match p.alpha_end {
             Some(end) => self.f64s(&end),
             None => Ok(()),
@@ -52,9 +57,13 @@ impl Out<'_> {
     }
 }
 
-/// The version [`encode_with_tracking`] writes for `params` with `tracking` records: 4 for a
-/// gait with an end shape of its own, else 2 (3 with a tracking table).
+/// The version [`encode_with_tracking`] writes for `params` with `tracking` records: 5 for a
+/// gait of a cost other than the effort, 4 for one with an end shape of its own, else 2 (3 with
+/// a tracking table).
 const fn version_of(params: &GaitParams, tracking: usize) -> u16 {
+    if !matches!(params.cost, Cost::Effort) {
+        return VERSION_COST;
+    }
     match (params.alpha_end.is_some(), tracking) {
         (true, _) => VERSION_END_SHAPE,
         (false, 0) => VERSION,
@@ -159,7 +168,7 @@ pub fn encode_with_tracking(
         w.u32(size)?;
         offset += count * size;
     }
-    w.params(params)?;
+    w.params(params, version)?;
     for a in arcs {
         w.put(&a.to_bytes())?;
     }

@@ -14,6 +14,11 @@ pub const VERSION_TRACKING: u16 = 3;
 /// (`GaitParams::alpha_end`): version 2's sections, `TRCK` optional, and the end shape appended
 /// to the `PARM` record (an older reader refuses it rather than fly it as a loop).
 pub const VERSION_END_SHAPE: u16 = 4;
+/// The version this build writes for a gait of a cost other than the effort
+/// (`GaitParams::cost`, MODEL.md §11): version 4's sections, `TRCK` optional, and `PARM` with
+/// the cost's code, whether it has an end shape, and the end shape (an older reader refuses it
+/// rather than fly a power costate through the effort's law).
+pub const VERSION_COST: u16 = 5;
 
 /// Header: magic (8), version (u16), section count (u16), file length (u32).
 pub(super) const HEADER_LEN: usize = 16;
@@ -31,12 +36,14 @@ pub(super) const TRACKING_TAG: [u8; 4] = *b"TRCK";
 pub(super) const SECTIONS: usize = 4;
 /// The `PARM` record: `steps`, `checkpoint_every` (u32), then 16 `f64` (`L0 L1 L2 k r h`, `ᾱ`,
 /// `ḡ`, `μ`, `ξ^{−1}`), then from version 2 `α_max` (`f64`, 0 for none), then in version 4
-/// the end shape `α_N` (2 `f64`).
+/// the end shape `α_N` (2 `f64`); in version 5 the cost's code and whether the end shape is
+/// stored (u32 each), then the end shape (2 `f64`, zero if not).
 pub(super) const fn params_len(version: u16) -> usize {
     8 + 16 * 8
         + match version {
             1 => 0,
             VERSION_END_SHAPE => 8 + 16,
+            VERSION_COST => 8 + 8 + 16,
             _ => 8,
         }
 }

@@ -13,7 +13,9 @@
 //! is soft-float on a Cortex-M4F). Version 3 adds a fifth section, `TRCK`: the gait's tracking
 //! table in `f32` ([`TrackingTable`], [`crate::tracking`]), for a closed-loop flight. Version 4
 //! is a gait whose end shape differs from its start ([`GaitParams::alpha_end`]): version 2's
-//! sections (`TRCK` optional) with the end shape appended to `PARM`.
+//! sections (`TRCK` optional) with the end shape appended to `PARM`. Version 5 is a gait of a
+//! cost other than the effort ([`GaitParams::cost`], [`crate::Cost`]): version 4's sections with
+//! the cost in `PARM`; files of the effort stay what they were.
 //!
 //! [`GaitParams`], [`CheckpointRecord`] and [`Arc`] are also the schema of purcell-sim's JSON
 //! costate file (with the `serde` feature), and [`check`] is the one validation both formats go
@@ -34,6 +36,7 @@
 //!     checkpoint_every: 0,
 //!     alpha_max: None,
 //!     alpha_end: None,
+//!     cost: purcell_core::Cost::Effort,
 //! };
 //! let mut bytes = [0u8; gait::encoded_len(0, 0)];
 //! gait::encode(&params, &[], &[], &mut bytes)?;
@@ -64,7 +67,7 @@ pub use crc::crc32;
 pub use encode::{
     encode, encode_with_tracking, encoded_len, encoded_len_of, encoded_len_with_tracking,
 };
-pub use layout::{MAGIC, VERSION, VERSION_END_SHAPE, VERSION_TRACKING};
+pub use layout::{MAGIC, VERSION, VERSION_COST, VERSION_END_SHAPE, VERSION_TRACKING};
 pub use read::{Gait, Stored};
 pub use records::Records;
 pub use schema::{CheckpointRecord, GaitParams, Model};

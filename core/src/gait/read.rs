@@ -1,10 +1,11 @@
 //! Reading a gait file in place ([`Gait::from_bytes`]) and replaying it ([`Gait::replay`]).
 
 use crate::arc::{self, Arc, ArcTable};
+use crate::cost::RunningCost;
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
-    TRACKING_TAG, VERSION, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
+    TRACKING_TAG, VERSION, VERSION_COST, VERSION_END_SHAPE, VERSION_TRACKING, params_len,
 };
 use crate::gait::records::Records;
 use crate::gait::schema::{GaitParams, Model};
@@ -12,7 +13,7 @@ use crate::gait::track::{TRACKING_RECORD_LEN, TrackingTable, check_tracking};
 use crate::gait::validate::check;
 use crate::replay::{CheckpointTable, Replay};
 use crate::table::{Table, record_len};
-use crate::{Error, Real};
+use crate::{Cost, Error, Real};
 use core::mem::size_of;
 
 /// The scalars a gait stores a checkpoint table in: `f32` (section `CK32`) and `f64`
@@ -78,9 +79,10 @@ impl<'a> Cursor<'a> {
             1 => None,
             _ => Some(f64::from_le_bytes(self.take()?)).filter(|&a| a != 0.0),
         };
-        let alpha_end = match version {
-            VERSION_END_SHAPE => Some(self.f64s()?),
-            _ => None,
+        let (cost, alpha_end) = match version {
+            VERSION_END_SHAPE => (Cost::Effort, Some(self.f64s()?)),
+            VERSION_COST => self.cost_and_end()?,
+            _ => (Cost::Effort, None),
         };
         Ok(GaitParams {
             model: Model { links, drag, ratio },
@@ -93,7 +95,24 @@ impl<'a> Cursor<'a> {
             checkpoint_every,
             alpha_max,
             alpha_end,
+            cost,
         })
+    }
+
+    /// Version 5's tail of `PARM`: the cost (a known code, not the effort's, whose gaits are
+    /// the older versions), whether the end shape is stored (0 or 1) and the end shape (zero
+    /// if not); else [`Error::GaitLayout`].
+    fn cost_and_end(&mut self) -> Result<(Cost, Option<[f64; 2]>), Error> {
+        let cost = Cost::from_code(self.u32()?)
+            .filter(|&c| c != Cost::Effort)
+            .ok_or(Error::GaitLayout)?;
+        let stored = self.u32()?;
+        let end = self.f64s()?;
+        match stored {
+            1 => Ok((cost, Some(end))),
+            0 if end == [0.0; 2] => Ok((cost, None)),
+            _ => Err(Error::GaitLayout),
+        }
     }
 }
 
@@ -124,7 +143,7 @@ impl<'a> Sections<'a> {
         // Version 3 has a tracking table, version 4 one if it has a fifth section: read as an
         // empty one otherwise.
         let tracked = version == VERSION_TRACKING
-            || (version == VERSION_END_SHAPE && sections == SECTIONS + 1);
+            || (matches!(version, VERSION_END_SHAPE | VERSION_COST) && sections == SECTIONS + 1);
         let mut tracking = (!tracked).then_some((&[][..], 0));
         for _ in 0..sections {
             let (tag, offset) = (directory.take::<4>()?, directory.usize()?);
@@ -188,8 +207,9 @@ impl<'a> Gait<'a> {
     /// ```
     ///
     /// Reads version [`VERSION`], version 1 (no `α_max`, no arcs), version
-    /// [`VERSION_TRACKING`] (with a tracking table) and version [`VERSION_END_SHAPE`] (with
-    /// an end shape, and a tracking table or not).
+    /// [`VERSION_TRACKING`] (with a tracking table), version [`VERSION_END_SHAPE`] (with
+    /// an end shape, and a tracking table or not) and version [`VERSION_COST`] (a cost other
+    /// than the effort, with an end shape or not, a tracking table or not).
     ///
     /// In this order: [`Error::GaitMagic`], [`Error::GaitVersion`], [`Error::GaitLength`]
     /// (the length field is not `bytes.len()`), [`Error::GaitChecksum`],
@@ -207,7 +227,10 @@ impl<'a> Gait<'a> {
         }
         let mut header = Cursor(bytes.get(MAGIC.len()..).unwrap_or_default());
         let version = header.u16().map_err(|_| Error::GaitLength)?;
-        if !matches!(version, 1 | VERSION | VERSION_TRACKING | VERSION_END_SHAPE) {
+        if !matches!(
+            version,
+            1 | VERSION | VERSION_TRACKING | VERSION_END_SHAPE | VERSION_COST
+        ) {
             return Err(Error::GaitVersion(version));
         }
         let sections = usize::from(header.u16().map_err(|_| Error::GaitLength)?);
@@ -302,26 +325,39 @@ impl<'a> Gait<'a> {
     }
 
     /// A replay of the whole gait in `T` that restores the checkpoints from the table stored
-    /// in `T`, read in place as the replay reaches them, and runs the law on the arcs
-    /// ([`Replay::with_arcs`]).
+    /// in `T`, read in place as the replay reaches them, and runs the effort's law on the arcs
+    /// ([`Replay::with_arcs`]). A gait of another cost: [`Gait::replay_for`].
     ///
     /// Errors: as [`Replay::new`] (the parameters and checkpoints rounded to `T` are checked
-    /// again, e.g. an angle that rounds up to `π` in `f32`).
+    /// again, e.g. an angle that rounds up to `π` in `f32`); [`Error::InvalidParameters`] for a
+    /// gait solved for another cost than the effort.
     pub fn replay<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
-        self.replay_with(true)
+        self.replay_for(true)
     }
 
     /// A replay of the whole gait in `T` from `(μ, ξ^{−1})` and the arc table alone: the
     /// only checkpoints it restores are those at the arcs' exits, which the law needs (MODEL.md
     /// §9); none for a gait without arcs.
     ///
-    /// Errors: as [`Replay::new`] (only the checkpoints it restores are checked in `T`).
+    /// Errors: as [`Gait::replay`] (only the checkpoints it restores are checked in `T`).
     pub fn replay_without_checkpoints<T: Stored>(&self) -> Result<Replay<'a, T>, Error> {
-        self.replay_with(false)
+        self.replay_for(false)
     }
 
-    fn replay_with<T: Stored>(&self, periodic: bool) -> Result<Replay<'a, T>, Error> {
+    /// [`Gait::replay`] (with `checkpoints`) or [`Gait::replay_without_checkpoints`] running
+    /// the law of the cost `C`, which must be the gait's (`params().cost`): a caller that flies
+    /// gaits of any cost matches on it once and runs each cost's replay (see
+    /// [`crate::cost`]).
+    ///
+    /// Errors: as [`Gait::replay`]; [`Error::InvalidParameters`] if `C` is not the gait's cost.
+    pub fn replay_for<T: Stored, C: RunningCost>(
+        &self,
+        checkpoints: bool,
+    ) -> Result<Replay<'a, T, C>, Error> {
         let p = &self.params;
+        if p.cost != C::COST {
+            return Err(Error::InvalidParameters);
+        }
         let table = if size_of::<T>() == 4 {
             self.table32
         } else {
@@ -334,7 +370,7 @@ impl<'a> Gait<'a> {
             p.steps,
             CheckpointTable::Stored(table),
             ArcTable::Stored(self.arcs),
-            periodic,
+            checkpoints,
         )
     }
 }

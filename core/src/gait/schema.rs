@@ -6,7 +6,7 @@ use crate::kinematics::{Kinematics, State};
 use crate::replay::{Checkpoint, Costate, TerminalError};
 use crate::swimmer::check_shape;
 use crate::table::VALUES;
-use crate::{Error, Real, Se2, Swimmer};
+use crate::{Cost, Error, Real, Se2, Swimmer};
 use nalgebra::{Vector2, Vector3};
 
 /// How far `cos² θ + sin² θ` of a stored rotation may be from 1.
@@ -62,6 +62,16 @@ pub struct GaitParams {
         serde(default, skip_serializing_if = "Option::is_none")
     )]
     pub alpha_end: Option<[f64; 2]>,
+    /// The running cost the costate was solved for, whose law replays it (MODEL.md §11);
+    /// absent (the effort) from a file that does not store one.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "is_effort"))]
+    pub cost: Cost,
+}
+
+/// Whether `cost` is the effort, which a file leaves out.
+#[cfg(feature = "serde")]
+fn is_effort(cost: &Cost) -> bool {
+    *cost == Cost::Effort
 }
 
 /// One checkpoint `(k, α_k, g_k, ξ^{k−1})` as stored, `g` as `(x, y, cos θ, sin θ)`.

@@ -96,5 +96,6 @@ pub fn paper_gait(steps: u32, target: [f64; 3], mu: [f64; 3], xi0: [f64; 2]) -> 
         checkpoint_every: 100,
         alpha_max: None,
         alpha_end: None,
+        cost: purcell_core::Cost::Effort,
     }
 }

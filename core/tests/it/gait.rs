@@ -199,7 +199,7 @@ fn a_corrupt_header_is_refused_with_its_reason() {
     assert_eq!(refused(&good, |b| b[0] = b'X'), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(&[]).err(), Some(Error::GaitMagic));
     assert_eq!(Gait::from_bytes(b"PURCGAIT").err(), Some(Error::GaitLength));
-    assert_eq!(refused(&good, |b| b[8] = 5), Some(Error::GaitVersion(5)));
+    assert_eq!(refused(&good, |b| b[8] = 6), Some(Error::GaitVersion(6)));
     assert_eq!(refused(&good, |b| b[8] = 0), Some(Error::GaitVersion(0)));
     assert_eq!(
         refused(&good, |b| b.truncate(b.len() - 1)),

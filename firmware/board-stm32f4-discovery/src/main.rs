@@ -16,6 +16,7 @@ use cortex_m::peripheral::DWT;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use defmt_rtt as _;
 use panic_probe as _;
+use purcell_core::cost::Effort;
 use purcell_core::{Error, Replay};
 use purcell_fly::{Counter, DwtCycles};
 use stm32f4xx_hal::pac;
@@ -79,7 +80,7 @@ fn run() -> Result<(), Failure> {
     let overhead = purcell_fly::overhead::<DwtCycles>();
     // Each step lends its sample: command the joints with `sample.u` in your own loop
     // (examples/control_loop.rs).
-    purcell_fly::fly::<f32, DwtCycles, _>(BOARD, &gait, overhead, Replay::step)?;
+    purcell_fly::fly::<f32, DwtCycles, Effort, _>(BOARD, &gait, overhead, Replay::step)?;
     Ok(())
 }
 

@@ -25,6 +25,7 @@
 #![no_std]
 #![deny(missing_docs)]
 
+use purcell_core::cost::RunningCost;
 use purcell_core::gait::Stored;
 use purcell_core::{Error, Flight, Gait, OnArcs, Replay, Sample};
 
@@ -160,13 +161,14 @@ pub fn load(bytes: &[u8]) -> Result<Gait<'_>, Error> {
     Gait::from_bytes(bytes).inspect_err(|e| defmt::error!("gait refused: {}", e))
 }
 
-/// Flies `gait` in `S` with its checkpoints: prints the header, runs every step through `step`
+/// Flies `gait` in `S` with its checkpoints and the law of `L`, the gait's cost
+/// ([`Gait::replay_for`]; [`purcell_core::cost::Effort`] for the paper's): prints the header, runs every step through `step`
 /// (normally [`Replay::step`], or a non-inlined wrapper of it to find in a disassembly) timed
 /// by `C` net of `overhead` raw counts, then prints the per-step figures, the total, the
 /// digest and the final state's bits.
 ///
-/// Errors: the core's, for a gait it cannot replay in `S` or a failing step.
-pub fn fly<'a, S, C, F>(
+/// Errors: the core's, for a gait it cannot replay in `S` or with `L`, or a failing step.
+pub fn fly<'a, S, C, L, F>(
     board: &str,
     gait: &Gait<'a>,
     overhead: u32,
@@ -175,9 +177,10 @@ pub fn fly<'a, S, C, F>(
 where
     S: Stored,
     C: Counter,
-    F: for<'r> FnMut(&'r mut Replay<'a, S>) -> Result<Option<&'r Sample<S>>, Error>,
+    L: RunningCost,
+    F: for<'r> FnMut(&'r mut Replay<'a, S, L>) -> Result<Option<&'r Sample<S>>, Error>,
 {
-    let replay = gait.replay::<S>()?;
+    let replay = gait.replay_for::<S, L>(true)?;
     defmt::println!(
         "{=str}: board={=str} scalar={=str} steps={=u32} passes={=usize} checkpoints={=usize} arcs={=usize} gait={=u32:#010x}",
         line::HEADER,
@@ -195,7 +198,7 @@ where
         let item = step(r);
         let t1 = C::now();
         let stepped = item.map(|sample| sample.is_some());
-        let r: &Replay<'a, S> = r;
+        let r: &Replay<'a, S, L> = r;
         if let Ok(true) = stepped {
             let units = C::elapsed(t0, t1).saturating_sub(overhead);
             stats.add(units);

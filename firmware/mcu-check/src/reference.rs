@@ -2,8 +2,9 @@
 //! (through `purcell_fly`), so equal digests prove that what flew is what was simulated.
 
 use crate::error::HostError;
+use purcell_core::cost::{Effort, Power, RunningCost};
 use purcell_core::gait::Stored;
-use purcell_core::{Error, Gait, Replay, TerminalError};
+use purcell_core::{Cost, Error, Gait, Replay, TerminalError};
 
 /// The host's flight of a gait in one precision.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,12 +28,23 @@ pub struct Reference {
 }
 
 impl Reference {
-    /// Flies `gait` on the host in `T`.
+    /// Flies `gait` on the host in `T`, with the law of its cost.
     pub fn compute<T: Stored>(gait: &Gait<'_>, scalar: &'static str) -> Result<Self, HostError> {
-        let with = gait.replay::<T>()?.fly(Replay::step)?;
+        match gait.params().cost {
+            Cost::Effort => Self::compute_for::<T, Effort>(gait, scalar),
+            Cost::Power => Self::compute_for::<T, Power>(gait, scalar),
+        }
+    }
+
+    /// [`Reference::compute`] with the law of `C`, the gait's cost.
+    fn compute_for<T: Stored, C: RunningCost>(
+        gait: &Gait<'_>,
+        scalar: &'static str,
+    ) -> Result<Self, HostError> {
+        let with = gait.replay_for::<T, C>(true)?.fly(Replay::step)?;
         // Without checkpoints an f32 replay may leave the admissible set: report, don't fail.
         let without = gait
-            .replay_without_checkpoints::<T>()
+            .replay_for::<T, C>(false)
             .and_then(|r| r.fly(Replay::step));
         let (a, g) = (&with.end.alpha, &with.end.g);
         Ok(Reference {

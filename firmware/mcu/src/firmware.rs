@@ -19,7 +19,8 @@
 use core::hint::black_box;
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
-use purcell_core::{Error, Gait, Replay, Sample};
+use purcell_core::cost::{Effort, Power, RunningCost};
+use purcell_core::{Cost, Error, Gait, Replay, Sample};
 use purcell_fly::Counter;
 use purcell_mcu::{Systick, TICKS_PER_INSN_DEN, TICKS_PER_INSN_NUM};
 
@@ -85,6 +86,13 @@ impl From<Error> for Failure {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn purcell_mcu_step<'r>(replay: &'r mut Replay<'_, S>) -> Result<Option<&'r Sample<S>>, Error> {
+    replay.step()
+}
+
+/// One control step of a gait solved for the power (`solve --cost power`), as
+/// [`purcell_mcu_step`] of the effort.
+#[inline(never)]
+fn power_step<'r>(replay: &'r mut Replay<'_, S, Power>) -> Result<Option<&'r Sample<S>>, Error> {
     replay.step()
 }
 
@@ -155,8 +163,11 @@ fn self_test(overhead_ticks: u32) -> Result<(), Failure> {
 /// Deepest stack use of one step over a whole replay, bytes: paints the stack below this
 /// function's frame, replays, and finds the lowest word the steps overwrote.
 #[inline(never)]
-fn step_stack_bytes(gait: &Gait<'_>) -> Result<u32, Failure> {
-    let mut replay = gait.replay::<S>()?;
+fn step_stack_bytes<L: RunningCost, F>(gait: &Gait<'_>, step: F) -> Result<u32, Failure>
+where
+    F: for<'r, 'a> Fn(&'r mut Replay<'a, S, L>) -> Result<Option<&'r Sample<S>>, Error>,
+{
+    let mut replay = gait.replay_for::<S, L>(true)?;
     let sp = cortex_m::register::msp::read() as usize;
     let bottom = sp - STACK_WINDOW;
     for a in (bottom..sp).step_by(4) {
@@ -164,7 +175,7 @@ fn step_stack_bytes(gait: &Gait<'_>) -> Result<u32, Failure> {
         // than the RAM between the statics and the stack top); nothing else uses it now.
         unsafe { core::ptr::write_volatile(a as *mut u32, PAINT) };
     }
-    while purcell_mcu_step(black_box(&mut replay))?.is_some() {}
+    while step(black_box(&mut replay))?.is_some() {}
     let lowest = (bottom..sp)
         .step_by(4)
         // SAFETY: as above; reading back the painted words.
@@ -184,11 +195,23 @@ fn run() -> Result<(), Failure> {
     defmt::println!("board_tag: {=[u8]:a}", black_box(&PURCELL_BOARD)[..]);
 
     let gait = purcell_fly::load(GAIT)?;
-    let flight = purcell_fly::fly::<S, Systick, _>(BOARD, &gait, base, purcell_mcu_step)?;
-    let stack = step_stack_bytes(&gait)?;
+    // The law of the gait's cost, chosen once: each cost's step is its own code.
+    match gait.params().cost {
+        Cost::Effort => fly_law::<Effort, _>(&gait, base, purcell_mcu_step),
+        Cost::Power => fly_law::<Power, _>(&gait, base, power_step),
+    }
+}
+
+/// Flies `gait` with the law of `L` through `step` (timed), measures a step's stack, and
+/// flies it again untimed: the measured flight must be the plain one.
+fn fly_law<L: RunningCost, F>(gait: &Gait<'_>, base: u32, step: F) -> Result<(), Failure>
+where
+    F: for<'r, 'a> Fn(&'r mut Replay<'a, S, L>) -> Result<Option<&'r Sample<S>>, Error> + Copy,
+{
+    let flight = purcell_fly::fly::<S, Systick, L, _>(BOARD, gait, base, step)?;
+    let stack = step_stack_bytes(gait, step)?;
     defmt::println!("{=str}: bytes={=u32}", purcell_fly::line::STACK, stack);
-    // The measured flight must be the plain one: fly again untimed.
-    if gait.replay::<S>()?.fly(Replay::step)? != flight {
+    if gait.replay_for::<S, L>(true)?.fly(Replay::step)? != flight {
         return Err(Failure::NotDeterministic);
     }
     Ok(())

@@ -7,7 +7,8 @@
 //!   "mu": [m1, m2, m3], "xi0": [x1, x2],            // xi0 = ξ^{−1}
 //!   "checkpoint_every": 100,
 //!   "alpha_max": 1.5,                                 // null: no joint limit
-//!   "alpha_end": [b1, b2],                            // version 4 only: the end shape
+//!   "alpha_end": [b1, b2],                            // version 4 (5: optional): the end shape
+//!   "cost": "power",                                  // version 5 only: the running cost
 //!   "arcs": [{"joint": 2, "sign": 1, "first": 1276, "last": 1418}, ...],
 //!   "checkpoints": [{"k": 100, "alpha": [a1, a2], "g": [x, y, cos, sin], "xi": [x1, x2]}, ...] }
 //! ```
@@ -29,6 +30,9 @@
 //! its start: version 3 with `alpha_end` (the end shape `α_N`) after `alpha_max`; 2 (no
 //! `alpha_max`, no `arcs`: a gait without a joint limit) is still read; 1 (checkpoints of `ξ`
 //! alone) is refused. Versions 2 and 3 have no `alpha_end`: their end shape is `alpha0`.
+//! Version 5 is a gait of a cost other than the effort (MODEL.md §11): version 3 with `cost`
+//! (`"power"`) and `alpha_end` if it has an end shape of its own; files of the effort are
+//! versions 3 and 4 as before, and every older version reads as the effort.
 //!
 //! Numbers are written in shortest round-trip form, so reading gives the same bits back.
 //! Reading is strict: unknown fields, missing fields (`alpha_max` and `arcs` included in
@@ -49,12 +53,16 @@ pub const FORMAT: &str = "purcell-costate";
 pub const VERSION: u64 = 3;
 /// The version this build writes for a gait with an end shape of its own (`alpha_end`).
 pub const VERSION_END_SHAPE: u64 = 4;
+/// The version this build writes for a gait of a cost other than the effort (`cost`).
+pub const VERSION_COST: u64 = 5;
 /// The older version this build still reads: no joint limit, no arcs.
 pub const VERSION_WITHOUT_ARCS: u64 = 2;
 /// The fields version 3 added.
 const ARC_FIELDS: [&str; 2] = ["alpha_max", "arcs"];
-/// The field version 4 added.
+/// The field version 4 added (optional in version 5).
 const END_FIELD: &str = "alpha_end";
+/// The field version 5 added.
+const COST_FIELD: &str = "cost";
 
 /// The whole file: a tagged gait. Dereferences to its [`GaitParams`] (`file.mu`, `file.h`, …).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -90,10 +98,11 @@ pub enum CostateFileError {
     /// `format` is not [`FORMAT`].
     #[error("not a costate file: format is {0:?}, expected \"purcell-costate\"")]
     WrongFormat(String),
-    /// `version` is none of [`VERSION_WITHOUT_ARCS`], [`VERSION`], [`VERSION_END_SHAPE`].
-    #[error("unsupported costate file version {0} (this build reads versions 2, 3 and 4)")]
+    /// `version` is none of [`VERSION_WITHOUT_ARCS`], [`VERSION`], [`VERSION_END_SHAPE`],
+    /// [`VERSION_COST`].
+    #[error("unsupported costate file version {0} (this build reads versions 2, 3, 4 and 5)")]
     WrongVersion(u64),
-    /// A field of version 3 (4) missing from a version-3 (4) file, or present in an older one.
+    /// A field a version needs missing from its file, or one it does not have present.
     #[error("invalid costate file: version {version} {which} the field \"{field}\"")]
     VersionField {
         /// The file's version.
@@ -103,6 +112,12 @@ pub enum CostateFileError {
         /// The field.
         field: &'static str,
     },
+    /// A version-5 file of the effort (its gaits are versions 3 and 4).
+    #[error(
+        "invalid costate file: version 5 is a gait of a cost other than the effort (an effort \
+         gait is version 3, or 4 with an end shape)"
+    )]
+    EffortCost,
     /// `version` is not a non-negative integer.
     #[error("invalid costate file: version must be a non-negative integer")]
     BadVersion,
@@ -185,21 +200,27 @@ impl CostateFile {
         }
         let version = object.get("version").and_then(Value::as_u64);
         let version = match version {
-            Some(v @ (VERSION | VERSION_WITHOUT_ARCS | VERSION_END_SHAPE)) => v,
+            Some(v @ (VERSION | VERSION_WITHOUT_ARCS | VERSION_END_SHAPE | VERSION_COST)) => v,
             Some(v) => return Err(CostateFileError::WrongVersion(v)),
             None => return Err(CostateFileError::BadVersion),
         };
-        let fields = ARC_FIELDS.map(|f| (f, VERSION)).into_iter();
-        for (field, since) in fields.chain([(END_FIELD, VERSION_END_SHAPE)]) {
-            match (version >= since, object.contains_key(field)) {
-                (true, false) => {
+        // (field, whether this version needs it, whether it may have it)
+        let arcs = version >= VERSION;
+        let end = version == VERSION_END_SHAPE;
+        let fields = ARC_FIELDS.map(|f| (f, arcs, arcs)).into_iter().chain([
+            (END_FIELD, end, end || version == VERSION_COST),
+            (COST_FIELD, version == VERSION_COST, version == VERSION_COST),
+        ]);
+        for (field, needs, may) in fields {
+            match (needs, may, object.contains_key(field)) {
+                (true, _, false) => {
                     return Err(CostateFileError::VersionField {
                         version,
                         which: "needs",
                         field,
                     });
                 }
-                (false, true) => {
+                (_, false, true) => {
                     return Err(CostateFileError::VersionField {
                         version,
                         which: "does not have",
@@ -217,6 +238,9 @@ impl CostateFile {
         object.entry("arcs").or_insert(Value::Array(Vec::new()));
         let file: CostateFile =
             serde_json::from_value(Value::Object(object)).map_err(CostateFileError::Malformed)?;
+        if version == VERSION_COST && file.cost == purcell_core::Cost::Effort {
+            return Err(CostateFileError::EffortCost);
+        }
         purcell_core::gait::check(
             &file.gait,
             file.checkpoints.iter().copied(),
@@ -231,9 +255,10 @@ impl CostateFile {
     pub fn new(gait: GaitParams, arcs: Vec<Arc>, checkpoints: Vec<CheckpointRecord>) -> Self {
         CostateFile {
             format: FORMAT.into(),
-            version: match gait.alpha_end {
-                Some(_) => VERSION_END_SHAPE,
-                None => VERSION,
+            version: match (gait.cost, gait.alpha_end) {
+                (purcell_core::Cost::Effort, Some(_)) => VERSION_END_SHAPE,
+                (purcell_core::Cost::Effort, None) => VERSION,
+                _ => VERSION_COST,
             },
             gait,
             arcs,

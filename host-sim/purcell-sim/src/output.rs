@@ -80,6 +80,7 @@ pub fn costate_file(
             checkpoint_every: every,
             alpha_max: problem.alpha_max,
             alpha_end: problem.stored_end(),
+            cost: problem.cost,
         },
         x.arcs.clone(),
         checkpoints,

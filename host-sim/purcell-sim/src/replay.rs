@@ -6,8 +6,9 @@
 use crate::costate_file::CostateFile;
 use crate::output::path::{PathCsv, Row};
 use nalgebra::Vector2;
+use purcell_core::cost::{Effort, Power, RunningCost};
 use purcell_core::gait::Stored;
-use purcell_core::{Flight, Gait, State};
+use purcell_core::{Cost, Flight, Gait, State};
 use purcell_solver::problem::{InputError, Problem, check_gait_precision};
 use purcell_solver::solver::Trajectory;
 use serde::Serialize;
@@ -67,17 +68,26 @@ pub fn check_stored(gait: &Gait<'_>, f32: bool) -> Result<(), InputError> {
     Ok(())
 }
 
-/// Replays `gait` in `T` (`precision` names it), with or without its checkpoints.
+/// Replays `gait` in `T` (`precision` names it) with the law of its cost, with or without its
+/// checkpoints.
 pub fn replay_gait<T: Stored>(
     gait: &Gait<'_>,
     precision: &'static str,
     checkpoints: bool,
 ) -> ReplayReport {
-    let replay = if checkpoints {
-        gait.replay::<T>()
-    } else {
-        gait.replay_without_checkpoints::<T>()
-    };
+    match gait.params().cost {
+        Cost::Effort => replay_gait_for::<T, Effort>(gait, precision, checkpoints),
+        Cost::Power => replay_gait_for::<T, Power>(gait, precision, checkpoints),
+    }
+}
+
+/// [`replay_gait`] with the law of `C`, the gait's cost.
+fn replay_gait_for<T: Stored, C: RunningCost>(
+    gait: &Gait<'_>,
+    precision: &'static str,
+    checkpoints: bool,
+) -> ReplayReport {
+    let replay = gait.replay_for::<T, C>(checkpoints);
     // The step that was running when a step failed.
     let mut at = 0;
     let flight = replay.and_then(|r| {
@@ -108,13 +118,20 @@ pub fn replay_gait<T: Stored>(
 /// ([`crate::output::path`]: `trajectory.csv`'s columns, numbers in `T`); up to the
 /// failing step if the replay fails.
 pub fn trace<T: Stored + Display + Default>(gait: &Gait<'_>, checkpoints: bool) -> String {
+    match gait.params().cost {
+        Cost::Effort => trace_for::<T, Effort>(gait, checkpoints),
+        Cost::Power => trace_for::<T, Power>(gait, checkpoints),
+    }
+}
+
+/// [`trace`] with the law of `C`, the gait's cost.
+fn trace_for<T: Stored + Display + Default, C: RunningCost>(
+    gait: &Gait<'_>,
+    checkpoints: bool,
+) -> String {
     let p = gait.params();
     let mut csv = PathCsv::new(p.h, p.steps, gait.arcs());
-    let replay = if checkpoints {
-        gait.replay::<T>()
-    } else {
-        gait.replay_without_checkpoints::<T>()
-    };
+    let replay = gait.replay_for::<T, C>(checkpoints);
     let Ok(mut replay) = replay else {
         return csv.finish();
     };

@@ -187,29 +187,9 @@ impl Default for Spec {
     }
 }
 
-/// The costs a problem can minimise (MODEL.md §11); their evaluation is
-/// `crate::solver::cost`'s.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Cost {
-    /// The joints' effort, `Σ h/2·|u_k|²` (the paper's).
-    #[default]
-    Effort,
-    /// The power the fluid dissipates, `Σ h/2·u_kᵀG(α_k)u_k`.
-    Power,
-}
-
-impl Cost {
-    /// Every cost.
-    pub const ALL: [Cost; 2] = [Cost::Effort, Cost::Power];
-
-    /// Its name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Cost::Effort => "effort",
-            Cost::Power => "power",
-        }
-    }
-}
+/// The costs a problem can minimise (MODEL.md §11): the core's, whose law replays their
+/// costates; their evaluation is `crate::solver::cost`'s.
+pub use purcell_core::Cost;
 
 /// `Ok` if the start shape and the end shape `end` of `spec` lie strictly within its joint
 /// limit (or the overlap without one).

@@ -6,7 +6,8 @@ use super::gait::{POINTS, thin};
 use super::style::*;
 use super::time::{Mark, Panel, Series, TimeFigure};
 use crate::costate_file::CostateFile;
-use purcell_core::{Gait, State, TerminalError};
+use purcell_core::cost::{Effort, Power, RunningCost};
+use purcell_core::{Cost, Gait, State, TerminalError};
 
 /// One `f32` replay against the `f64` one: per plotted step, the largest state error (the
 /// replays' metric, [`TerminalError`]: the larger of `|Δα|` and `|log(g₆₄⁻¹g₃₂)|`) since the
@@ -17,16 +18,21 @@ struct Run {
 }
 
 fn run(file: &CostateFile, checkpoints: bool) -> Result<Run, PlotError> {
+    match file.cost {
+        Cost::Effort => run_for::<Effort>(file, checkpoints),
+        Cost::Power => run_for::<Power>(file, checkpoints),
+    }
+}
+
+/// [`run`] with the law of `C`, the file's cost.
+fn run_for<C: RunningCost>(file: &CostateFile, checkpoints: bool) -> Result<Run, PlotError> {
     let replay_error = |e: purcell_core::Error| PlotError::Replay(e.to_string());
     let bytes = file.to_gait().map_err(replay_error)?;
     let gait = Gait::from_bytes(&bytes).map_err(replay_error)?;
-    let mut r64 = gait.replay::<f64>().map_err(replay_error)?;
-    let mut r32 = if checkpoints {
-        gait.replay::<f32>()
-    } else {
-        gait.replay_without_checkpoints::<f32>()
-    }
-    .map_err(replay_error)?;
+    let mut r64 = gait.replay_for::<f64, C>(true).map_err(replay_error)?;
+    let mut r32 = gait
+        .replay_for::<f32, C>(checkpoints)
+        .map_err(replay_error)?;
     let n = file.steps as usize;
     let plotted = thin(n, POINTS);
     let mut next = plotted.iter().copied().peekable();

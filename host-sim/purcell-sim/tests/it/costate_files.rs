@@ -88,10 +88,16 @@ fn version_2_costate_files_are_read_strictly() {
             "step h must be finite and positive",
         ),
         (
-            "version5.json",
+            "version6.json",
             "\"version\":2",
-            "\"version\":5",
-            "version 5 (this build reads versions 2, 3 and 4)",
+            "\"version\":6",
+            "version 6 (this build reads versions 2, 3, 4 and 5)",
+        ),
+        (
+            "v2-cost.json",
+            "\"h\":0.01",
+            "\"h\":0.01,\"cost\":\"power\"",
+            "version 2 does not have the field \"cost\"",
         ),
         (
             "v2-end.json",

@@ -62,6 +62,7 @@ fn gait() -> (Problem, Trajectory, Vector3<f64>, CostateFile) {
             checkpoint_every: 100,
             alpha_max: None,
             alpha_end: None,
+            cost: Default::default(),
         },
         Vec::new(),
         checkpoints,

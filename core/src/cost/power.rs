@@ -1,0 +1,222 @@
+//! The power the fluid dissipates, `ℓ = h/2·uᵀG(α)u` (MODEL.md §11), in the law.
+//!
+//! **The metric from the step's frame.** `G = k·(R_uu − W_αᵀA)` with `R_uu = diag(w₁, w₂)`,
+//! `w_i = r·L_i³/3` (an outer link turning about its hinge: `r·k·L(L/2)² + r·k·L³/12`), and
+//! `W_αᵀA = W_αᵀW_ξ⁻¹W_α` symmetric. Its derivative, with the brackets `E_i = ∂W_α/∂α_i −
+//! ∂W_ξ/∂α_i·A` of [`crate::swimmer`] and `∂W_α/∂α_i = σ_iρ_iτ_i e_iᵀ`:
+//!
+//! ```text
+//! ∂G/∂α_i = −k·(∂W_α/∂α_iᵀA + AᵀE_i),   so with y = Au, ε_i = E_iu:
+//! (∂G/∂α_i u)_j = −k·(δ_ij σ_iρ_i τ_i·y + a_j·ε_i),   c_i = uᵀ∂G/∂α_i u
+//! ```
+//!
+//! all from what the step already has (the joints' sines and cosines are the frame's: no trig),
+//! once per step (`h∂G/∂α_i` as two symmetric 2×2 matrices); `∂G/∂α_i u` is then a 2×2
+//! product at each `u` the step tries.
+//!
+//! **The law.** Step `k` solves `R(u) = (G − hB(ζ(u)))u − (h/2)c(u) − ξ^{k−1} + Aᵀζ(u) = 0`;
+//! `c` is quadratic in `u` (`∂c_i/∂u = 2(∂G/∂α_i u)ᵀ`, written `2D(u)`), and enters with `h`:
+//!
+//! 1. **First iterate**: the effort's, with `G` in place of `I` (`c` has no linear part at
+//!    `u = 0`): `M = G − hB(m) − (h/2)κJ`, `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`; then one Newton step on
+//!    `c` with `ζ` still linear: `u¹ = u⁰ + (M − hD(u⁰))⁻¹(h/2)c(u⁰)`. Without it the first
+//!    iterate misses `(h/2)c`, about `5e-3` of `G u`; with it, the effort's first-iterate
+//!    error is what is left (`cargo test -p purcell-core --test power_law -- --nocapture`).
+//! 2. **Plain pass** (`f32`): `ζ(u)`, then `c` linearised at `u`:
+//!    `(G − hB(ζ) − hD(u))u' = ξ^{k−1} − Aᵀζ − (h/2)c(u)`.
+//! 3. **Newton pass** (`f64`): the effort's Jacobian with `G` for `I` and `−hD(u)` added, the
+//!    residual `Gu − (h/2)c(u) − ξ^{k−1} + (Aᵀ − V(u))ζ`.
+//!
+//! Each returns `ξ^k = ξ^{k−1} + hB(ζ)u' + (h/2)c(u')` with `(h/2)c(u') = hD(u)u' − (h/2)c(u)`
+//! up to `O(|u' − u|²)`. On an arc (MODEL.md §11, "Joint limits") the resting joint's costate
+//! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
+
+use crate::law::{Equation, Law, Mat2, NewtonTerms, Rows, Solution, Step, mul};
+use crate::swimmer::Swimmer;
+use crate::{Error, Real};
+use nalgebra::{Matrix3x2, Vector2, Vector3};
+
+/// The power of a swimmer of drag coefficient `k` (it scales `G`, and so the costate).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PowerLaw<T> {
+    drag: T,
+}
+
+impl<T: Real> PowerLaw<T> {
+    /// The power of `swimmer`.
+    #[inline(always)]
+    pub(crate) fn new(swimmer: &Swimmer<T>) -> Self {
+        PowerLaw {
+            drag: swimmer.drag(),
+        }
+    }
+}
+
+/// The power at one step: `G(α_k)` and `h·∂G/∂α_i(α_k)`, each symmetric, `(m11, m12, m12, m22)`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PowerStep<T> {
+    g: Mat2<T>,
+    hdg: [Mat2<T>; 2],
+}
+
+impl<T: Real> Law<T> for PowerLaw<T> {
+    type Step = PowerStep<T>;
+
+    #[inline(always)]
+    fn at(self, eq: &Equation<T>) -> PowerStep<T> {
+        let f = &eq.frame;
+        let (a1, a2) = (f.a.column(0), f.a.column(1));
+        let k = self.drag;
+        let g12 = -(k * f.wa[0].dot(&a2));
+        // h∂G/∂α_i = −hk·(∂W_α/∂α_iᵀA + AᵀE_i): (j, l) = −hk·(δ_ij σ_iρ_iτ_i·a_l + a_j·E_ie_l),
+        // the upper triangle of each.
+        let m = -(eq.h * k);
+        let [[e11, e12], [e21, e22]] = &f.e;
+        let d1 = m * (f.dwa[0].dot(&a2) + a1.dot(e12));
+        let d2 = m * a1.dot(e22);
+        PowerStep {
+            g: (
+                k * (f.w[0] - f.wa[0].dot(&a1)),
+                g12,
+                g12,
+                k * (f.w[1] - f.wa[1].dot(&a2)),
+            ),
+            hdg: [
+                (
+                    m * (f.dwa[0].dot(&a1) + a1.dot(e11)),
+                    d1,
+                    d1,
+                    m * a2.dot(e12),
+                ),
+                (
+                    m * a1.dot(e21),
+                    d2,
+                    d2,
+                    m * (f.dwa[1].dot(&a2) + a2.dot(e22)),
+                ),
+            ],
+        }
+    }
+}
+
+/// The cost's shape terms at a control `u`: `hD(u)` (row `i`: `(h∂G/∂α_i u)ᵀ`) and `(h/2)c(u)`.
+struct Shape<T: Real> {
+    hd: Mat2<T>,
+    half_hc: Vector2<T>,
+}
+
+impl<T: Real> PowerStep<T> {
+    /// [`Shape`] at `u`.
+    #[inline(always)]
+    fn shape(&self, u: &Vector2<T>) -> Shape<T> {
+        let [r1, r2] = self.hdg.map(|d| mul(&d, u));
+        let half = T::half();
+        Shape {
+            hd: (r1.x, r1.y, r2.x, r2.y),
+            half_hc: Vector2::new(half * r1.dot(u), half * r2.dot(u)),
+        }
+    }
+
+    /// `G − P` for the law's other terms `P`.
+    #[inline(always)]
+    fn minus(&self, p: &Mat2<T>) -> Mat2<T> {
+        let g = &self.g;
+        (g.0 - p.0, g.1 - p.1, g.2 - p.2, g.3 - p.3)
+    }
+
+    /// `ξ^k` of the solved rows (`xi`, at `ζ`), the resting joints' `(Gu)_i + (Aᵀζ)_i`.
+    #[inline(always)]
+    fn costate<R: Rows<T>>(
+        &self,
+        rows: R,
+        xi: Vector2<T>,
+        a: &Matrix3x2<T>,
+        z: &Vector3<T>,
+        u: &Vector2<T>,
+    ) -> Vector2<T> {
+        let xi = rows.costate(xi, a, z);
+        let [r1, r2] = rows.resting();
+        let gu = mul(&self.g, u);
+        Vector2::new(
+            if r1 { gu.x + xi.x } else { xi.x },
+            if r2 { gu.y + xi.y } else { xi.y },
+        )
+    }
+}
+
+/// `P + Q`.
+#[inline(always)]
+fn add<T: Real>(p: &Mat2<T>, q: &Mat2<T>) -> Mat2<T> {
+    (p.0 + q.0, p.1 + q.1, p.2 + q.2, p.3 + q.3)
+}
+
+impl<T: Real> Step<T> for PowerStep<T> {
+    #[inline(always)]
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
+        let m = &eq.m;
+        let hb = eq.hb(m);
+        let hk = eq.half_h_kappa();
+        let mm = self.minus(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3));
+        let u0 = rows.solve(&mm, &eq.rhs(m))?;
+        let s = self.shape(&u0);
+        let p = self.minus(&add(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3), &s.hd));
+        let u = u0 + rows.solve(&p, &s.half_hc)?;
+        let xi = eq.xi_prev + mul(&add(&hb, &s.hd), &u) - s.half_hc;
+        Ok((u, self.costate(rows, xi, &eq.frame.a, m, &u)))
+    }
+
+    #[inline(always)]
+    fn plain_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        let z = eq.zeta(u);
+        let hb = eq.hb(&z);
+        let s = self.shape(u);
+        let p = add(&hb, &s.hd);
+        let u = rows.solve(&self.minus(&p), &(eq.rhs(&z) - s.half_hc))?;
+        let xi = eq.xi_prev + mul(&p, &u) - s.half_hc;
+        Ok((u, self.costate(rows, xi, &eq.frame.a, &z, &u)))
+    }
+
+    #[inline(always)]
+    fn newton_pass<R: Rows<T>>(
+        &self,
+        eq: &Equation<T>,
+        u: &Vector2<T>,
+        rows: R,
+    ) -> Result<Solution<T>, Error> {
+        let a = &eq.frame.a;
+        let NewtonTerms {
+            z,
+            d: [d1, d2],
+            v: [v1, v2],
+            g: [g1, g2],
+        } = eq.newton_terms(u);
+        let hb = eq.hb(&z);
+        let s = self.shape(u);
+        let lead = self.minus(&add(&hb, &s.hd));
+        let jac = (
+            lead.0 + g1.dot(&d1),
+            lead.1 + g1.dot(&d2),
+            lead.2 + g2.dot(&d1),
+            lead.3 + g2.dot(&d2),
+        );
+        // R(u) = Gu − (h/2)c(u) − ξ^{k−1} + (Aᵀ − V(u))ζ.
+        let gu = mul(&self.g, u);
+        let res = Vector2::new(
+            (gu.x - s.half_hc.x - eq.xi_prev.x) + g1.dot(&z),
+            (gu.y - s.half_hc.y - eq.xi_prev.y) + g2.dot(&z),
+        );
+        let du = -rows.solve(&jac, &res)?;
+        let z1 = z + d1 * du.x + d2 * du.y;
+        let xi = eq.xi_prev
+            + Vector2::new(v1.dot(&z1), v2.dot(&z1))
+            + mul(&add(&hb, &s.hd), &du)
+            + s.half_hc;
+        let u = u + du;
+        Ok((u, self.costate(rows, xi, a, &z1, &u)))
+    }
+}
