@@ -42,7 +42,7 @@ pub trait Real:
 
     /// The passes of the power cost's law ([`crate::Cost::Power`], MODEL.md §11): its
     /// equations are nonlinear in `u_k` through its shape gradient as well, so its first
-    /// iterate leaves more (`core/tests/power_law.rs` measures it). Defaults to [`Real::PASSES`].
+    /// iterate leaves more (`core/tests/it/power_law.rs` measures it). Defaults to [`Real::PASSES`].
     const POWER_PASSES: Passes = Self::PASSES;
 
     /// The spacing of this type's numbers at 1 (for a compound type, of its value), as an
@@ -111,7 +111,7 @@ impl Real for f64 {
     /// 1 plain pass 2e-8 (see `core/tests/it/law.rs`).
     const PASSES: Passes = Passes::newton(1);
     /// The power's first iterate leaves up to 1e-4 of `|u_k|` at `|u_k| ≈ 2` rad/s, and one
-    /// Newton pass 2e-11; a second brings it to rounding (`core/tests/power_law.rs`).
+    /// Newton pass 2e-11; a second brings it to rounding (`core/tests/it/power_law.rs`).
     const POWER_PASSES: Passes = Passes::newton(2);
 
     #[inline(always)]

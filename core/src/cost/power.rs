@@ -21,7 +21,7 @@
 //!    `u = 0`): `M = G − hB(m) − (h/2)κJ`, `u⁰ = M⁻¹(ξ^{k−1} − Aᵀm)`; then one Newton step on
 //!    `c` with `ζ` still linear: `u¹ = u⁰ + (M − hD(u⁰))⁻¹(h/2)c(u⁰)`. Without it the first
 //!    iterate misses `(h/2)c`, about `5e-3` of `G u`; with it, the effort's first-iterate
-//!    error is what is left (`cargo test -p purcell-core --test power_law -- --nocapture`).
+//!    error is what is left (`cargo test -p purcell-core --test it power_law:: -- --nocapture`).
 //! 2. **Plain pass** (`f32`): `ζ(u)`, then `c` linearised at `u`:
 //!    `(G − hB(ζ) − hD(u))u' = ξ^{k−1} − Aᵀζ − (h/2)c(u)`.
 //! 3. **Newton pass** (`f64`): the effort's Jacobian with `G` for `I` and `−hD(u)` added, the

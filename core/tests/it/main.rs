@@ -14,6 +14,8 @@ mod golden;
 mod kinematics;
 mod law;
 mod perf_api;
+mod power_gait;
+mod power_law;
 mod replay;
 mod se2;
 mod switches;

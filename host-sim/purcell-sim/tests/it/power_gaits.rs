@@ -4,7 +4,7 @@
 //! free and on the arcs of a joint limit; its power cost, recomputed from the replay's controls
 //! alone (each link's dissipation, `purcell_solver::testkit::dissipated`), is the report's.
 
-mod common;
+use crate::common;
 
 use common::*;
 use purcell_core::cost::Power;

@@ -6,7 +6,7 @@
 use purcell_core::cost::{Effort, Power};
 use purcell_core::{Cost, Error, Gait, Replay, gait};
 
-static POWER: &[u8] = include_bytes!("../examples/paper-power.gait");
+static POWER: &[u8] = include_bytes!("../../examples/paper-power.gait");
 
 #[test]
 fn the_power_gait_replays_to_the_target_through_the_power_law() {
