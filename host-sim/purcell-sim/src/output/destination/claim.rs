@@ -3,7 +3,8 @@
 use std::path::{Path, PathBuf};
 
 /// What a subcommand asks of an output path: `command` writes `path`, replacing what is
-/// there only as [`OutputDir::prepare`] and [`OutputFile::prepare`] allow (more of it with
+/// there only as [`OutputDir::prepare`](super::OutputDir::prepare) and
+/// [`OutputFile::prepare`](super::OutputFile::prepare) allow (more of it with
 /// `force`), and `path` never is or holds one of `inputs`.
 #[derive(Clone, Debug)]
 pub struct Claim {
