@@ -27,7 +27,7 @@ pub(crate) use power::PowerLaw;
 
 use crate::kinematics::{Kinematics, State};
 pub use crate::law::Effort;
-use crate::law::{Free, LawStep, OnArcs, check_inputs};
+use crate::law::{LawStep, OnArcs, check_inputs};
 use crate::passes::Passes;
 use crate::{Error, Real};
 use nalgebra::{Vector2, Vector3};
@@ -111,12 +111,10 @@ impl<T: Real> Kinematics<T> {
         on: OnArcs,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {
-        check_inputs(state, xi_prev, mu)?;
-        // Off the arcs, the free rows: the code a replay's free step runs.
-        match (cost, on == OnArcs::NONE) {
-            (Cost::Effort, true) => self.law_step_trusted(state, xi_prev, mu, Effort, Free, passes),
-            (Cost::Effort, false) => self.law_step_trusted(state, xi_prev, mu, Effort, on, passes),
-            (Cost::Power, _) => {
+        match cost {
+            Cost::Effort => self.law_step(state, xi_prev, mu, on, passes),
+            Cost::Power => {
+                check_inputs(state, xi_prev, mu)?;
                 let power = PowerLaw::new(self.swimmer());
                 self.law_step_trusted(state, xi_prev, mu, power, on, passes)
             }
