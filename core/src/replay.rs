@@ -22,7 +22,7 @@
 use crate::arc::{Arc, ArcTable, Exits};
 use crate::cost::{Cost, Effort, PowerLaw, RunningCost};
 use crate::kinematics::{Kinematics, State};
-use crate::law::{Free, LawStep, OnArcs};
+use crate::law::{Free, LawStep, OnArcs, Rows};
 use crate::sample::Sample;
 use crate::table::{Table, VALUES};
 use crate::{Error, Real, Se2, TrajectoryDigest};
@@ -296,7 +296,11 @@ impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
         }
         // A constant: each cost's replay compiles only its own branch.
         if C::COST == Cost::Power {
-            return self.step_power();
+            return if self.on_arcs == OnArcs::NONE {
+                self.step_power(Free)
+            } else {
+                self.step_power(self.on_arcs)
+            };
         }
         if self.on_arcs != OnArcs::NONE {
             return self.step_on_arcs();
@@ -331,16 +335,17 @@ impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
         self.record(step)
     }
 
-    /// [`Replay::step`] of the power ([`Kinematics::law_step_for`]), free or on an arc. Out of
-    /// line, as [`Replay::step_on_arcs`].
+    /// [`Replay::step`] of the power ([`Kinematics::law_step_for`]) solving `rows`: [`Free`]
+    /// off the arcs (no test of the joints in its solves), the joints off their arcs on one.
+    /// Out of line, as [`Replay::step_on_arcs`].
     #[inline(never)]
-    fn step_power(&mut self) -> Result<Option<&Sample<T>>, Error> {
+    fn step_power<R: Rows<T>>(&mut self, rows: R) -> Result<Option<&Sample<T>>, Error> {
         let step = self.kinematics.law_step_trusted(
             &self.state,
             &self.xi,
             &self.mu,
             PowerLaw::new(self.kinematics.swimmer()),
-            self.on_arcs,
+            rows,
             T::POWER_PASSES,
         );
         self.record(step)

@@ -266,8 +266,10 @@ pub(crate) struct Frame<T> {
     pub(crate) wa: [Vector3<T>; 2],
     /// `w_i = r·L_i³/3`, the turning drag of the outer links about their hinges.
     pub(crate) w: [T; 2],
-    /// `∂W_α/∂α_i e_i = σ_iρ_i·τ_i` (front `−ρ₁τ₁`, rear `ρ₂τ₂`; `∂W_α/∂α_i e_j = 0`, `j ≠ i`).
-    pub(crate) dwa: [Vector3<T>; 2],
+    /// `(t_ij, q_ij)` of the brackets: `t_ij = τ_i·a_j` and `q_ij` of the module docs'
+    /// `E_i e_j = κ_i t_ij·ν_i + q_ij·τ_i − η_i t_ij·e₃`, from which the power's `∂G/∂α_i`
+    /// (`cost/power.rs`).
+    pub(crate) tq: [[(T, T); 2]; 2],
 }
 
 impl<T: Real> Frame<T> {
@@ -330,20 +332,21 @@ impl<T: Real> Frame<T> {
                 }
                 let mut v = nu * (lc.kappa * t) + tau * q;
                 v.z -= lc.eta * t;
-                v
+                (v, (t, q))
             };
             [col(0), col(1)]
         };
-        let e = [bracket(front, lf, 0), bracket(rear, lr, 1)];
-        // What only the power's law reads (dead code for the effort's, after inlining).
-        let dwa = [front.0 * -lf.rho, rear.0 * lr.rho];
+        let [[(e11, tq11), (e12, tq12)], [(e21, tq21), (e22, tq22)]] =
+            [bracket(front, lf, 0), bracket(rear, lr, 1)];
+        // `wa`, `w` and `tq` only the power's law reads (dead code for the effort's, after
+        // inlining).
         Ok(Frame {
             w_inv,
             a,
-            e,
+            e: [[e11, e12], [e21, e22]],
             wa: [col1, col2],
             w: [lf.w, lr.w],
-            dwa,
+            tq: [[tq11, tq12], [tq21, tq22]],
         })
     }
 }

@@ -3,16 +3,19 @@
 //! **The metric from the step's frame.** `G = k·(R_uu − W_αᵀA)` with `R_uu = diag(w₁, w₂)`,
 //! `w_i = r·L_i³/3` (an outer link turning about its hinge: `r·k·L(L/2)² + r·k·L³/12`), and
 //! `W_αᵀA = W_αᵀW_ξ⁻¹W_α` symmetric. Its derivative, with the brackets `E_i = ∂W_α/∂α_i −
-//! ∂W_ξ/∂α_i·A` of [`crate::swimmer`] and `∂W_α/∂α_i = σ_iρ_iτ_i e_iᵀ`:
+//! ∂W_ξ/∂α_i·A` of [`crate::swimmer`] and `∂W_α/∂α_i = σ_iρ_iτ_i e_iᵀ`, is
+//! `∂G/∂α_i = −k·(∂W_α/∂α_iᵀA + AᵀE_i)`. The frame writes each bracket's column as
+//! `E_ie_j = κ_it_ij·ν_i + q_ij·τ_i − η_it_ij·e₃` with `t_ij = τ_i·a_j` and
+//! `q_ij = κ_iν_i·a_j − η_ia_{j,z} + δ_ijσ_iρ_i`, so `a_l·E_ie_j = t_ij(q_il − δ_ilσ_iρ_i) +
+//! q_ij t_il`, and entry `(j, l)` of `∂G/∂α_i` collapses to products of the frame's `t`, `q`:
 //!
 //! ```text
-//! ∂G/∂α_i = −k·(∂W_α/∂α_iᵀA + AᵀE_i),   so with y = Au, ε_i = E_iu:
-//! (∂G/∂α_i u)_j = −k·(δ_ij σ_iρ_i τ_i·y + a_j·ε_i),   c_i = uᵀ∂G/∂α_i u
+//! ∂G/∂α_i = −k·[[2t_i1q_i1, t_i1q_i2 + t_i2q_i1], [t_i1q_i2 + t_i2q_i1, 2t_i2q_i2]]
 //! ```
 //!
-//! all from what the step already has (the joints' sines and cosines are the frame's: no trig),
-//! once per step (`h∂G/∂α_i` as two symmetric 2×2 matrices); `∂G/∂α_i u` is then a 2×2
-//! product at each `u` the step tries.
+//! (symmetric, as `G` is), with `c_i = uᵀ∂G/∂α_i u`: no trigonometry and no dot product beyond
+//! the frame's, once per step (`h∂G/∂α_i`); `∂G/∂α_i u` is then a 2×2 product at each `u` the
+//! step tries.
 //!
 //! **The law.** Step `k` solves `R(u) = (G − hB(ζ(u)))u − (h/2)c(u) − ξ^{k−1} + Aᵀζ(u) = 0`;
 //! `c` is quadratic in `u` (`∂c_i/∂u = 2(∂G/∂α_i u)ᵀ`, written `2D(u)`), and enters with `h`:
@@ -68,12 +71,13 @@ impl<T: Real> Law<T> for PowerLaw<T> {
         let (a1, a2) = (f.a.column(0), f.a.column(1));
         let k = self.drag;
         let g12 = -(k * f.wa[0].dot(&a2));
-        // h∂G/∂α_i = −hk·(∂W_α/∂α_iᵀA + AᵀE_i): (j, l) = −hk·(δ_ij σ_iρ_iτ_i·a_l + a_j·E_ie_l),
-        // the upper triangle of each.
+        // h∂G/∂α_i = −hk·[[2t_i1q_i1, t_i1q_i2 + t_i2q_i1], [·, 2t_i2q_i2]] (module docs).
         let m = -(eq.h * k);
-        let [[e11, e12], [e21, e22]] = &f.e;
-        let d1 = m * (f.dwa[0].dot(&a2) + a1.dot(e12));
-        let d2 = m * a1.dot(e22);
+        let m2 = m + m;
+        let hdg = f.tq.map(|[(t1, q1), (t2, q2)]| {
+            let d12 = m * (t1 * q2 + t2 * q1);
+            (m2 * (t1 * q1), d12, d12, m2 * (t2 * q2))
+        });
         PowerStep {
             g: (
                 k * (f.w[0] - f.wa[0].dot(&a1)),
@@ -81,20 +85,7 @@ impl<T: Real> Law<T> for PowerLaw<T> {
                 g12,
                 k * (f.w[1] - f.wa[1].dot(&a2)),
             ),
-            hdg: [
-                (
-                    m * (f.dwa[0].dot(&a1) + a1.dot(e11)),
-                    d1,
-                    d1,
-                    m * a2.dot(e12),
-                ),
-                (
-                    m * a1.dot(e21),
-                    d2,
-                    d2,
-                    m * (f.dwa[1].dot(&a2) + a2.dot(e22)),
-                ),
-            ],
+            hdg,
         }
     }
 }
@@ -120,8 +111,7 @@ impl<T: Real> PowerStep<T> {
     /// `G − P` for the law's other terms `P`.
     #[inline(always)]
     fn minus(&self, p: &Mat2<T>) -> Mat2<T> {
-        let g = &self.g;
-        (g.0 - p.0, g.1 - p.1, g.2 - p.2, g.3 - p.3)
+        sub(&self.g, p)
     }
 
     /// `ξ^k` of the solved rows (`xi`, at `ζ`), the resting joints' `(Gu)_i + (Aᵀζ)_i`.
@@ -144,6 +134,12 @@ impl<T: Real> PowerStep<T> {
     }
 }
 
+/// `P − Q`.
+#[inline(always)]
+fn sub<T: Real>(p: &Mat2<T>, q: &Mat2<T>) -> Mat2<T> {
+    (p.0 - q.0, p.1 - q.1, p.2 - q.2, p.3 - q.3)
+}
+
 /// `P + Q`.
 #[inline(always)]
 fn add<T: Real>(p: &Mat2<T>, q: &Mat2<T>) -> Mat2<T> {
@@ -159,7 +155,7 @@ impl<T: Real> Step<T> for PowerStep<T> {
         let mm = self.minus(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3));
         let u0 = rows.solve(&mm, &eq.rhs(m))?;
         let s = self.shape(&u0);
-        let p = self.minus(&add(&(hb.0, hb.1 + hk, hb.2 - hk, hb.3), &s.hd));
+        let p = sub(&mm, &s.hd);
         let u = u0 + rows.solve(&p, &s.half_hc)?;
         let xi = eq.xi_prev + mul(&add(&hb, &s.hd), &u) - s.half_hc;
         Ok((u, self.costate(rows, xi, &eq.frame.a, m, &u)))
