@@ -176,7 +176,7 @@ pub(crate) trait Law<T: Real>: Copy {
 }
 
 /// The three parts of a step's solve (see [`crate::law`]), each solving `rows`.
-pub(crate) trait Step<T: Real> {
+pub(crate) trait Step<T: Real>: Sized {
     /// The root of the law's equation linearised at `u = 0` (and, for a cost whose shape
     /// gradient is not zero, its quadratic term taken in by a Newton step), with its `ξ^k`.
     fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error>;
@@ -187,13 +187,38 @@ pub(crate) trait Step<T: Real> {
         u: &Vector2<T>,
         rows: R,
     ) -> Result<Solution<T>, Error>;
-    /// A Newton pass from `u` ([`crate::PassKind::Newton`]).
+    /// The Jacobian of a Newton pass ([`Equation::newton_pass`]) less `(Aᵀ − V(u))·∂ζ/∂u`:
+    /// the effort's `I − hB`.
+    fn newton_jacobian(&self, at: &NewtonAt<T>) -> Mat2<T>;
+    /// Its residual `R(u)` less `(Aᵀ − V(u))ζ`: the effort's `u − ξ^{k−1}`.
+    fn newton_residual(&self, at: &NewtonAt<T>) -> Vector2<T>;
+    /// Its `ξ^k` (of the free rows) from `V(u)ζ'` (`vz`) and `δu`: the effort's
+    /// `ξ^{k−1} + vz + hB·δu`.
+    fn newton_xi(&self, at: &NewtonAt<T>, vz: Vector2<T>, du: &Vector2<T>) -> Vector2<T>;
+    /// `ξ^k` of a step solving `rows` from the rows' own ([`Rows::costate`]) at the step's `u`:
+    /// the effort's is `xi`; a cost whose `∇_uℓ` is not `hu` corrects its resting joints.
+    fn rest_costate<R: Rows<T>>(&self, rows: R, xi: Vector2<T>, u: &Vector2<T>) -> Vector2<T>;
+    /// A Newton pass from `u` ([`crate::PassKind::Newton`]): [`Equation::newton_pass`] with
+    /// the cost's terms.
+    #[inline(always)]
     fn newton_pass<R: Rows<T>>(
         &self,
         eq: &Equation<T>,
         u: &Vector2<T>,
         rows: R,
-    ) -> Result<Solution<T>, Error>;
+    ) -> Result<Solution<T>, Error> {
+        eq.newton_pass(self, u, rows)
+    }
+}
+
+/// What a cost's terms of a Newton pass from `u` are made of ([`Equation::newton_pass`]).
+pub(crate) struct NewtonAt<'a, T: Real> {
+    /// The law's equation.
+    pub(crate) eq: &'a Equation<T>,
+    /// The pass's `u`.
+    pub(crate) u: &'a Vector2<T>,
+    /// `hB(ζ(u))`.
+    pub(crate) hb: Mat2<T>,
 }
 
 /// The effort `ℓ = h/2·|u|²`: the law of [`crate::law`] as it is ([`crate::Cost::Effort`]).
@@ -225,13 +250,24 @@ impl<T: Real> Step<T> for Effort {
     }
 
     #[inline(always)]
-    fn newton_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
-        eq.newton_pass(u, rows)
+    fn newton_jacobian(&self, at: &NewtonAt<T>) -> Mat2<T> {
+        let (b11, b12, b21, b22) = at.hb;
+        (T::one() - b11, -b12, -b21, T::one() - b22)
+    }
+
+    #[inline(always)]
+    fn newton_residual(&self, at: &NewtonAt<T>) -> Vector2<T> {
+        at.u - at.eq.xi_prev
+    }
+
+    #[inline(always)]
+    fn newton_xi(&self, at: &NewtonAt<T>, vz: Vector2<T>, du: &Vector2<T>) -> Vector2<T> {
+        at.eq.xi_prev + vz + mul(&at.hb, du)
+    }
+
+    #[inline(always)]
+    fn rest_costate<R: Rows<T>>(&self, _: R, xi: Vector2<T>, _: &Vector2<T>) -> Vector2<T> {
+        xi
     }
 }
 
@@ -412,13 +448,12 @@ impl<T: Real> Equation<T> {
 
     /// What a Newton pass from `u` needs besides the cost (see [`Equation::newton_pass`]).
     #[inline(always)]
-    pub(crate) fn newton_terms(&self, u: &Vector2<T>) -> NewtonTerms<T> {
-        let (a, m) = (&self.frame.a, &self.m);
+    fn newton_terms(&self, u: &Vector2<T>) -> NewtonTerms<T> {
+        let (a, m, mh) = (&self.frame.a, &self.m, -self.h);
         let x = self.twist(u);
         let k = ExpCoefficients::new(x.z);
         let z = k.dexp_transpose_mul(&x, m);
         let dz = k.dexp_transpose_mul_jacobian(&x, m);
-        let mh = -self.h;
         let (d1, d2) = (dz.mul(&(a.column(0) * mh)), dz.mul(&(a.column(1) * mh)));
         let [[e11, e12], [e21, e22]] = &self.frame.e;
         let v1 = sym_mul_vec(&self.hw_inv, &(e11 * u.x + e12 * u.y));
@@ -437,47 +472,51 @@ impl<T: Real> Equation<T> {
     /// `ξ^{k−1} + hB(ζ')u'` at `ζ' = ζ(u')`, which is `ξ^{k−1} + V(u)ζ' + hB(ζ)δu` with
     /// `δu = u' − u` and `ζ' = ζ + ∂ζ/∂u·δu` up to `O(|δu|²)`, below rounding after a Newton
     /// step from the first iterate (`|δu| ≈ 5e-6·|u|`). Solving `rows`, `δu_i = 0` for a
-    /// joint on an arc.
+    /// joint on an arc. The cost (`step`) gives `J`, `R(u)` and `ξ^k` from these terms
+    /// ([`Step::newton_jacobian`] …): the above for the effort, its `ℓ`'s added for another.
     #[inline(always)]
-    pub(crate) fn newton_pass<R: Rows<T>>(
+    pub(crate) fn newton_pass<S: Step<T>, R: Rows<T>>(
         &self,
+        step: &S,
         u: &Vector2<T>,
         rows: R,
-    ) -> Result<(Vector2<T>, Vector2<T>), Error> {
-        let a = &self.frame.a;
+    ) -> Result<Solution<T>, Error> {
         let NewtonTerms {
             z,
             d: [d1, d2],
             v: [v1, v2],
             g: [g1, g2],
         } = self.newton_terms(u);
-        let hb = self.hb(&z);
-        let (b11, b12, b21, b22) = hb;
+        let at = NewtonAt {
+            eq: self,
+            u,
+            hb: self.hb(&z),
+        };
+        let (lead, r) = (step.newton_jacobian(&at), step.newton_residual(&at));
         let jac = (
-            T::one() - b11 + g1.dot(&d1),
-            g1.dot(&d2) - b12,
-            g2.dot(&d1) - b21,
-            T::one() - b22 + g2.dot(&d2),
+            lead.0 + g1.dot(&d1),
+            lead.1 + g1.dot(&d2),
+            lead.2 + g2.dot(&d1),
+            lead.3 + g2.dot(&d2),
         );
-        // R(u) = (u − ξ^{k−1}) + (Aᵀ − V(u))ζ.
-        let res = Vector2::new(
-            (u.x - self.xi_prev.x) + g1.dot(&z),
-            (u.y - self.xi_prev.y) + g2.dot(&z),
-        );
-        let du = -rows.solve(&jac, &res)?;
+        let du = -rows.solve(&jac, &Vector2::new(r.x + g1.dot(&z), r.y + g2.dot(&z)))?;
         let z1 = z + d1 * du.x + d2 * du.y;
-        let xi = self.xi_prev + Vector2::new(v1.dot(&z1), v2.dot(&z1)) + mul(&hb, &du);
-        Ok((u + du, rows.costate(xi, a, &z1)))
+        let xi = step.newton_xi(&at, Vector2::new(v1.dot(&z1), v2.dot(&z1)), &du);
+        let u = u + du;
+        Ok((
+            u,
+            step.rest_costate(rows, rows.costate(xi, &self.frame.a, &z1), &u),
+        ))
     }
 }
 
 /// The terms of a Newton pass at `u`: `ζ(u)`, `∂ζ/∂u_j`, the rows `v_i` of `V(u)` and
 /// `g_i = a_i − v_i` (the columns of `Aᵀ − V(u)`, transposed).
-pub(crate) struct NewtonTerms<T: Real> {
-    pub(crate) z: Vector3<T>,
-    pub(crate) d: [Vector3<T>; 2],
-    pub(crate) v: [Vector3<T>; 2],
-    pub(crate) g: [Vector3<T>; 2],
+struct NewtonTerms<T: Real> {
+    z: Vector3<T>,
+    d: [Vector3<T>; 2],
+    v: [Vector3<T>; 2],
+    g: [Vector3<T>; 2],
 }
 
 /// `P·v` for a 2×2 `P`.

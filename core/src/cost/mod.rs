@@ -99,15 +99,15 @@ impl RunningCost for Power {
 impl<T: Real> Kinematics<T> {
     /// [`Kinematics::law_step`] of the running cost `cost` (MODEL.md §11): the stationarity
     /// `G(α_k)u_k = ξ^k − A(α_k)ᵀζ^k` and the shape costate's update with the cost's shape
-    /// gradient (see [`crate::cost`]); [`Cost::Effort`] is [`Kinematics::law_step`]. Errors as
-    /// [`Kinematics::law_step`].
+    /// gradient (see [`crate::cost`]); [`Cost::Effort`] is [`Kinematics::law_step`]. The cost
+    /// stands where the law's own step takes it (after `μ`). Errors as [`Kinematics::law_step`].
     #[inline]
     pub fn law_step_for(
         &self,
-        cost: Cost,
         state: &State<T>,
         xi_prev: &Vector2<T>,
         mu: &Vector3<T>,
+        cost: Cost,
         on: OnArcs,
         passes: Passes,
     ) -> Result<LawStep<T>, Error> {

@@ -34,10 +34,10 @@
 //! up to `O(|u' − u|²)`. On an arc (MODEL.md §11, "Joint limits") the resting joint's costate
 //! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
 
-use crate::law::{Equation, Law, Mat2, NewtonTerms, Rows, Solution, Step, mul};
+use crate::law::{Equation, Law, Mat2, NewtonAt, Rows, Solution, Step, mul};
 use crate::swimmer::Swimmer;
 use crate::{Error, Real};
-use nalgebra::{Matrix3x2, Vector2, Vector3};
+use nalgebra::Vector2;
 
 /// The power of a swimmer of drag coefficient `k` (it scales `G`, and so the costate).
 #[derive(Clone, Copy, Debug)]
@@ -113,25 +113,6 @@ impl<T: Real> PowerStep<T> {
     fn minus(&self, p: &Mat2<T>) -> Mat2<T> {
         sub(&self.g, p)
     }
-
-    /// `ξ^k` of the solved rows (`xi`, at `ζ`), the resting joints' `(Gu)_i + (Aᵀζ)_i`.
-    #[inline(always)]
-    fn costate<R: Rows<T>>(
-        &self,
-        rows: R,
-        xi: Vector2<T>,
-        a: &Matrix3x2<T>,
-        z: &Vector3<T>,
-        u: &Vector2<T>,
-    ) -> Vector2<T> {
-        let xi = rows.costate(xi, a, z);
-        let [r1, r2] = rows.resting();
-        let gu = mul(&self.g, u);
-        Vector2::new(
-            if r1 { gu.x + xi.x } else { xi.x },
-            if r2 { gu.y + xi.y } else { xi.y },
-        )
-    }
 }
 
 /// `P − Q`.
@@ -158,7 +139,10 @@ impl<T: Real> Step<T> for PowerStep<T> {
         let p = sub(&mm, &s.hd);
         let u = u0 + rows.solve(&p, &s.half_hc)?;
         let xi = eq.xi_prev + mul(&add(&hb, &s.hd), &u) - s.half_hc;
-        Ok((u, self.costate(rows, xi, &eq.frame.a, m, &u)))
+        Ok((
+            u,
+            self.rest_costate(rows, rows.costate(xi, &eq.frame.a, m), &u),
+        ))
     }
 
     #[inline(always)]
@@ -174,45 +158,38 @@ impl<T: Real> Step<T> for PowerStep<T> {
         let p = add(&hb, &s.hd);
         let u = rows.solve(&self.minus(&p), &(eq.rhs(&z) - s.half_hc))?;
         let xi = eq.xi_prev + mul(&p, &u) - s.half_hc;
-        Ok((u, self.costate(rows, xi, &eq.frame.a, &z, &u)))
+        Ok((
+            u,
+            self.rest_costate(rows, rows.costate(xi, &eq.frame.a, &z), &u),
+        ))
     }
 
     #[inline(always)]
-    fn newton_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
-        let a = &eq.frame.a;
-        let NewtonTerms {
-            z,
-            d: [d1, d2],
-            v: [v1, v2],
-            g: [g1, g2],
-        } = eq.newton_terms(u);
-        let hb = eq.hb(&z);
-        let s = self.shape(u);
-        let lead = self.minus(&add(&hb, &s.hd));
-        let jac = (
-            lead.0 + g1.dot(&d1),
-            lead.1 + g1.dot(&d2),
-            lead.2 + g2.dot(&d1),
-            lead.3 + g2.dot(&d2),
-        );
-        // R(u) = Gu − (h/2)c(u) − ξ^{k−1} + (Aᵀ − V(u))ζ.
+    fn newton_jacobian(&self, at: &NewtonAt<T>) -> Mat2<T> {
+        self.minus(&add(&at.hb, &self.shape(at.u).hd))
+    }
+
+    /// `R(u) = Gu − (h/2)c(u) − ξ^{k−1} + (Aᵀ − V(u))ζ`.
+    #[inline(always)]
+    fn newton_residual(&self, at: &NewtonAt<T>) -> Vector2<T> {
+        mul(&self.g, at.u) - self.shape(at.u).half_hc - at.eq.xi_prev
+    }
+
+    /// `ξ^{k−1} + V(u)ζ' + (hB + hD(u))δu + (h/2)c(u)`.
+    #[inline(always)]
+    fn newton_xi(&self, at: &NewtonAt<T>, vz: Vector2<T>, du: &Vector2<T>) -> Vector2<T> {
+        let s = self.shape(at.u);
+        at.eq.xi_prev + vz + mul(&add(&at.hb, &s.hd), du) + s.half_hc
+    }
+
+    /// The resting joints' `ξ^k_i = (Gu)_i + (Aᵀζ)_i`.
+    #[inline(always)]
+    fn rest_costate<R: Rows<T>>(&self, rows: R, xi: Vector2<T>, u: &Vector2<T>) -> Vector2<T> {
+        let [r1, r2] = rows.resting();
         let gu = mul(&self.g, u);
-        let res = Vector2::new(
-            (gu.x - s.half_hc.x - eq.xi_prev.x) + g1.dot(&z),
-            (gu.y - s.half_hc.y - eq.xi_prev.y) + g2.dot(&z),
-        );
-        let du = -rows.solve(&jac, &res)?;
-        let z1 = z + d1 * du.x + d2 * du.y;
-        let xi = eq.xi_prev
-            + Vector2::new(v1.dot(&z1), v2.dot(&z1))
-            + mul(&add(&hb, &s.hd), &du)
-            + s.half_hc;
-        let u = u + du;
-        Ok((u, self.costate(rows, xi, a, &z1, &u)))
+        Vector2::new(
+            if r1 { gu.x + xi.x } else { xi.x },
+            if r2 { gu.y + xi.y } else { xi.y },
+        )
     }
 }

@@ -148,7 +148,7 @@ fn a_power_step_solves_the_power_law_free_and_on_arcs() {
         for (s, xi, mu) in cases() {
             for on in [OnArcs::NONE, OnArcs([true, false]), OnArcs([false, true])] {
                 let step = kin
-                    .law_step_for(Cost::Power, &s, &xi, &mu, on, f64::POWER_PASSES)
+                    .law_step_for(&s, &xi, &mu, Cost::Power, on, f64::POWER_PASSES)
                     .unwrap();
                 let r = law_residual(&kin, &s, &xi, &mu, &step, on);
                 assert!(r < 1e-9, "f64 {on:?}: residual {r:.1e}");
@@ -163,10 +163,10 @@ fn a_power_step_solves_the_power_law_free_and_on_arcs() {
                 };
                 let step32 = kin32
                     .law_step_for(
-                        Cost::Power,
                         &s32,
                         &xi.cast(),
                         &mu.cast(),
+                        Cost::Power,
                         on,
                         f32::POWER_PASSES,
                     )
@@ -187,10 +187,10 @@ fn both_joints_on_arcs_rest_with_the_costate_of_the_stationarity() {
     let (s, xi, mu) = cases()[1];
     let step = kin
         .law_step_for(
-            Cost::Power,
             &s,
             &xi,
             &mu,
+            Cost::Power,
             OnArcs([true, true]),
             f64::POWER_PASSES,
         )
@@ -211,7 +211,7 @@ fn passes_converge_to_the_root_of_the_power_law() {
         .flat_map(|(s, xi, mu)| [0.03, 0.3, 1.0].map(|f| (s, xi * f, mu * f)))
     {
         let u = |p: Passes| {
-            kin.law_step_for(Cost::Power, &s, &xi, &mu, OnArcs::NONE, p)
+            kin.law_step_for(&s, &xi, &mu, Cost::Power, OnArcs::NONE, p)
                 .unwrap()
                 .u
         };
