@@ -9,9 +9,9 @@
 #     dearer than its free steps on average (every step within the per-step budget);
 #  2b. the committed power-optimal gait core/examples/paper-power.gait (solve --cost power: the
 #     power's law, MODEL.md §11) flies on the M4F bit-identical to `purcell-sim replay --gait …
-#     --precision f32`, mean instructions per step <= PURCELL_MCU_POWER_MAX_INSN (default 920, a
-#     regression guard: measured 898.5, above issue 37's 850), largest
-#     <= PURCELL_MCU_POWER_MAX_STEP_INSN (default 1000, measured 969);
+#     --precision f32`, mean instructions per step <= PURCELL_MCU_POWER_MAX_INSN (default 830, a
+#     regression guard: measured 813.5, within issue 37's 850), largest
+#     <= PURCELL_MCU_POWER_MAX_STEP_INSN (default 900, measured 884);
 #  3. a corrupted gait is refused on the M4F: the firmware prints the reason and exits 1;
 #  4. M4F (mps2-an386), f32, the committed paper's gait: digest and final state bit-identical
 #     to the host f32 flight, mean instructions per step <= PURCELL_MCU_MAX_INSN (default 685,
@@ -129,8 +129,8 @@ echo "--- constrained gait: the paper's target within |alpha_i| <= 1.5, on its j
 fly_gait limit core/examples/paper-limit.gait
 
 echo "--- power gait: the paper's target at least power (solve --cost power, MODEL.md §11), the power's law"
-fly_gait power core/examples/paper-power.gait --max-insn "${PURCELL_MCU_POWER_MAX_INSN:-920}" \
-  --max-step-insn "${PURCELL_MCU_POWER_MAX_STEP_INSN:-1000}"
+fly_gait power core/examples/paper-power.gait --max-insn "${PURCELL_MCU_POWER_MAX_INSN:-830}" \
+  --max-step-insn "${PURCELL_MCU_POWER_MAX_STEP_INSN:-900}"
 
 echo "--- corrupted gait: one flipped byte in the checkpoint table must be refused (exit 1)"
 cp "$gaits/solved.gait" "$gaits/corrupt.gait"

@@ -12,8 +12,8 @@
 //! - [`Power`]: `ℓ = h/2·uᵀG(α)u`, the power the fluid dissipates: `G(α_k)u_k = ξ^k − Aᵀζ^k`,
 //!   `ξ^k = ξ^{k−1} + hB_ku_k + (h/2)c_k`, `c_{k,i} = u_kᵀ∂G/∂α_i u_k` (`cost/power.rs`).
 //!
-//! A third cost is a module with a `Law` (in [`crate::law`]): its first iterate and its two kinds of passes
-//! ([`crate::passes`]), and a name here.
+//! A third cost is a module with a `Law` (in [`crate::law`]): its first iterate, its plain
+//! pass and its terms of the one Newton pass ([`crate::passes`]), and a name here.
 //!
 //! [`Effort`] and [`Power`] are also types: the [`RunningCost`] parameter of a
 //! [`crate::Replay`], so that a replay's law is fixed when it is built (one compiled step per
