@@ -166,6 +166,8 @@ pub(crate) fn check_inputs<T: Real>(
 
 /// A step's `u_k` and `ξ^k`.
 pub(crate) type Solution<T> = (Vector2<T>, Vector2<T>);
+/// A pass's [`Solution`], or why the step has none.
+pub(crate) type Pass<T> = Result<Solution<T>, Error>;
 
 /// The law's equations of a cost: [`Law::at`] takes what the cost needs at a step's shape.
 pub(crate) trait Law<T: Real>: Copy {
@@ -179,14 +181,9 @@ pub(crate) trait Law<T: Real>: Copy {
 pub(crate) trait Step<T: Real>: Sized {
     /// The root of the law's equation linearised at `u = 0` (and, for a cost whose shape
     /// gradient is not zero, its quadratic term taken in by a Newton step), with its `ξ^k`.
-    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error>;
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Pass<T>;
     /// A plain pass from `u` ([`crate::PassKind::Plain`]).
-    fn plain_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error>;
+    fn plain_pass<R: Rows<T>>(&self, eq: &Equation<T>, u: &Vector2<T>, rows: R) -> Pass<T>;
     /// The Jacobian of a Newton pass ([`Equation::newton_pass`]) less `(Aᵀ − V(u))·∂ζ/∂u`:
     /// the effort's `I − hB`.
     fn newton_jacobian(&self, at: &NewtonAt<T>) -> Mat2<T>;
@@ -201,12 +198,7 @@ pub(crate) trait Step<T: Real>: Sized {
     /// A Newton pass from `u` ([`crate::PassKind::Newton`]): [`Equation::newton_pass`] with
     /// the cost's terms.
     #[inline(always)]
-    fn newton_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
+    fn newton_pass<R: Rows<T>>(&self, eq: &Equation<T>, u: &Vector2<T>, rows: R) -> Pass<T> {
         eq.newton_pass(self, u, rows)
     }
 }
@@ -235,17 +227,12 @@ impl<T: Real> Law<T> for Effort {
 
 impl<T: Real> Step<T> for Effort {
     #[inline(always)]
-    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Pass<T> {
         eq.first_iterate(rows)
     }
 
     #[inline(always)]
-    fn plain_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
+    fn plain_pass<R: Rows<T>>(&self, eq: &Equation<T>, u: &Vector2<T>, rows: R) -> Pass<T> {
         eq.plain_pass(u, rows)
     }
 
@@ -482,7 +469,7 @@ impl<T: Real> Equation<T> {
         step: &S,
         u: &Vector2<T>,
         rows: R,
-    ) -> Result<Solution<T>, Error> {
+    ) -> Pass<T> {
         let NewtonTerms {
             z,
             d: [d1, d2],

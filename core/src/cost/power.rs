@@ -34,9 +34,9 @@
 //! up to `O(|u' − u|²)`. On an arc (MODEL.md §11, "Joint limits") the resting joint's costate
 //! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
 
-use crate::law::{Equation, Law, Mat2, NewtonAt, Rows, Solution, Step, mul};
+use crate::Real;
+use crate::law::{Equation, Law, Mat2, NewtonAt, Pass, Rows, Step, mul};
 use crate::swimmer::Swimmer;
-use crate::{Error, Real};
 use nalgebra::Vector2;
 
 /// The power of a swimmer of drag coefficient `k` (it scales `G`, and so the costate).
@@ -129,7 +129,7 @@ fn add<T: Real>(p: &Mat2<T>, q: &Mat2<T>) -> Mat2<T> {
 
 impl<T: Real> Step<T> for PowerStep<T> {
     #[inline(always)]
-    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Result<Solution<T>, Error> {
+    fn first_iterate<R: Rows<T>>(&self, eq: &Equation<T>, rows: R) -> Pass<T> {
         let m = &eq.m;
         let hb = eq.hb(m);
         let hk = eq.half_h_kappa();
@@ -146,12 +146,7 @@ impl<T: Real> Step<T> for PowerStep<T> {
     }
 
     #[inline(always)]
-    fn plain_pass<R: Rows<T>>(
-        &self,
-        eq: &Equation<T>,
-        u: &Vector2<T>,
-        rows: R,
-    ) -> Result<Solution<T>, Error> {
+    fn plain_pass<R: Rows<T>>(&self, eq: &Equation<T>, u: &Vector2<T>, rows: R) -> Pass<T> {
         let z = eq.zeta(u);
         let hb = eq.hb(&z);
         let s = self.shape(u);
