@@ -118,3 +118,63 @@ fn the_tracking_nominal_of_a_power_gait_is_its_power_replay() {
     let end = t.states.last().unwrap();
     assert!(gait.params().terminal_error(end).g <= 1e-10);
 }
+
+#[test]
+fn field_draws_a_gait_against_another_with_both_costs_and_the_saving() {
+    let paper = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../core/examples/paper.gait"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("against");
+    let o = sim(&[
+        "field",
+        "--gait",
+        paper,
+        "--against",
+        POWER,
+        "--component",
+        "x",
+        "--out",
+        arg(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(out.join("field.png").is_file());
+    let svg = std::fs::read_to_string(out.join("field.svg")).unwrap();
+    // Each gait's costs, recomputed from its replay: the solver's (docs/MEASUREMENTS.md,
+    // "Effort against power": 0.681747808 / 0.183631426 and 0.631104325 / 0.130699668).
+    for text in [
+        "effort-optimal: effort 0.68175, power 0.18363",
+        "power-optimal: effort 0.63110, power 0.13070",
+        "power-optimal against effort-optimal: power −28.8 %, effort −7.4 %",
+    ] {
+        assert!(svg.contains(text), "{text}");
+    }
+    // Refused before any work: no first gait, another swimmer.
+    let o = sim(&[
+        "field",
+        "--against",
+        POWER,
+        "--out",
+        arg(&tmp.path().join("no")),
+    ]);
+    assert_exit(&o, 2, "--against needs --costate or --gait");
+    let other = tmp.path().join("other");
+    let o = Solve::quick()
+        .flag("ratio", "3")
+        .no_plots()
+        .out(&other)
+        .run();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = sim(&[
+        "field",
+        "--costate",
+        arg(&other.join("costate.json")),
+        "--against",
+        POWER,
+        "--out",
+        arg(&tmp.path().join("mixed")),
+    ]);
+    assert_exit(&o, 2, "another swimmer");
+    assert!(!tmp.path().join("mixed").exists());
+}
