@@ -53,6 +53,7 @@
 //! # Ok::<(), purcell_core::Error>(())
 //! ```
 
+mod any;
 mod crc;
 mod encode;
 mod layout;
@@ -63,6 +64,7 @@ mod track;
 mod validate;
 
 pub use crate::arc::Arc;
+pub use any::AnyReplay;
 pub use crc::crc32;
 pub use encode::{
     encode, encode_with_tracking, encoded_len, encoded_len_of, encoded_len_with_tracking,

@@ -19,7 +19,8 @@ mod status;
 mod tests;
 
 use core::mem::{MaybeUninit, align_of, size_of};
-use purcell_core::{Gait, Replay, Sample, State, TrajectoryDigest};
+use purcell_core::gait::AnyReplay;
+use purcell_core::{Gait, Sample, State, TrajectoryDigest};
 pub use status::PurcellStatus;
 
 /// `purcell_flight_open` option: keep the trajectory's digest (FNV-1a over every sample and
@@ -103,7 +104,8 @@ pub struct PurcellTerminalError {
 /// An open flight: the gait, its replay in `f32` (the M4F's precision) and the digest.
 struct Flying {
     gait: Gait<'static>,
-    replay: Replay<'static, f32>,
+    /// Through the law of the gait's cost.
+    replay: AnyReplay<'static, f32>,
     digest: Option<TrajectoryDigest>,
     finished: bool,
 }
@@ -230,7 +232,7 @@ fn open(bytes: &'static [u8], options: u32) -> Result<Flying, PurcellStatus> {
     let gait = Gait::from_bytes(bytes)?;
     Ok(Flying {
         gait,
-        replay: gait.replay()?,
+        replay: gait.replay_any()?,
         digest: (options & PURCELL_OPTION_DIGEST != 0).then(TrajectoryDigest::new),
         finished: false,
     })

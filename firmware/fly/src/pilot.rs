@@ -18,9 +18,9 @@ use core::sync::atomic::{Ordering, compiler_fence};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use purcell_core::Real;
-use purcell_core::gait::Stored;
+use purcell_core::gait::{AnyReplay, Stored};
 use purcell_core::nalgebra::Vector2;
-use purcell_core::{Error, Gait, Replay, Se2, TrajectoryDigest};
+use purcell_core::{Error, Gait, Se2, TrajectoryDigest};
 
 /// Where the joint commands go: a motor driver on a robot, a recorder in QEMU.
 pub trait Joints<S> {
@@ -64,15 +64,16 @@ pub struct CycleEnd<S> {
     pub pose: Se2<S>,
 }
 
-/// The gait flown cycle after cycle, one step per [`Pilot::tick`].
+/// The gait flown cycle after cycle, one step per [`Pilot::tick`], through the law of the
+/// gait's cost ([`AnyReplay`]).
 #[derive(Clone, Debug)]
 pub struct Pilot<'a, S> {
     /// The gait's replay before its first step, checked once by the core: each cycle starts
     /// from a copy (checking the gait's checkpoints again costs about 10 000 instructions on
     /// the M4F, 15 steps, in the tick that ends a cycle).
-    fresh: Replay<'a, S>,
+    fresh: AnyReplay<'a, S>,
     steps: u32,
-    replay: Replay<'a, S>,
+    replay: AnyReplay<'a, S>,
     digest: TrajectoryDigest,
     /// `P_{c−1}`, the pose the current cycle started from.
     start: Se2<S>,
@@ -84,7 +85,7 @@ impl<'a, S: Stored> Pilot<'a, S> {
     ///
     /// Errors: the core's, for a gait it cannot replay in `S`.
     pub fn new(gait: Gait<'a>) -> Result<Self, Error> {
-        let fresh = gait.replay()?;
+        let fresh = gait.replay_any()?;
         Ok(Pilot {
             replay: fresh.clone(),
             fresh,
