@@ -77,12 +77,7 @@ fn sweep_minimises_the_cost_it_is_given_as_solve_does() {
 
 /// The one case of `robustness` of the power-optimal paper gait with `args`, as JSON.
 fn robustness(args: &[&str]) -> serde_json::Value {
-    let mut all = vec!["robustness", "--gait", POWER, "--json"];
-    all.extend_from_slice(args);
-    let o = sim(&all);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    r["cases"][0].clone()
+    robustness_json(POWER, args)["cases"][0].clone()
 }
 
 /// The larger terminal error of `flight`.
