@@ -18,9 +18,10 @@ use core::sync::atomic::{Ordering, compiler_fence};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use purcell_core::Real;
+use purcell_core::cost::{Power, RunningCost};
 use purcell_core::gait::{AnyReplay, Stored};
 use purcell_core::nalgebra::Vector2;
-use purcell_core::{Error, Gait, Se2, TrajectoryDigest};
+use purcell_core::{Error, Gait, Replay, Se2, State, TrajectoryDigest};
 
 /// Where the joint commands go: a motor driver on a robot, a recorder in QEMU.
 pub trait Joints<S> {
@@ -103,15 +104,16 @@ impl<'a, S: Stored> Pilot<'a, S> {
     ///
     /// Errors: the core's, for a failing step.
     pub fn tick<J: Joints<S>>(&mut self, joints: &mut J) -> Result<Option<CycleEnd<S>>, Error> {
-        // A replay always has a step left: the last one restarts it (below).
-        let sample = self.replay.step()?.ok_or(Error::InvalidStep)?;
-        self.digest.push_sample(sample);
-        joints.set_joint_rates(&sample.u);
-        joints.set_joint_angles(&self.replay.state().alpha);
-        if self.replay.steps_done() < self.steps {
+        // Each cost's step with its own code around it: the effort's inlined as before the
+        // power existed, the power's a call.
+        let (steps, digest) = (self.steps, &mut self.digest);
+        let end = match &mut self.replay {
+            AnyReplay::Effort(r) => advance(r, steps, digest, joints)?,
+            AnyReplay::Power(r) => advance_power(r, steps, digest, joints)?,
+        };
+        let Some(end) = end else {
             return Ok(None);
-        }
-        let end = *self.replay.state();
+        };
         self.digest.push_state(&end);
         self.start = self.start.compose(&end.g);
         self.cycle += 1;
@@ -123,6 +125,34 @@ impl<'a, S: Stored> Pilot<'a, S> {
         self.replay = self.fresh.clone();
         Ok(Some(closed))
     }
+}
+
+/// One step of [`Pilot::tick`] in a replay of the cost `C`: the sample into `digest`, the
+/// joints commanded; the state the gait ends in after its last (`steps`-th) step.
+#[inline(always)]
+fn advance<S: Stored, C: RunningCost, J: Joints<S>>(
+    replay: &mut Replay<'_, S, C>,
+    steps: u32,
+    digest: &mut TrajectoryDigest,
+    joints: &mut J,
+) -> Result<Option<State<S>>, Error> {
+    // A replay always has a step left: the last one restarts it ([`Pilot::tick`]).
+    let sample = replay.step()?.ok_or(Error::InvalidStep)?;
+    digest.push_sample(sample);
+    joints.set_joint_rates(&sample.u);
+    joints.set_joint_angles(&replay.state().alpha);
+    Ok((replay.steps_done() >= steps).then(|| *replay.state()))
+}
+
+/// [`advance`] of a power gait, not inlined.
+#[inline(never)]
+fn advance_power<S: Stored, J: Joints<S>>(
+    replay: &mut Replay<'_, S, Power>,
+    steps: u32,
+    digest: &mut TrajectoryDigest,
+    joints: &mut J,
+) -> Result<Option<State<S>>, Error> {
+    advance(replay, steps, digest, joints)
 }
 
 /// The timer counts of one period `h` on a timer clocked at `clock_hz`, rounded to nearest:
