@@ -3,8 +3,7 @@
 //! a control loop's pilot).
 
 use crate::cost::{Effort, Power};
-use crate::gait::read::Stored;
-use crate::{Error, Replay, Sample, State};
+use crate::{Error, Real, Replay, Sample, State};
 
 /// A replay running the law of its gait's cost ([`crate::Gait::replay_any`]): each cost's
 /// step is its own compiled code, reached by one match on the variant per call.
@@ -16,7 +15,7 @@ pub enum AnyReplay<'a, T> {
     Power(Replay<'a, T, Power>),
 }
 
-impl<T: Stored> AnyReplay<'_, T> {
+impl<T: Real> AnyReplay<'_, T> {
     /// [`Replay::step`]. A loop that must cost the effort's step what it did before the
     /// power existed matches on the variant and runs each cost's code around its step (the C
     /// API, the control loop's pilot): a match on this one's result costs about 10
