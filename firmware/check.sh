@@ -28,8 +28,8 @@
 #  8. the control loop (mcu/examples/control_loop.rs, RTIC): the paper's gait flown cycle after
 #     cycle from the SysTick at 1/h, every cycle's digest equal to `purcell-sim replay --gait …
 #     --precision f32`'s, every cycle's pose to the host's composition (`purcell-mcu-check
-#     loop`), no tick overran; ticking far faster than the step (PURCELL_LOOP_HZ) must overrun
-#     and exit 1;
+#     loop`), no tick overran; the same for the power-optimal gait (paper-power.gait, the
+#     power's law); ticking far faster than the step (PURCELL_LOOP_HZ) must overrun and exit 1;
 #  9. the closed loop (mcu/examples/closed_loop.rs): the committed paper's gait exported with
 #     its tracking table (export --tracking) flies its law and tracking law in f32 on the M4F
 #     against a plant with a drag ratio 10 % larger, with the digest of `purcell-sim robustness
@@ -159,6 +159,9 @@ if [[ -z $host_digest || $cycle_digests != "$host_digest" ]]; then
   exit 1
 fi
 echo "loop: every cycle's digest is purcell-sim replay's ($host_digest)"
+echo "--- control loop of the power-optimal gait (the power's law), against the host"
+PURCELL_GAIT=core/examples/paper-power.gait loop_run 2>"$out/loop-power.stderr" | tee "$out/loop-power.log"
+tool loop "$out/loop-power.log" --gait core/examples/paper-power.gait
 echo "--- control loop ticking at 100 kHz, faster than a step: must overrun and exit 1"
 PURCELL_LOOP_HZ=100000 fails_with overrun '^failed: Overruns' loop_run
 

@@ -12,7 +12,8 @@
 #  2. no panic machinery linked into the firmware, so none reachable from the API, and no
 #     soft-float helper reachable from purcell_flight_step (purcell-mcu-check disasm);
 #  3. the same C program built with the host's gcc against the host's libpurcell_capi.a flies
-#     the paper's gait and its constrained one (paper-limit.gait, arcs) with the host's digest,
+#     the paper's gait, its constrained one (paper-limit.gait, arcs) and its power-optimal one
+#     (paper-power.gait, the power's law) with the host's digest,
 #     and refuses the paper's with its first byte changed (exit 1, the core's reason).
 # Needs cbindgen 0.29.4 (step 0 only; the Makefile builds without it), make, arm-none-eabi-gcc
 # (gcc-arm-none-eabi), binutils-arm-none-eabi, qemu-system-arm, gcc (.ci/run installs them).
@@ -97,7 +98,8 @@ cargo build -q --profile test -p purcell-sim -p purcell-capi
 host_lib=$target_dir/debug/libpurcell_capi.a
 native=(-lgcc_s -lutil -lrt -lpthread -lm -ldl -lc)
 export_gait limit core/examples/paper-limit.gait
-for name in paper limit; do
+export_gait power core/examples/paper-power.gait
+for name in paper limit power; do
   "${CC:-gcc}" "${warn[@]}" -I "$out/$name" -o "$out/$name/host" "$src/host.c" "$src/fly.c" \
     "$out/$name/gait.c" "$host_lib" "${native[@]}"
   "$out/$name/host" | tee "$out/$name/host.log"

@@ -11,7 +11,7 @@ import inspect
 import numbers
 import operator
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import Any, ParamSpec, TypedDict, TypeVar
+from typing import Any, Literal, ParamSpec, TypedDict, TypeVar
 
 from ._errors import InputError
 
@@ -52,6 +52,21 @@ def numbers_of(name: str, value: Any, count: int) -> list[float]:
     return values
 
 
+def one_of(names: Sequence[str]) -> Callable[[str, Any], str]:
+    """The check of a name among `names`: a str (else TypeError), one of them (else
+    InputError)."""
+
+    def check(name: str, value: Any) -> str:
+        if not isinstance(value, str):
+            raise TypeError(f"{name} must be a str, not {type(value).__name__}")
+        if value not in names:
+            listed = ", ".join(map(repr, names))
+            raise InputError(f"{name} must be one of {listed} (got {value!r})")
+        return value
+
+    return check
+
+
 def optional(check: Callable[[str, Any], Any]) -> Callable[[str, Any], Any]:
     """`check`, or None for None."""
     return lambda name, value: None if value is None else check(name, value)
@@ -69,6 +84,7 @@ class Problem(TypedDict, total=False):
     drag: float
     ratio: float
     alpha_max: float | None
+    cost: Literal["effort", "power"]
     starts: int
 
 
@@ -84,6 +100,7 @@ PROBLEM: dict[str, tuple[Any, Callable[[str, Any], Any]]] = {
     "drag": (1.0, number),
     "ratio": (2.0, number),
     "alpha_max": (None, optional(number)),
+    "cost": ("effort", one_of(("effort", "power"))),
     "starts": (512, whole),
 }
 

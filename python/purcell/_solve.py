@@ -51,6 +51,11 @@ def solve(
     alpha_max : float or None, default None
         Joint limit ``|alpha_i| <= alpha_max``, radians, below pi (None: only the links'
         overlap at pi).
+    cost : {"effort", "power"}, default "effort"
+        The running cost minimised: "effort", the joints' ``sum h/2 |u_k|^2`` (the
+        paper's), or "power", what the fluid dissipates, ``sum h/2 u_k^T G(alpha_k) u_k``
+        (MODEL.md §11). The report gives the returned gait's cost under both
+        (``report["costs"]``).
     starts : int, default 512
         Budget of start loops of the global search, 1 to 4096 (it may stop sooner: its
         stopping rule).

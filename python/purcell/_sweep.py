@@ -68,7 +68,7 @@ def sweep(
         them). At most 10 000 targets in all.
     thetas : float, str or sequence of floats, default (0.0,)
         Target theta, radians, as `xs`.
-    horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max
+    horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max, cost
         The problem, as in `solve` (seconds, radians, metres).
     starts : int, default 512
         Budget of each target's global search, 1 to 4096.

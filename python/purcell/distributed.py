@@ -64,7 +64,7 @@ def sweep(
     batch : int, default 8
         Targets per task (searches and refinements). A task uses all of its worker's cores
         (the solver's threads): one worker per machine with one thread is the usual layout.
-    horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max, starts
+    horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max, cost, starts
         The problem, as in `purcell.sweep` (metres, radians, seconds).
 
     Returns

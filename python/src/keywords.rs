@@ -2,9 +2,9 @@
 //! `purcell.distributed` (python/purcell/_keywords.py checks their types and counts and
 //! builds the dict): a new keyword is a field here and its line in [`ProblemKw::solve_spec`].
 
-use crate::{refused, starts};
+use crate::{input_error, refused, starts};
 use purcell_sim::spec::SolveSpec;
-use purcell_solver::problem::Spec;
+use purcell_solver::problem::{Cost, Spec};
 use pyo3::prelude::*;
 
 /// The problem's keyword arguments (a dict with all of them).
@@ -19,6 +19,8 @@ pub(crate) struct ProblemKw {
     drag: f64,
     ratio: f64,
     alpha_max: Option<f64>,
+    /// The running cost's name (`_keywords.py` checked it is one of [`Cost::ALL`]'s).
+    cost: String,
     starts: i64,
     /// A solve's only (a sweep orders its starts by the default seed).
     #[pyo3(default)]
@@ -42,12 +44,20 @@ impl ProblemKw {
                 drag: self.drag,
                 ratio: self.ratio,
                 alpha_max: self.alpha_max,
+                cost: self.cost()?,
             },
             starts: starts(self.starts)?,
             seed: self.seed,
             checkpoint_every: self.checkpoint_every,
-            cost: Default::default(),
         })
+    }
+
+    /// The running cost named `cost`.
+    fn cost(&self) -> PyResult<Cost> {
+        Cost::ALL
+            .into_iter()
+            .find(|c| c.name() == self.cost)
+            .ok_or_else(|| input_error(format!("unknown cost {:?}", self.cost)))
     }
 
     /// A sweep's problem (target 0) and its search options, checked.

@@ -121,6 +121,7 @@ def test_reprs_say_what_the_object_is(solved):
                 "drag": 1.0,
                 "ratio": 2.0,
                 "alpha_max": None,
+                "cost": "effort",
                 "starts": 1,
             }
         ),

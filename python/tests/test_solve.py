@@ -142,3 +142,33 @@ def test_a_transition_ends_in_its_own_shape():
     r = purcell.replay(s)
     assert r.alpha_error < 1e-6 and r.g_error < 1e-6
     assert '"alpha_end"' in s.costate() and s.gait()[8] == 4
+
+
+def test_power_solve_equals_the_command_line(cli, tmp_path):
+    """`cost="power"` (issue 37): the paper's problem for the power the fluid dissipates, as
+    `purcell-sim solve --cost power` solves it; the returned cost is report["costs"]'s power,
+    below the effort-optimal gait's 0.183631 (docs/MEASUREMENTS.md, "Effort against power")."""
+    out = tmp_path / "out"
+    cli("solve", "--cost", "power", "--no-plots", "--out", out)
+    report = json.loads((out / "report.json").read_text())
+    s = purcell.solve((0.1, 0.1, 0.0), cost="power")
+    assert s.report["problem"]["cost"] == report["problem"]["cost"] == "power"
+    assert s.cost == s.report["cost"] == s.report["costs"]["power"]
+    close(dict(s.report, solve_seconds=None), dict(report, solve_seconds=None))
+    assert s.costate() == (out / "costate.json").read_text()
+    assert json.loads(s.costate())["cost"] == "power"
+    assert s.uncertified is None
+    assert 0.1306 < s.cost < 0.183631
+
+
+def test_sweep_takes_the_cost_and_checks_it():
+    small = {"horizon": 10.0, "starts": 64}
+    swept = purcell.sweep(0.001, 0.0, cost="power", **small)
+    solved = purcell.solve((0.001, 0.0, 0.0), cost="power", **small)
+    effort = purcell.sweep(0.001, 0.0, **small)
+    assert abs(swept[0]["cost"] - solved.cost) <= 1e-9 * solved.cost
+    assert effort[0]["cost"] != swept[0]["cost"]
+    with pytest.raises(purcell.InputError, match="cost must be one of 'effort', 'power'"):
+        purcell.solve((0.1, 0.1, 0.0), cost="Power")
+    with pytest.raises(TypeError, match="cost must be a str"):
+        purcell.sweep(0.1, 0.1, cost=1)

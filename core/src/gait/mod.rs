@@ -53,6 +53,7 @@
 //! # Ok::<(), purcell_core::Error>(())
 //! ```
 
+mod any;
 mod crc;
 mod encode;
 mod layout;
@@ -63,12 +64,13 @@ mod track;
 mod validate;
 
 pub use crate::arc::Arc;
+pub use any::AnyReplay;
 pub use crc::crc32;
 pub use encode::{
     encode, encode_with_tracking, encoded_len, encoded_len_of, encoded_len_with_tracking,
 };
 pub use layout::{MAGIC, VERSION, VERSION_COST, VERSION_END_SHAPE, VERSION_TRACKING};
-pub use read::{Gait, Stored};
+pub use read::{Gait, Stored, WithReplay};
 pub use records::Records;
 pub use schema::{CheckpointRecord, GaitParams, Model};
 pub use track::{TRACKING_RECORD_LEN, TrackingCursor, TrackingTable};

@@ -1,7 +1,8 @@
 //! Reading a gait file in place ([`Gait::from_bytes`]) and replaying it ([`Gait::replay`]).
 
 use crate::arc::{self, Arc, ArcTable};
-use crate::cost::RunningCost;
+use crate::cost::{Effort, Power, RunningCost};
+use crate::gait::any::AnyReplay;
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
@@ -326,7 +327,8 @@ impl<'a> Gait<'a> {
 
     /// A replay of the whole gait in `T` that restores the checkpoints from the table stored
     /// in `T`, read in place as the replay reaches them, and runs the effort's law on the arcs
-    /// ([`Replay::with_arcs`]). A gait of another cost: [`Gait::replay_for`].
+    /// ([`Replay::with_arcs`]). A gait of another cost: [`Gait::replay_for`], or of any cost:
+    /// [`Gait::with_replay`], [`Gait::replay_any`].
     ///
     /// Errors: as [`Replay::new`] (the parameters and checkpoints rounded to `T` are checked
     /// again, e.g. an angle that rounds up to `π` in `f32`); [`Error::InvalidParameters`] for a
@@ -373,4 +375,40 @@ impl<'a> Gait<'a> {
             checkpoints,
         )
     }
+
+    /// [`Gait::replay`] of the gait's own cost, held as an [`AnyReplay`] (for a caller that
+    /// keeps it between calls; a generic one: [`Gait::with_replay`]).
+    ///
+    /// Errors: as [`Gait::replay_for`].
+    pub fn replay_any<T: Stored>(&self) -> Result<AnyReplay<'a, T>, Error> {
+        Ok(match self.params.cost {
+            Cost::Effort => AnyReplay::Effort(self.replay_for(true)?),
+            Cost::Power => AnyReplay::Power(self.replay_for(true)?),
+        })
+    }
+
+    /// Runs `with` on the replay in `T` of the gait's own cost ([`Gait::replay_for`], with or
+    /// without `checkpoints`): the one match on the cost for a caller that flies gaits of any
+    /// cost, each cost's replay its own compiled code.
+    ///
+    /// Errors: as [`Gait::replay_for`], before `with` runs.
+    pub fn with_replay<T: Stored, W: WithReplay<'a, T>>(
+        &self,
+        checkpoints: bool,
+        with: W,
+    ) -> Result<W::Output, Error> {
+        Ok(match self.params.cost {
+            Cost::Effort => with.run(self.replay_for::<T, Effort>(checkpoints)?),
+            Cost::Power => with.run(self.replay_for::<T, Power>(checkpoints)?),
+        })
+    }
+}
+
+/// What a caller does with the replay of a gait of any cost ([`Gait::with_replay`]): one
+/// function generic over the cost.
+pub trait WithReplay<'a, T: Stored> {
+    /// What it gives.
+    type Output;
+    /// Runs on `replay`, which runs the law of `C`, the gait's cost.
+    fn run<C: RunningCost>(self, replay: Replay<'a, T, C>) -> Self::Output;
 }

@@ -91,3 +91,48 @@ fn a_gait_file_round_trips_its_cost() {
         );
     }
 }
+
+/// A replay of whichever cost the gait has (`Gait::replay_any`, `Gait::with_replay`) is the
+/// replay of that cost, sample for sample, for the effort's gait and the power's.
+#[test]
+fn a_replay_of_any_cost_is_the_gaits_own_cost_replay() {
+    struct Samples;
+    impl<'a> gait::WithReplay<'a, f32> for Samples {
+        type Output = Vec<purcell_core::Sample<f32>>;
+        fn run<C: purcell_core::cost::RunningCost>(self, r: Replay<'a, f32, C>) -> Self::Output {
+            assert_eq!(r.cost(), C::COST);
+            r.map(Result::unwrap).collect()
+        }
+    }
+    static PAPER: &[u8] = include_bytes!("../../examples/paper.gait");
+    for (bytes, cost) in [(PAPER, Cost::Effort), (POWER, Cost::Power)] {
+        let g = Gait::from_bytes(bytes).unwrap();
+        let (own, end) = match cost {
+            Cost::Effort => {
+                let r = g.replay::<f32>().unwrap();
+                (
+                    r.clone().map(Result::unwrap).collect::<Vec<_>>(),
+                    r.finish(),
+                )
+            }
+            Cost::Power => {
+                let r = g.replay_for::<f32, Power>(true).unwrap();
+                (r.clone().map(Result::unwrap).collect(), r.finish())
+            }
+        };
+        assert_eq!(g.with_replay(true, Samples).unwrap(), own);
+        let mut any = g.replay_any::<f32>().unwrap();
+        assert!(matches!(
+            (&any, cost),
+            (gait::AnyReplay::Effort(_), Cost::Effort) | (gait::AnyReplay::Power(_), Cost::Power)
+        ));
+        assert_eq!(any.last_sample(), None);
+        for s in &own {
+            assert_eq!(any.step().unwrap(), Some(s));
+            assert_eq!(any.last_sample(), Some(s));
+        }
+        assert_eq!(any.step().unwrap(), None);
+        assert_eq!(any.steps_done(), g.params().steps);
+        assert_eq!(any.state(), &end.unwrap());
+    }
+}

@@ -19,6 +19,8 @@ mod status;
 mod tests;
 
 use core::mem::{MaybeUninit, align_of, size_of};
+use purcell_core::cost::{Power, RunningCost};
+use purcell_core::gait::AnyReplay;
 use purcell_core::{Gait, Replay, Sample, State, TrajectoryDigest};
 pub use status::PurcellStatus;
 
@@ -103,7 +105,8 @@ pub struct PurcellTerminalError {
 /// An open flight: the gait, its replay in `f32` (the M4F's precision) and the digest.
 struct Flying {
     gait: Gait<'static>,
-    replay: Replay<'static, f32>,
+    /// Through the law of the gait's cost.
+    replay: AnyReplay<'static, f32>,
     digest: Option<TrajectoryDigest>,
     finished: bool,
 }
@@ -230,7 +233,7 @@ fn open(bytes: &'static [u8], options: u32) -> Result<Flying, PurcellStatus> {
     let gait = Gait::from_bytes(bytes)?;
     Ok(Flying {
         gait,
-        replay: gait.replay()?,
+        replay: gait.replay_any()?,
         digest: (options & PURCELL_OPTION_DIGEST != 0).then(TrajectoryDigest::new),
         finished: false,
     })
@@ -291,23 +294,50 @@ pub unsafe extern "C" fn purcell_flight_step(flight: *mut PurcellFlight) -> Purc
         Ok(f) => f,
         Err(e) => return e,
     };
-    // The digest of `Replay::fly`: every sample, then the final state once.
-    match f.replay.step() {
+    // Each cost's step with its own code around it: the effort's inlined as before the power
+    // existed (a match on the result of either would cost the effort's step 10 instructions
+    // on the M4F), the power's a call.
+    let (replay, digest, finished) = (&mut f.replay, &mut f.digest, &mut f.finished);
+    match replay {
+        AnyReplay::Effort(r) => step(r, digest, finished),
+        AnyReplay::Power(r) => power_step(r, digest, finished),
+    }
+}
+
+/// [`purcell_flight_step`] of a gait of the cost `C`: the digest of `Replay::fly`, every
+/// sample, then the final state once.
+#[inline(always)]
+fn step<C: RunningCost>(
+    replay: &mut Replay<'static, f32, C>,
+    digest: &mut Option<TrajectoryDigest>,
+    finished: &mut bool,
+) -> PurcellStatus {
+    match replay.step() {
         Ok(Some(sample)) => {
-            if let Some(d) = &mut f.digest {
+            if let Some(d) = digest {
                 d.push_sample(sample);
             }
             PurcellStatus::Ok
         }
         Ok(None) => {
-            if let Some(d) = f.digest.as_mut().filter(|_| !f.finished) {
-                d.push_state(f.replay.state());
+            if let Some(d) = digest.as_mut().filter(|_| !*finished) {
+                d.push_state(replay.state());
             }
-            f.finished = true;
+            *finished = true;
             PurcellStatus::Finished
         }
         Err(e) => e.into(),
     }
+}
+
+/// [`step`] of a power gait, not inlined.
+#[inline(never)]
+fn power_step(
+    replay: &mut Replay<'static, f32, Power>,
+    digest: &mut Option<TrajectoryDigest>,
+    finished: &mut bool,
+) -> PurcellStatus {
+    step(replay, digest, finished)
 }
 
 /// Writes the last step's sample to `out`; `PURCELL_STATUS_NO_SAMPLE` before the first step.

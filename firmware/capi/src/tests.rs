@@ -4,14 +4,16 @@
 
 use super::*;
 use proptest::prelude::*;
-use purcell_core::gait::crc32;
-use purcell_core::{Error, Flight};
+use purcell_core::cost::RunningCost;
+use purcell_core::gait::{WithReplay, crc32};
+use purcell_core::{Error, Flight, Replay};
 use std::boxed::Box;
 use std::string::String;
 use std::vec::Vec;
 
 static PAPER: &[u8] = include_bytes!("../../../core/examples/paper.gait");
 static LIMIT: &[u8] = include_bytes!("../../../core/examples/paper-limit.gait");
+static POWER: &[u8] = include_bytes!("../../../core/examples/paper-power.gait");
 
 /// A zeroed flight on the heap (as a C static is zeroed).
 fn zeroed() -> Box<PurcellFlight> {
@@ -39,20 +41,28 @@ fn read<T: Default>(
     }
 }
 
-/// The core's flight of `bytes` in `f32`.
+/// The core's flight of `bytes` in `f32`, through the law of its cost.
 fn core_flight(bytes: &[u8]) -> (Gait<'_>, Flight<f32>, Vec<Sample<f32>>) {
+    struct Fly;
+    impl<'a> WithReplay<'a, f32> for Fly {
+        type Output = (Flight<f32>, Vec<Sample<f32>>);
+        fn run<C: RunningCost>(self, replay: Replay<'a, f32, C>) -> Self::Output {
+            let samples = replay.clone().map(Result::unwrap).collect();
+            (replay.fly(Replay::step).unwrap(), samples)
+        }
+    }
     let gait = Gait::from_bytes(bytes).unwrap();
-    let samples = gait.replay::<f32>().unwrap().map(Result::unwrap).collect();
-    let flight = gait.replay::<f32>().unwrap().fly(Replay::step).unwrap();
+    let (flight, samples) = gait.with_replay(true, Fly).unwrap();
     (gait, flight, samples)
 }
 
-/// Both committed gaits (the paper's, and its constrained one with arcs): every sample, the
-/// digest, the final state and the terminal error are the core's; without the digest option
-/// the flight is the same and the digest is refused.
+/// The committed gaits (the paper's, its constrained one with arcs, and the power-optimal
+/// one, which flies through the power's law): every sample, the digest, the final state and
+/// the terminal error are the core's; without the digest option the flight is the same and
+/// the digest is refused.
 #[test]
 fn a_flight_is_the_cores_flight() {
-    for bytes in [PAPER, LIMIT] {
+    for bytes in [PAPER, LIMIT, POWER] {
         let (gait, flight, samples) = core_flight(bytes);
         let (mut f, s) = open_with(bytes, PURCELL_OPTION_DIGEST);
         assert_eq!(s, PurcellStatus::Ok);
@@ -103,7 +113,12 @@ fn a_flight_is_the_cores_flight() {
 
 /// What `purcell_flight_open` must answer for `bytes`: the core's first error, else Ok.
 fn expected(bytes: &[u8]) -> PurcellStatus {
-    match Gait::from_bytes(bytes).and_then(|g| g.replay::<f32>().map(|_| ())) {
+    struct Opened;
+    impl<'a> WithReplay<'a, f32> for Opened {
+        type Output = ();
+        fn run<C: RunningCost>(self, _: Replay<'a, f32, C>) {}
+    }
+    match Gait::from_bytes(bytes).and_then(|g| g.with_replay(true, Opened)) {
         Ok(()) => PurcellStatus::Ok,
         Err(e) => e.into(),
     }

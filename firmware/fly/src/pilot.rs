@@ -18,9 +18,10 @@ use core::sync::atomic::{Ordering, compiler_fence};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use purcell_core::Real;
-use purcell_core::gait::Stored;
+use purcell_core::cost::{Power, RunningCost};
+use purcell_core::gait::{AnyReplay, Stored};
 use purcell_core::nalgebra::Vector2;
-use purcell_core::{Error, Gait, Replay, Se2, TrajectoryDigest};
+use purcell_core::{Error, Gait, Replay, Se2, State, TrajectoryDigest};
 
 /// Where the joint commands go: a motor driver on a robot, a recorder in QEMU.
 pub trait Joints<S> {
@@ -64,15 +65,16 @@ pub struct CycleEnd<S> {
     pub pose: Se2<S>,
 }
 
-/// The gait flown cycle after cycle, one step per [`Pilot::tick`].
+/// The gait flown cycle after cycle, one step per [`Pilot::tick`], through the law of the
+/// gait's cost ([`AnyReplay`]).
 #[derive(Clone, Debug)]
 pub struct Pilot<'a, S> {
     /// The gait's replay before its first step, checked once by the core: each cycle starts
     /// from a copy (checking the gait's checkpoints again costs about 10 000 instructions on
     /// the M4F, 15 steps, in the tick that ends a cycle).
-    fresh: Replay<'a, S>,
+    fresh: AnyReplay<'a, S>,
     steps: u32,
-    replay: Replay<'a, S>,
+    replay: AnyReplay<'a, S>,
     digest: TrajectoryDigest,
     /// `P_{c−1}`, the pose the current cycle started from.
     start: Se2<S>,
@@ -84,7 +86,7 @@ impl<'a, S: Stored> Pilot<'a, S> {
     ///
     /// Errors: the core's, for a gait it cannot replay in `S`.
     pub fn new(gait: Gait<'a>) -> Result<Self, Error> {
-        let fresh = gait.replay()?;
+        let fresh = gait.replay_any()?;
         Ok(Pilot {
             replay: fresh.clone(),
             fresh,
@@ -102,15 +104,16 @@ impl<'a, S: Stored> Pilot<'a, S> {
     ///
     /// Errors: the core's, for a failing step.
     pub fn tick<J: Joints<S>>(&mut self, joints: &mut J) -> Result<Option<CycleEnd<S>>, Error> {
-        // A replay always has a step left: the last one restarts it (below).
-        let sample = self.replay.step()?.ok_or(Error::InvalidStep)?;
-        self.digest.push_sample(sample);
-        joints.set_joint_rates(&sample.u);
-        joints.set_joint_angles(&self.replay.state().alpha);
-        if self.replay.steps_done() < self.steps {
+        // Each cost's step with its own code around it: the effort's inlined as before the
+        // power existed, the power's a call.
+        let (steps, digest) = (self.steps, &mut self.digest);
+        let end = match &mut self.replay {
+            AnyReplay::Effort(r) => advance(r, steps, digest, joints)?,
+            AnyReplay::Power(r) => advance_power(r, steps, digest, joints)?,
+        };
+        let Some(end) = end else {
             return Ok(None);
-        }
-        let end = *self.replay.state();
+        };
         self.digest.push_state(&end);
         self.start = self.start.compose(&end.g);
         self.cycle += 1;
@@ -122,6 +125,34 @@ impl<'a, S: Stored> Pilot<'a, S> {
         self.replay = self.fresh.clone();
         Ok(Some(closed))
     }
+}
+
+/// One step of [`Pilot::tick`] in a replay of the cost `C`: the sample into `digest`, the
+/// joints commanded; the state the gait ends in after its last (`steps`-th) step.
+#[inline(always)]
+fn advance<S: Stored, C: RunningCost, J: Joints<S>>(
+    replay: &mut Replay<'_, S, C>,
+    steps: u32,
+    digest: &mut TrajectoryDigest,
+    joints: &mut J,
+) -> Result<Option<State<S>>, Error> {
+    // A replay always has a step left: the last one restarts it ([`Pilot::tick`]).
+    let sample = replay.step()?.ok_or(Error::InvalidStep)?;
+    digest.push_sample(sample);
+    joints.set_joint_rates(&sample.u);
+    joints.set_joint_angles(&replay.state().alpha);
+    Ok((replay.steps_done() >= steps).then(|| *replay.state()))
+}
+
+/// [`advance`] of a power gait, not inlined.
+#[inline(never)]
+fn advance_power<S: Stored, J: Joints<S>>(
+    replay: &mut Replay<'_, S, Power>,
+    steps: u32,
+    digest: &mut TrajectoryDigest,
+    joints: &mut J,
+) -> Result<Option<State<S>>, Error> {
+    advance(replay, steps, digest, joints)
 }
 
 /// The timer counts of one period `h` on a timer clocked at `clock_hz`, rounded to nearest:

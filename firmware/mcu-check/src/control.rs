@@ -5,8 +5,9 @@
 
 use crate::error::HostError;
 use crate::log::{finished, key, need_line, parse_hex, parse_num, same, value};
-use purcell_core::gait::Stored;
-use purcell_core::{Gait, Replay, Se2};
+use purcell_core::cost::RunningCost;
+use purcell_core::gait::{Stored, WithReplay};
+use purcell_core::{Error, Flight, Gait, Replay, Se2};
 use purcell_fly::line;
 
 /// One cycle's end as the host computes it: the digest and `x y cos θ sin θ` of the pose as
@@ -21,9 +22,17 @@ pub struct CycleBits {
 
 /// The first `cycles` cycles of `gait` flown in `S` on the host: one flight of the gait (the
 /// same `Gait::replay` and `Replay::fly` as `purcell-sim replay`), its end composed onto the
-/// pose once per cycle.
+/// pose once per cycle), through the law of the gait's cost.
 pub fn host_cycles<S: Stored>(gait: &Gait<'_>, cycles: u32) -> Result<Vec<CycleBits>, HostError> {
-    let flight = gait.replay::<S>()?.fly(Replay::step)?;
+    /// One flight of a replay of any cost.
+    struct Fly;
+    impl<'a, S: Stored> WithReplay<'a, S> for Fly {
+        type Output = Result<Flight<S>, Error>;
+        fn run<C: RunningCost>(self, replay: Replay<'a, S, C>) -> Self::Output {
+            replay.fly(Replay::step)
+        }
+    }
+    let flight = gait.with_replay(true, Fly)??;
     let mut pose = Se2::<S>::identity();
     Ok((0..cycles)
         .map(|_| {

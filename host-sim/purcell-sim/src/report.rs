@@ -342,6 +342,7 @@ impl SolveReport {
                     alpha0: [problem.alpha0.x, problem.alpha0.y],
                     alpha_end: [problem.alpha_end.x, problem.alpha_end.y],
                     alpha_max: problem.alpha_max,
+                    cost: problem.cost.name(),
                     drag: problem.swimmer.drag(),
                     horizon: problem.horizon(),
                     links: problem.swimmer.lengths(),
@@ -490,6 +491,8 @@ pub struct SweepProblemReport {
     pub alpha_end: [f64; 2],
     /// The joint limit, rad.
     pub alpha_max: Option<f64>,
+    /// The running cost minimised (its name).
+    pub cost: &'static str,
     /// `k`.
     pub drag: f64,
     /// `T`, s.
@@ -514,6 +517,7 @@ impl SweepReport {
                 alpha0: spec.alpha0,
                 alpha_end: spec.alpha_end.unwrap_or(spec.alpha0),
                 alpha_max: spec.alpha_max,
+                cost: spec.cost.name(),
                 drag: spec.drag,
                 horizon: spec.horizon,
                 links: spec.links,

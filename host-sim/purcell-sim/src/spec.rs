@@ -8,7 +8,7 @@ use crate::costate_file::CostateFile;
 use crate::decimal::Decimal;
 use crate::units::{self, Quantity};
 use crate::words::{Front, Worded};
-use purcell_solver::problem::{Cost, InputError, Problem, Spec};
+use purcell_solver::problem::{InputError, Problem, Spec};
 use purcell_solver::solver::SolveOptions;
 use purcell_solver::solver::continuation::{Lattice, Warm};
 
@@ -154,8 +154,6 @@ pub struct SolveSpec {
     pub seed: u64,
     /// Costate checkpoint spacing in steps (`None`: [`CHECKPOINT_EVERY`]; 0: none).
     pub checkpoint_every: Option<u32>,
-    /// The running cost minimised.
-    pub cost: Cost,
 }
 
 /// A solve checked and ready to run.
@@ -183,8 +181,7 @@ pub fn prepare(spec: &SolveSpec) -> Result<Prepared, SpecError> {
     let problem = Problem::new(&Spec {
         target,
         ..spec.problem.clone()
-    })?
-    .with_cost(spec.cost);
+    })?;
     problem.check_precision::<f32>("f32")?;
     search_limits(&problem, spec.starts)?;
     let checkpoint_every = checkpoint_spacing(spec.checkpoint_every, problem.steps)?;

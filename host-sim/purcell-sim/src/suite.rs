@@ -53,6 +53,7 @@ pub fn read_suite(text: &str) -> Result<Vec<SuiteProblem>, String> {
                 drag: e.drag.unwrap_or(d.drag),
                 ratio: e.ratio.unwrap_or(d.ratio),
                 alpha_max: e.alpha_max,
+                cost: d.cost,
             },
             reference: e.reference,
             expect: e.expect,

@@ -167,11 +167,13 @@ pub struct Spec {
     /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, below `π`; `None`: only
     /// the links' overlap, `|α_i| < π`.
     pub alpha_max: Option<f64>,
+    /// The running cost minimised (MODEL.md §11).
+    pub cost: Cost,
 }
 
 impl Default for Spec {
     /// The paper's experiment: `ḡ = (0.1, 0.1, 0)`, `T = 100 s`, `h = 0.01 s`, `ᾱ = 0`,
-    /// a loop, unit links, `k = 1`, `r = 2`, no joint limit.
+    /// a loop, unit links, `k = 1`, `r = 2`, no joint limit, the joints' effort.
     fn default() -> Self {
         Spec {
             target: [0.1, 0.1, 0.0],
@@ -183,6 +185,7 @@ impl Default for Spec {
             drag: 1.0,
             ratio: 2.0,
             alpha_max: None,
+            cost: Cost::Effort,
         }
     }
 }
@@ -231,7 +234,7 @@ pub struct Problem {
     /// Joint limit `|α_i| ≤ α_max` along the whole path, radians, in `]0, π[`; `None`: only the
     /// links' overlap, `|α_i| <` [`OVERLAP`].
     pub alpha_max: Option<f64>,
-    /// The running cost minimised (MODEL.md §11); [`Cost::Effort`] from [`Problem::new`].
+    /// The running cost minimised (MODEL.md §11).
     pub cost: Cost,
 }
 
@@ -313,7 +316,7 @@ impl Problem {
             alpha_end: Vector2::new(b1, b2),
             target: Vector3::from(spec.target),
             alpha_max: spec.alpha_max,
-            cost: Cost::Effort,
+            cost: spec.cost,
         })
     }
 
@@ -335,6 +338,7 @@ impl Problem {
             drag: p.model.drag,
             ratio: p.model.ratio,
             alpha_max: p.alpha_max,
+            cost: p.cost,
         })
     }
 

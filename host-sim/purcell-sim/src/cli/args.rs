@@ -6,7 +6,7 @@ use crate::costate_file::CostateFile;
 use crate::{input, output};
 use clap::Args;
 use purcell_core::Gait;
-use purcell_solver::problem::Spec;
+use purcell_solver::problem::{Cost, Spec};
 use purcell_solver::solver;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -73,6 +73,10 @@ pub struct ProblemArgs<S: Args> {
     /// cheapest gait within it, with the limit active on arcs where that is cheaper.
     #[arg(long, value_parser = units::angle(), allow_hyphen_values = true)]
     pub alpha_max: Option<f64>,
+    /// The running cost minimised: effort (the joints', sum of h/2 |u_k|^2, the paper's) or
+    /// power (what the fluid dissipates, sum of h/2 u_k^T G(alpha_k) u_k; docs/MODEL.md §11).
+    #[arg(long, default_value = "effort", value_parser = units::cost)]
+    pub cost: Cost,
 }
 
 impl<S: Args> ProblemArgs<S> {
@@ -88,6 +92,7 @@ impl<S: Args> ProblemArgs<S> {
             drag: self.model.drag,
             ratio: self.model.ratio,
             alpha_max: self.alpha_max,
+            cost: self.cost,
         }
     }
 }

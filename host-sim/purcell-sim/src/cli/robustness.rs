@@ -15,8 +15,8 @@ use purcell_core::Gait;
 use purcell_core::tracking::RECORD_VALUES;
 use purcell_solver::solver::Progress as _;
 use purcell_solver::tracking::{
-    Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly, joint_bound,
-    nominal, table_of,
+    Control, Design, Feedforward, Mismatch, Noise, Outcome, PlanError, Table, fly_gait,
+    joint_bound, nominal, table_of,
 };
 use serde_json::json;
 use std::fmt::Write as _;
@@ -171,13 +171,11 @@ fn fly_case(
     let f32 = matches!(closed, Closed::Tracking(_, true));
     let run = |control: Control<'_>| {
         let flight = if f32 {
-            let replay = gait.replay::<f32>().map_err(|e| fail(2, e))?;
-            fly(replay, &plant, p.start(), control, &noise)
+            fly_gait::<f32>(gait, &plant, control, &noise)
         } else {
-            let replay = gait.replay::<f64>().map_err(|e| fail(2, e))?;
-            fly(replay, &plant, p.start(), control, &noise)
+            fly_gait::<f64>(gait, &plant, control, &noise)
         };
-        Ok::<_, Failure>(flight_report(gait, flight))
+        Ok::<_, Failure>(flight_report(gait, flight.map_err(|e| fail(2, e))?))
     };
     let open = run(Control::Open)?;
     let closed = match closed {
@@ -387,8 +385,9 @@ fn stored_flight(a: &RobustnessArgs, quiet: bool) -> Result<String, Failure> {
         table: &table,
         limit: joint_bound(p.alpha_max),
     };
-    let replay = gait.replay::<f32>().map_err(|e| refused(&e))?;
-    let o = fly(replay, &plant, p.start(), closed, &noise).map_err(|e| fail(1, e))?;
+    let o = fly_gait::<f32>(&gait, &plant, closed, &noise)
+        .map_err(|e| refused(&e))?
+        .map_err(|e| fail(1, e))?;
     let e = p.terminal_error(&o.end);
     Ok(format!(
         "closed_digest: {:#018x}\nclosed_error: alpha={:.3e} g={:.3e} estimate={:.6}\n",

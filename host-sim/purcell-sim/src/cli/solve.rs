@@ -15,7 +15,6 @@ use crate::report::{Solved, search_warnings};
 use crate::spec::{self, Prepared, SolveSpec};
 use crate::words::{Front, Worded};
 use clap::Args;
-use purcell_solver::problem::Cost;
 use purcell_solver::solver::{Progress as _, Solution, SolveOptions};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -50,10 +49,6 @@ pub struct SolveArgs {
     /// The problem and the search.
     #[command(flatten)]
     pub problem: ProblemArgs<SearchArgs>,
-    /// The running cost minimised: effort (the joints', sum of h/2 |u_k|^2, the paper's) or
-    /// power (what the fluid dissipates, sum of h/2 u_k^T G(alpha_k) u_k; docs/MODEL.md §11).
-    #[arg(long, default_value = "effort", value_parser = units::cost)]
-    pub cost: Cost,
     /// Costate checkpoint spacing M in steps, below the horizon's N steps (0: none; a gait
     /// on its joint limit also has one at each arc's last step, which its replay needs)
     /// [default: 100, none if N is not above it].
@@ -125,7 +120,6 @@ fn solve_spec(a: &SolveArgs) -> SolveSpec {
         starts: a.problem.search.starts,
         seed: a.problem.search.seed,
         checkpoint_every: a.checkpoint_every,
-        cost: a.cost,
     }
 }
 

@@ -235,6 +235,46 @@ pub fn field_files(
     Ok(files)
 }
 
+/// Two gaits over the field of `swimmer` (both its gaits), `field.svg`, `field.png` and
+/// `field.csv` as [`field_files`] writes them for the first: the second drawn on top in
+/// another colour, each path labelled with `labels` in the legend, `note` after the title
+/// (e.g. the effort-optimal and the power-optimal gait, their costs and the saving).
+pub fn comparison_files(
+    swimmer: &Swimmer<f64>,
+    gaits: [FieldGait<'_>; 2],
+    labels: [String; 2],
+    note: &str,
+    components: &[Component],
+    options: &Options,
+) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
+    for g in &gaits {
+        check_arcs(g.arcs, g.states.len())?;
+    }
+    let field = Field::sample(swimmer, Field::CELLS)?;
+    let units = Units::new(options);
+    let mut figure = field_figure(&field, Some(gaits[0]), components, units);
+    let second = field_figure(&field, Some(gaits[1]), components, units).overlay;
+    figure
+        .overlay
+        .paths
+        .extend(second.paths.into_iter().map(|mut p| {
+            p.color = style::VERMILLION;
+            p
+        }));
+    for (path, label) in figure.overlay.paths.iter_mut().zip(labels) {
+        path.label = label;
+    }
+    match (&mut figure.overlay.stretches, second.stretches) {
+        (Some(mine), Some(theirs)) => mine.lines.extend(theirs.lines),
+        (mine @ None, theirs) => *mine = theirs,
+        (Some(_), None) => {}
+    }
+    figure.title = format!("{}; {note}", figure.title);
+    let mut files = render_all(&[("field", Any::Field(figure))])?;
+    files.push(("field.csv".into(), field.to_csv().into_bytes()));
+    Ok(files)
+}
+
 fn field_figure<'a>(
     field: &'a Field,
     gait: Option<FieldGait<'_>>,

@@ -353,6 +353,7 @@ impl<'a> Replanner<'a> {
             drag: p.model.drag,
             ratio: p.model.ratio * (1.0 + eps),
             alpha_max: p.alpha_max,
+            cost: p.cost,
         })
         .map_err(|e| format!("no plan: {e}"))?;
         let prepared = Prepared {

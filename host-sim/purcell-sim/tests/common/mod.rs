@@ -108,6 +108,15 @@ pub fn arg(path: &Path) -> &str {
     path.to_str().expect("a UTF-8 path")
 }
 
+/// The JSON report of `robustness --gait gait --json` with `args` (exit 0).
+pub fn robustness_json(gait: &str, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["robustness", "--gait", gait, "--json"];
+    all.extend_from_slice(args);
+    let o = sim(&all);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 /// The `report.json` in `dir`.
 pub fn report(dir: &Path) -> serde_json::Value {
     serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap()

@@ -18,6 +18,7 @@ mod gait_files;
 mod never_lose;
 mod output_files;
 mod outputs;
+mod power_fronts;
 mod power_gaits;
 mod replan;
 mod report_order;

@@ -9,13 +9,9 @@ const LIMIT: &str = concat!(
     "/../../core/examples/paper-limit.gait"
 );
 
-/// The JSON report of `robustness` with `args`.
+/// The JSON report of `robustness` of the constrained paper gait with `args`.
 fn json(args: &[&str]) -> serde_json::Value {
-    let mut all = vec!["robustness", "--gait", LIMIT, "--json"];
-    all.extend_from_slice(args);
-    let o = sim(&all);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    serde_json::from_slice(&o.stdout).unwrap()
+    robustness_json(LIMIT, args)
 }
 
 #[test]

@@ -13,8 +13,12 @@
 use super::gains::Table;
 use crate::seeded::{GOLDEN_GAMMA, splitmix64};
 use nalgebra::Vector2;
+use purcell_core::cost::RunningCost;
+use purcell_core::gait::{Stored, WithReplay};
 use purcell_core::tracking::{Tracker, rounded, tracking_error};
-use purcell_core::{Error, Kinematics, Real, Sample, Se2, State, TerminalError, TrajectoryDigest};
+use purcell_core::{
+    Error, Gait, Kinematics, Real, Replay, Sample, Se2, State, TerminalError, TrajectoryDigest,
+};
 
 /// Gaussian measurement noise: standard deviations of the pose `(x, y, θ)` (m, rad) and of
 /// the joint angles (rad), from a seeded generator.
@@ -202,4 +206,39 @@ where
 /// The larger component of the pose error of `state` against `nominal`.
 pub fn pose_deviation(nominal: &State<f64>, state: &State<f64>) -> f64 {
     TerminalError::new(state, &nominal.alpha, &nominal.g).g
+}
+
+/// [`fly`] of `gait`'s replay in `T` with its checkpoints, the law of the gait's own cost
+/// ([`Gait::with_replay`]), from the gait's start: the flight, or why it stopped.
+///
+/// Errors: the replay's, before any step (the gait cannot be replayed in `T`).
+pub fn fly_gait<T: Stored>(
+    gait: &Gait<'_>,
+    plant: &Kinematics<f64>,
+    control: Control<'_>,
+    noise: &Noise,
+) -> Result<Result<Outcome, FlightFailure>, Error> {
+    /// [`fly`] of a replay of any cost.
+    struct Flying<'p> {
+        plant: &'p Kinematics<f64>,
+        start: State<f64>,
+        control: Control<'p>,
+        noise: &'p Noise,
+    }
+    impl<'a, T: Stored> WithReplay<'a, T> for Flying<'_> {
+        type Output = Result<Outcome, FlightFailure>;
+        fn run<C: RunningCost>(self, replay: Replay<'a, T, C>) -> Self::Output {
+            fly(replay, self.plant, self.start, self.control, self.noise)
+        }
+    }
+    let start = gait.params().start();
+    gait.with_replay::<T, _>(
+        true,
+        Flying {
+            plant,
+            start,
+            control,
+            noise,
+        },
+    )
 }

@@ -11,33 +11,45 @@ pub mod flight;
 pub mod gains;
 pub mod plan;
 
-pub use flight::{Control, FlightFailure, Noise, Outcome, Sensor, fly, pose_deviation};
+pub use flight::{Control, FlightFailure, Noise, Outcome, Sensor, fly, fly_gait, pose_deviation};
 pub use gains::{Design, Table, table};
 pub use plan::{PLAN_STEP, PlanError, PlanStep, neighbouring};
 pub use purcell_core::tracking::{Mismatch, joint_bound};
 
 use crate::problem::Problem;
 use crate::solver::Trajectory;
-use purcell_core::{Error, Gait};
+use purcell_core::cost::RunningCost;
+use purcell_core::gait::WithReplay;
+use purcell_core::{Error, Gait, Replay};
 
 /// The whole trajectory of the `f64` replay of `gait` with its checkpoints, as firmware flies
-/// it: states, controls and the costates `ξ^{k−1}` (`k = 0..=N`); the nominal a tracking table
-/// is computed along.
+/// it (the law of the gait's cost): states, controls and the costates `ξ^{k−1}`
+/// (`k = 0..=N`); the nominal a tracking table is computed along.
 ///
 /// Errors: the replay's.
 pub fn nominal(gait: &Gait<'_>) -> Result<Trajectory, Error> {
-    let mut replay = gait.replay::<f64>()?;
-    let mut t = Trajectory {
-        xis: vec![gait.params().costate::<f64>().xi],
-        ..Trajectory::default()
-    };
-    while let Some(sample) = replay.step()? {
-        t.states.push(sample.state);
-        t.controls.push(sample.u);
-        t.xis.push(*replay.xi());
+    gait.with_replay(true, Nominal(gait.params().costate::<f64>().xi))?
+}
+
+/// [`nominal`] of a replay of any cost, from the costate `ξ^{−1}`.
+struct Nominal(nalgebra::Vector2<f64>);
+
+impl<'a> WithReplay<'a, f64> for Nominal {
+    type Output = Result<Trajectory, Error>;
+
+    fn run<C: RunningCost>(self, mut replay: Replay<'a, f64, C>) -> Self::Output {
+        let mut t = Trajectory {
+            xis: vec![self.0],
+            ..Trajectory::default()
+        };
+        while let Some(sample) = replay.step()? {
+            t.states.push(sample.state);
+            t.controls.push(sample.u);
+            t.xis.push(*replay.xi());
+        }
+        t.states.push(*replay.state());
+        Ok(t)
     }
-    t.states.push(*replay.state());
-    Ok(t)
 }
 
 /// Where a table's gain on `ε` comes from.
