@@ -59,6 +59,17 @@ pub struct Run {
     pub iterations: usize,
     /// How it ended.
     pub status: Status,
+    /// Newton's own state where it ran out of iterations, to go on from ([`resume`]);
+    /// `None` if it ended otherwise.
+    more: Option<Box<Resume>>,
+}
+
+/// What Newton carries from one iteration to the next besides the iterate: the last
+/// regularisation and the filter.
+#[derive(Clone, Debug)]
+struct Resume {
+    delta_last: f64,
+    filter: Filter,
 }
 
 /// How a Newton run ended.
@@ -100,11 +111,38 @@ pub fn newton_pulsed(
     settings: &Settings,
     pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
+    let filter = Filter::new(grid.terminal.defect(&start.states).lp_norm(1));
+    let state = Resume {
+        delta_last: 0.0,
+        filter,
+    };
+    iterate(grid, start, 0, state, settings, pulse)
+}
+
+/// `run` gone on to `settings.max_iterations` iterations in all, as if it had been started
+/// with them: the same iterates, bit for bit (a run that ended other than at its iteration
+/// limit is returned as it is, since more iterations would end it there too).
+pub fn resume(grid: &Grid, run: Run, settings: &Settings, pulse: &dyn Fn()) -> Result<Run, Error> {
+    match run.more {
+        Some(state) => iterate(grid, run.point, run.iterations, *state, settings, pulse),
+        None => Ok(run),
+    }
+}
+
+/// Newton's iterations from `pt` after `iterations` of them, with the state they carry.
+fn iterate(
+    grid: &Grid,
+    mut pt: Point,
+    mut iterations: usize,
+    state: Resume,
+    settings: &Settings,
+    pulse: &dyn Fn(),
+) -> Result<Run, Error> {
     let h = grid.h();
-    let mut pt = start;
-    let mut delta_last = 0.0f64;
-    let mut iterations = 0;
-    let mut filter = Filter::new(grid.terminal.defect(&pt.states).lp_norm(1));
+    let Resume {
+        mut delta_last,
+        mut filter,
+    } = state;
     loop {
         pulse();
         let c = grid.terminal.defect(&pt.states);
@@ -120,7 +158,11 @@ pub fn newton_pulsed(
             } else {
                 Status::Stationary
             };
-            return Ok(finish(grid, pt, lz, iterations, status));
+            let mut run = finish(grid, pt, lz, iterations, status);
+            if !done {
+                run.more = Some(Box::new(Resume { delta_last, filter }));
+            }
+            return Ok(run);
         }
         iterations += 1;
         pulse();
@@ -224,6 +266,7 @@ fn finish(grid: &Grid, point: Point, lz: Linearisation, iterations: usize, statu
         kkt: lz.kkt,
         iterations,
         status,
+        more: None,
     }
 }
 
