@@ -78,7 +78,7 @@ pub enum Status {
     /// Out of iterations before both tolerances were met.
     Stalled,
     /// Both tolerances met, the second-order sufficient condition not (a saddle, or a
-    /// minimum that is not strict).
+    /// minimum that is not strict) or not checked ([`Settings::second_order`]).
     Stationary,
     /// Both tolerances met and the second-order sufficient condition holds (the exact
     /// Hessian's QP is strictly convex on the constraint's null space): a strict local minimum.
@@ -153,7 +153,9 @@ fn iterate(
         if done || iterations >= settings.max_iterations {
             let status = if !done {
                 Status::Stalled
-            } else if Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex()) {
+            } else if settings.second_order
+                && Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex())
+            {
                 Status::LocalMin
             } else {
                 Status::Stationary
