@@ -151,20 +151,8 @@ fn iterate(
         let maps = maps.as_deref();
         let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
         if done || iterations >= settings.max_iterations {
-            let status = if !done {
-                Status::Stalled
-            } else if settings.second_order
-                && Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex())
-            {
-                Status::LocalMin
-            } else {
-                Status::Stationary
-            };
-            let mut run = finish(grid, pt, lz, iterations, status);
-            if !done {
-                run.more = Some(Box::new(Resume { delta_last, filter }));
-            }
-            return Ok(run);
+            let state = Resume { delta_last, filter };
+            return Ok(ended(grid, pt, lz, iterations, done, settings, state));
         }
         iterations += 1;
         pulse();
@@ -212,6 +200,36 @@ fn iterate(
         };
         pt = p;
     }
+}
+
+/// The run ending at `pt` with its derivatives `lz`: converged (`done`; the second-order
+/// condition checked if `settings` ask for it) or out of iterations (Newton's `state` kept
+/// to resume from).
+fn ended(
+    grid: &Grid,
+    pt: Point,
+    lz: Linearisation,
+    iterations: usize,
+    done: bool,
+    settings: &Settings,
+    state: Resume,
+) -> Run {
+    let maps = grid.limits.control_maps(grid.steps);
+    let convex = || {
+        Factor::new(&lz.lin, &lz.grad, grid.h(), 0.0, maps.as_deref()).is_some_and(|f| f.convex())
+    };
+    let status = if !done {
+        Status::Stalled
+    } else if settings.second_order && convex() {
+        Status::LocalMin
+    } else {
+        Status::Stationary
+    };
+    let mut run = finish(grid, pt, lz, iterations, status);
+    if !done {
+        run.more = Some(Box::new(state));
+    }
+    run
 }
 
 /// Inertia correction (as IPOPT's): the factorisation of the Newton step's LQ problem with

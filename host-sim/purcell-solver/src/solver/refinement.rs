@@ -255,19 +255,8 @@ pub fn refine_candidates(
     best_residual: f64,
     progress: &dyn Progress,
 ) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
-    let alpha_max = problem.shape_bound();
     let mut extremals: Vec<(Extremal, f64)> = Vec::new();
     let mut unrefined: Vec<Unrefined> = Vec::new();
-    let near = |a: f64| a < alpha_max + COARSE_ALPHA_ERROR;
-    let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
-    // With a joint limit, the candidates whose path the next grid does not reproduce go
-    // after the others, and only while none of those has settled an admissible extremal.
-    let misses: Vec<f64> = maybe.iter().map(|c| miss(problem, c)).collect();
-    let (maybe, deferred): (Vec<_>, Vec<_>) = maybe
-        .into_iter()
-        .zip(misses)
-        .partition(|&(_, m)| problem.alpha_max.is_none() || m <= UNRESOLVED);
-    let maybe: Vec<_> = maybe.into_iter().map(|(c, _)| c).collect();
     // A joint limit's coarse minima are further from the problem's (arcs on 64 steps), and
     // many refine to the same extremal.
     let coarse_error = if problem.alpha_max.is_some() {
@@ -275,34 +264,19 @@ pub fn refine_candidates(
     } else {
         COARSE_COST_ERROR
     };
-    let settled_of = |extremals: &[(Extremal, f64)]| {
-        extremals
-            .iter()
-            .filter(|(x, _)| x.admissible)
-            .map(|(x, _)| x.cost)
-            .fold(f64::INFINITY, f64::min)
-    };
     let (mut tried, mut repeats, mut pruned) = (0, 0, 0);
     let mut skipped = Vec::new();
-    let deferred: Vec<_> = deferred.into_iter().map(|(c, _)| c).collect();
-    for (pass, list) in [maybe, deferred, beyond].into_iter().enumerate() {
+    for (pass, list) in passes(problem, candidates).into_iter().enumerate() {
         for c in list {
-            let settled = settled_of(&extremals);
+            let settled = extremals
+                .iter()
+                .filter(|(x, _)| x.admissible)
+                .map(|(x, _)| x.cost)
+                .fold(f64::INFINITY, f64::min);
             let margin = if pass < 2 { 1.0 + coarse_error } else { 1.0 };
             if pass == 1 && settled.is_finite() {
                 if c.cost <= settled * margin {
-                    let defect = miss(problem, c) * problem.displacement();
-                    log::debug!(
-                        "candidate of coarse J {:.7} ({} hits) not refined: its path misses the \
-                         target by {defect:.1e} on the next grid",
-                        c.cost,
-                        c.hits
-                    );
-                    skipped.push(Unrefined {
-                        minimum: Minimum::of(c),
-                        defect,
-                        cheaper: false,
-                    });
+                    skipped.push(unresolved(problem, c));
                 }
                 continue;
             }
@@ -349,6 +323,39 @@ pub fn refine_candidates(
     }
     unrefined.extend(skipped);
     settle(problem, extremals, unrefined, tried, best_residual)
+}
+
+/// The candidates in the order [`refine_candidates`] tries them: those that may be
+/// admissible (their largest `|α_i|` within [`COARSE_ALPHA_ERROR`] of the bound) whose path
+/// the coarse grid resolves; with a joint limit, those whose path it does not ([`miss`] above
+/// [`UNRESOLVED`]); the others.
+fn passes<'a>(
+    problem: &Problem,
+    candidates: &'a [search::Candidate],
+) -> [Vec<&'a search::Candidate>; 3] {
+    let near = |a: f64| a < problem.shape_bound() + COARSE_ALPHA_ERROR;
+    let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
+    let resolved =
+        |c: &&search::Candidate| problem.alpha_max.is_none() || miss(problem, c) <= UNRESOLVED;
+    let (maybe, deferred) = maybe.into_iter().partition(resolved);
+    [maybe, deferred, beyond]
+}
+
+/// Candidate `c` skipped as a minimum the coarse grid does not resolve: reported with its
+/// path's miss on the next grid as its defect.
+fn unresolved(problem: &Problem, c: &search::Candidate) -> Unrefined {
+    let defect = miss(problem, c) * problem.displacement();
+    log::debug!(
+        "candidate of coarse J {:.7} ({} hits) not refined: its path misses the target by \
+         {defect:.1e} on the next grid",
+        c.cost,
+        c.hits
+    );
+    Unrefined {
+        minimum: Minimum::of(c),
+        defect,
+        cheaper: false,
+    }
 }
 
 /// How far the path of candidate `c`, prolonged to the next grid of its refinement
