@@ -233,10 +233,10 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 /// the cheapest admissible fine extremal is settled (every remaining candidate costs more,
 /// with a margin for the coarse grid's error in `J`), then the inadmissible ones cheaper
 /// than it, for the report. With a joint limit, a candidate whose path the coarse grid does
-/// not resolve ([`miss`] above [`UNRESOLVED`]) comes after the others and is skipped once
-/// they have settled an admissible extremal (its miss on the next grid is its defect in the
-/// report). A candidate that costs more than the settled one on an
-/// intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
+/// not resolve (prolonged to the next grid, it misses the target by more than the share
+/// [`UNRESOLVED`] of the displacement) comes after the others and is skipped once they have
+/// settled an admissible extremal (that miss is its defect in the report). A candidate that
+/// costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
 /// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
 /// the same extremal), nor those pruned (a prune costs an intermediate grid, not the
