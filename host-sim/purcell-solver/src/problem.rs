@@ -376,6 +376,14 @@ impl Problem {
         }
     }
 
+    /// The displacement asked for, `|(x̄, ȳ, L0·θ̄)|` (metres; the heading at the middle
+    /// link's length).
+    pub fn displacement(&self) -> f64 {
+        let t = self.target;
+        let l = self.swimmer.lengths()[0];
+        (t.x * t.x + t.y * t.y + (l * t.z).powi(2)).sqrt()
+    }
+
     /// Horizon `T = N·h`, seconds.
     pub fn horizon(&self) -> f64 {
         self.h * f64::from(self.steps)

@@ -59,6 +59,17 @@ pub struct Run {
     pub iterations: usize,
     /// How it ended.
     pub status: Status,
+    /// Newton's own state where it ran out of iterations, to go on from ([`resume`]);
+    /// `None` if it ended otherwise.
+    more: Option<Box<Resume>>,
+}
+
+/// What Newton carries from one iteration to the next besides the iterate: the last
+/// regularisation and the filter.
+#[derive(Clone, Debug)]
+struct Resume {
+    delta_last: f64,
+    filter: Filter,
 }
 
 /// How a Newton run ended.
@@ -67,7 +78,7 @@ pub enum Status {
     /// Out of iterations before both tolerances were met.
     Stalled,
     /// Both tolerances met, the second-order sufficient condition not (a saddle, or a
-    /// minimum that is not strict).
+    /// minimum that is not strict) or not checked ([`Settings::second_order`]).
     Stationary,
     /// Both tolerances met and the second-order sufficient condition holds (the exact
     /// Hessian's QP is strictly convex on the constraint's null space): a strict local minimum.
@@ -100,11 +111,38 @@ pub fn newton_pulsed(
     settings: &Settings,
     pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
+    let filter = Filter::new(grid.terminal.defect(&start.states).lp_norm(1));
+    let state = Resume {
+        delta_last: 0.0,
+        filter,
+    };
+    iterate(grid, start, 0, state, settings, pulse)
+}
+
+/// `run` gone on to `settings.max_iterations` iterations in all, as if it had been started
+/// with them: the same iterates, bit for bit (a run that ended other than at its iteration
+/// limit is returned as it is, since more iterations would end it there too).
+pub fn resume(grid: &Grid, run: Run, settings: &Settings, pulse: &dyn Fn()) -> Result<Run, Error> {
+    match run.more {
+        Some(state) => iterate(grid, run.point, run.iterations, *state, settings, pulse),
+        None => Ok(run),
+    }
+}
+
+/// Newton's iterations from `pt` after `iterations` of them, with the state they carry.
+fn iterate(
+    grid: &Grid,
+    mut pt: Point,
+    mut iterations: usize,
+    state: Resume,
+    settings: &Settings,
+    pulse: &dyn Fn(),
+) -> Result<Run, Error> {
     let h = grid.h();
-    let mut pt = start;
-    let mut delta_last = 0.0f64;
-    let mut iterations = 0;
-    let mut filter = Filter::new(grid.terminal.defect(&pt.states).lp_norm(1));
+    let Resume {
+        mut delta_last,
+        mut filter,
+    } = state;
     loop {
         pulse();
         let c = grid.terminal.defect(&pt.states);
@@ -113,14 +151,8 @@ pub fn newton_pulsed(
         let maps = maps.as_deref();
         let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
         if done || iterations >= settings.max_iterations {
-            let status = if !done {
-                Status::Stalled
-            } else if Factor::new(&lz.lin, &lz.grad, h, 0.0, maps).is_some_and(|f| f.convex()) {
-                Status::LocalMin
-            } else {
-                Status::Stationary
-            };
-            return Ok(finish(grid, pt, lz, iterations, status));
+            let state = Resume { delta_last, filter };
+            return Ok(ended(grid, pt, lz, iterations, done, settings, state));
         }
         iterations += 1;
         pulse();
@@ -168,6 +200,36 @@ pub fn newton_pulsed(
         };
         pt = p;
     }
+}
+
+/// The run ending at `pt` with its derivatives `lz`: converged (`done`; the second-order
+/// condition checked if `settings` ask for it) or out of iterations (Newton's `state` kept
+/// to resume from).
+fn ended(
+    grid: &Grid,
+    pt: Point,
+    lz: Linearisation,
+    iterations: usize,
+    done: bool,
+    settings: &Settings,
+    state: Resume,
+) -> Run {
+    let maps = grid.limits.control_maps(grid.steps);
+    let convex = || {
+        Factor::new(&lz.lin, &lz.grad, grid.h(), 0.0, maps.as_deref()).is_some_and(|f| f.convex())
+    };
+    let status = if !done {
+        Status::Stalled
+    } else if settings.second_order && convex() {
+        Status::LocalMin
+    } else {
+        Status::Stationary
+    };
+    let mut run = finish(grid, pt, lz, iterations, status);
+    if !done {
+        run.more = Some(Box::new(state));
+    }
+    run
 }
 
 /// Inertia correction (as IPOPT's): the factorisation of the Newton step's LQ problem with
@@ -224,6 +286,7 @@ fn finish(grid: &Grid, point: Point, lz: Linearisation, iterations: usize, statu
         kkt: lz.kkt,
         iterations,
         status,
+        more: None,
     }
 }
 

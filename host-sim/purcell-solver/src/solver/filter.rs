@@ -24,6 +24,7 @@ enum StepKind {
 /// direction for the cost and the iterate nearly feasible) or lowers `θ` or `φ` enough against
 /// the current point. No penalty parameter: the line search does not depend on the size of
 /// the multipliers.
+#[derive(Clone, Debug)]
 pub struct Filter {
     entries: Vec<(f64, f64)>,
     theta_max: f64,

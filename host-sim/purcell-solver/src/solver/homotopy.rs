@@ -92,11 +92,23 @@ pub fn walk(
     settings: &Settings,
     pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
-    let mut g = grid.clone();
-    let mut point = start;
-    let mut reached: Option<(usize, Run)> = None;
-    for (i, &tau) in taus.iter().enumerate() {
-        g.limits = Limits::Barrier { alpha_max, tau };
+    walk_on(grid, alpha_max, taus, start, None, settings, pulse)
+}
+
+/// [`walk`] from `point`, after the weights up to the index of `reached` (if any: its run),
+/// which converged.
+fn walk_on(
+    grid: &Grid,
+    alpha_max: f64,
+    taus: &[f64],
+    mut point: Point,
+    mut reached: Option<(usize, Run)>,
+    settings: &Settings,
+    pulse: &dyn Fn(),
+) -> Result<Walk, Error> {
+    let first = reached.as_ref().map_or(0, |(i, _)| i + 1);
+    for (i, &tau) in taus.iter().enumerate().skip(first) {
+        let g = barrier_grid(grid, alpha_max, tau);
         let p = Point::new(&g, point.u.clone(), point.nu)?;
         let run = direct::newton_pulsed(&g, p, settings, pulse)?;
         if !run.converged() {
@@ -107,6 +119,13 @@ pub fn walk(
     }
     let (_, run) = reached.ok_or(Error::NonFinite)?;
     Ok(Walk { run, reached: None })
+}
+
+/// `grid` with the barrier of weight `tau`.
+fn barrier_grid(grid: &Grid, alpha_max: f64, tau: f64) -> Grid {
+    let mut g = grid.clone();
+    g.limits = Limits::Barrier { alpha_max, tau };
+    g
 }
 
 /// Why [`polish`] gave up.
@@ -195,7 +214,10 @@ pub fn polish(
 /// [`Settings::barrier`] (every step stopped at the fraction to the boundary: from a
 /// prolonged coarse solution, unguarded steps pin states to the limit and Newton stalls
 /// there), the first of [`PATIENCE`] iterations per weight, then the second if that does not
-/// converge.
+/// converge. The second path's runs up to the weight where the first stalled are the
+/// first's (they converged within fewer iterations), so it goes on from there: that weight's
+/// run resumed ([`direct::resume`], the same iterates as a run started with the second
+/// patience), then the smaller weights.
 pub fn patient_barrier_path(
     grid: &Grid,
     alpha_max: f64,
@@ -203,22 +225,37 @@ pub fn patient_barrier_path(
     start: Point,
     pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
-    let path = |patience| {
-        walk(
-            grid,
-            alpha_max,
-            taus,
-            start.clone(),
-            &Settings::barrier(patience),
-            pulse,
-        )
-    };
-    let first = path(PATIENCE[0])?;
+    let first = walk(
+        grid,
+        alpha_max,
+        taus,
+        start,
+        &Settings::barrier(PATIENCE[0]),
+        pulse,
+    )?;
     if first.run.converged() {
-        Ok(first)
-    } else {
-        path(PATIENCE[1])
+        return Ok(first);
     }
+    let patient = Settings::barrier(PATIENCE[1]);
+    let stalled = first.reached.as_ref().map_or(0, |(i, _)| i + 1);
+    let g = barrier_grid(grid, alpha_max, taus[stalled]);
+    let run = direct::resume(&g, first.run, &patient, pulse)?;
+    if !run.converged() {
+        return Ok(Walk {
+            run,
+            reached: first.reached,
+        });
+    }
+    let point = run.point.clone();
+    walk_on(
+        grid,
+        alpha_max,
+        taus,
+        point,
+        Some((stalled, run)),
+        &patient,
+        pulse,
+    )
 }
 
 #[cfg(test)]

@@ -150,7 +150,9 @@ pub struct Minimum {
 pub struct Unrefined {
     /// The coarse minimum.
     pub minimum: Minimum,
-    /// The terminal defect where its refinement stopped (`∞`: no iterate to measure).
+    /// The terminal defect on the finest grid its refinement reached (`∞`: no iterate to
+    /// measure; skipped as a minimum the coarse grid does not resolve: its path's on the
+    /// next grid, [`super::settings::UNRESOLVED`]).
     pub defect: f64,
     /// Whether it costs less on the coarse grid than the minimum the returned extremal was
     /// refined from: the extremal returned may then not be the cheapest.
@@ -163,8 +165,8 @@ impl core::fmt::Display for Unrefined {
         write!(
             f,
             "a minimum of the coarse search (J {:.6} on its grid, reached from {} start(s)) \
-             could not be carried to the problem's grid (Newton stopped at terminal defect \
-             {:.1e})",
+             could not be carried to the problem's grid (terminal defect {:.1e} on the finest \
+             grid reached)",
             self.minimum.cost, self.minimum.hits, self.defect
         )?;
         if self.cheaper {

@@ -1,8 +1,9 @@
 //! The global search under a joint limit (`purcell_solver::solver::search`): what it must file
-//! whatever the seed.
+//! whatever the seed, and which of its minima the refinement skips.
 
 use purcell_solver::problem::{Problem, Spec};
-use purcell_solver::solver::{SolveOptions, solve};
+use purcell_solver::solver::settings::UNRESOLVED;
+use purcell_solver::solver::{SolveOptions, Stop, refine, search_coarse, solve};
 
 /// The zero target from a bent start within a limit: the zero control (every state at `ᾱ`,
 /// inside the limit) is the exact global minimum, `J = 0`, which the barrier's gradient at a
@@ -27,4 +28,39 @@ fn the_zero_target_from_a_bent_start_is_the_zero_gait() {
         assert!(best.arcs.is_empty() && best.admissible, "seed {seed}");
         assert!(best.trajectory.controls.iter().all(|u| u.norm() == 0.0));
     }
+}
+
+/// At `α_max = 1.5` (the public problem `joint-limit-1.5`) fourteen coarse minima of the
+/// barrier problem end 6–7 % of the displacement asked for off the target once prolonged to
+/// the next grid: minima of the coarse grid's error, whose barrier path there stalls (about
+/// 1 s of Newton each, most of the solve). They are skipped once a resolved minimum settles
+/// the cheapest gait, and reported as unrefined; the gait is the public problem's, and the
+/// cheapest skipped minimum, refined all the same, stalls.
+#[test]
+fn unresolved_coarse_minima_are_skipped_not_lost() {
+    let problem = Problem::new(&Spec {
+        alpha_max: Some(1.5),
+        ..Spec::default()
+    })
+    .unwrap();
+    let options = SolveOptions::default();
+    let s = solve(&problem, &options, &|| {}).unwrap();
+    let cost = s.extremals[s.best].cost;
+    assert!((cost - 1.2108538249259375).abs() <= 1e-7, "{cost}");
+    let evidence = s.search.as_ref().unwrap();
+    let limit = UNRESOLVED * problem.displacement();
+    let skipped: Vec<_> = (evidence.unrefined.iter())
+        .filter(|u| u.defect > limit)
+        .collect();
+    assert!(skipped.len() >= 10, "{}", skipped.len());
+    let cheapest = skipped
+        .iter()
+        .map(|u| u.minimum.cost)
+        .fold(f64::INFINITY, f64::min);
+    let found = search_coarse(&problem, &options, &|| {}).unwrap();
+    let c = (found.candidates.iter())
+        .find(|c| c.cost == cheapest)
+        .unwrap();
+    let refined = refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| ());
+    assert!(matches!(refined, Err(Stop::Defect(_))), "{refined:?}");
 }
