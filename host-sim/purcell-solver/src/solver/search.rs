@@ -171,7 +171,7 @@ pub fn search(
             let results: Vec<_> = batch
                 .par_iter()
                 .map(|&(index, start_loop)| {
-                    let r = run_start(grid, limit, &settings, index, start_loop, pulse);
+                    let r = run_start(grid, limit, &settings, start_loop, pulse);
                     progress.tick();
                     (index, start_loop, r)
                 })
@@ -216,14 +216,13 @@ pub fn search(
     }
 }
 
-/// Start `index` (the loop `start_loop`; `None`: the zero loop, [`zero_loop`], or a
-/// transition's straight path) through Newton
-/// on `grid`; with a joint limit `limit`, shrunk into it and along its barrier path.
+/// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
+/// straight path) through Newton on `grid`; with a joint limit `limit`, shrunk into it and
+/// along its barrier path ([`StartLoop::path`]).
 fn run_start(
     grid: &Grid,
     limit: Option<f64>,
     settings: &Settings,
-    index: usize,
     start_loop: Option<StartLoop>,
     pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
@@ -243,7 +242,8 @@ fn run_start(
             let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
             let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
             Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                homotopy::walk(grid, a, settings::coarse_path(index), p, settings, pulse)
+                let path = start_loop.map_or(0, |s| s.path());
+                homotopy::walk(grid, a, settings::coarse_path(path), p, settings, pulse)
                     .map(|w| w.run)
             })
         }
