@@ -23,7 +23,9 @@
 //! **Free minima under a joint limit.** With a joint limit the cheapest minimum may be reached
 //! by one or two of the 936 (loop, barrier path) pairs, so a seed found it or not by which
 //! 512 it ran (the paper's target at `α_max = 2.2`: three seeds of four returned the interior
-//! extremal 0.8183904, 2 % dearer than 0.8021628 on two arcs). After the starts, the distinct
+//! extremal 0.8183904, 2 % dearer than 0.8021628 on two arcs). Each loop runs its own barrier
+//! path ([`StartLoop::path`]), so the pairs are the same for every seed and only their order
+//! differs: a search over the whole family files the same minima. After the starts, the distinct
 //! minima of the same problem without the limit (its own search, `free`) are carried into
 //! it (`inward`): each scaled about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both
 //! coarse paths; what they reach is filed as candidates. They do not count for the stopping
