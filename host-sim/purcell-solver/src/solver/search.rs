@@ -23,7 +23,9 @@
 //! **Free minima under a joint limit.** With a joint limit the cheapest minimum may be reached
 //! by one or two of the 936 (loop, barrier path) pairs, so a seed found it or not by which
 //! 512 it ran (the paper's target at `α_max = 2.2`: three seeds of four returned the interior
-//! extremal 0.8183904, 2 % dearer than 0.8021628 on two arcs). After the starts, the distinct
+//! extremal 0.8183904, 2 % dearer than 0.8021628 on two arcs). Each loop runs its own barrier
+//! path ([`StartLoop::path`]), so the pairs are the same for every seed and only their order
+//! differs: a search over the whole family files the same minima. After the starts, the distinct
 //! minima of the same problem without the limit (its own search, `free`) are carried into
 //! it (`inward`): each scaled about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both
 //! coarse paths; what they reach is filed as candidates. They do not count for the stopping
@@ -171,7 +173,7 @@ pub fn search(
             let results: Vec<_> = batch
                 .par_iter()
                 .map(|&(index, start_loop)| {
-                    let r = run_start(grid, limit, &settings, index, start_loop, pulse);
+                    let r = run_start(grid, limit, &settings, start_loop, pulse);
                     progress.tick();
                     (index, start_loop, r)
                 })
@@ -216,14 +218,13 @@ pub fn search(
     }
 }
 
-/// Start `index` (the loop `start_loop`; `None`: the zero loop, [`zero_loop`], or a
-/// transition's straight path) through Newton
-/// on `grid`; with a joint limit `limit`, shrunk into it and along its barrier path.
+/// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
+/// straight path) through Newton on `grid`; with a joint limit `limit`, shrunk into it and
+/// along its barrier path ([`StartLoop::path`]).
 fn run_start(
     grid: &Grid,
     limit: Option<f64>,
     settings: &Settings,
-    index: usize,
     start_loop: Option<StartLoop>,
     pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
@@ -243,7 +244,8 @@ fn run_start(
             let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
             let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
             Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                homotopy::walk(grid, a, settings::coarse_path(index), p, settings, pulse)
+                let path = start_loop.map_or(0, |s| s.path());
+                homotopy::walk(grid, a, settings::coarse_path(path), p, settings, pulse)
                     .map(|w| w.run)
             })
         }

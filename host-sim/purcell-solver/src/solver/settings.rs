@@ -175,12 +175,13 @@ pub const BARRIER_TOL_KKT: f64 = 1e-6;
 
 // The joint limit (MODEL.md §9, [`super::homotopy`]).
 
-/// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for every
-/// other start, at `1e-2` (a stronger push off the limit at first leads to other basins).
+/// Barrier weights of the coarse grid's paths: a start's path begins at `1e-3` or, for about
+/// half of the start loops ([`super::starts::StartLoop::path`]), at `1e-2` (a stronger push
+/// off the limit at first leads to other basins).
 pub const COARSE_PATHS: [&[f64]; 2] = [&[1e-3, 1e-4, 1e-5, 1e-6], &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6]];
-/// The barrier path of start `index` on the coarse grid ([`COARSE_PATHS`]).
-pub fn coarse_path(index: usize) -> &'static [f64] {
-    COARSE_PATHS[index % 2]
+/// The coarse grid's barrier path number `i` ([`COARSE_PATHS`], `i` taken modulo 2).
+pub fn coarse_path(i: usize) -> &'static [f64] {
+    COARSE_PATHS[i % 2]
 }
 /// The last weight of the coarse paths: the coarse problem's barrier.
 pub const COARSE_TAU: f64 = 1e-6;

@@ -113,6 +113,31 @@ impl StartLoop {
         e(phi) - e(self.phase)
     }
 
+    /// Which of the coarse barrier paths ([`super::settings::COARSE_PATHS`]) the loop runs
+    /// under a joint limit: a hash of its parameters, so that a loop runs the same path
+    /// whatever its place in a seed's order (by its place, seeds ran different (loop, path)
+    /// pairs and their full budgets reached different minima).
+    pub fn path(&self) -> usize {
+        let (kind, reach) = match self.shape {
+            Shape::Ellipse => (0, 0.0),
+            Shape::Eight => (1, 0.0),
+            Shape::Lollipop { reach } => (2, reach),
+        };
+        let words = [
+            kind,
+            reach.to_bits(),
+            self.size.to_bits(),
+            self.aspect.to_bits(),
+            self.psi.to_bits(),
+            self.phase.to_bits(),
+            u64::from(self.turns),
+        ];
+        let h = words
+            .iter()
+            .fold(0u64, |h, &w| splitmix64(h.wrapping_add(GOLDEN_GAMMA) ^ w));
+        (h & 1) as usize
+    }
+
     /// The controls that run the loop on `grid` (the shape path, differenced); for a
     /// transition, ridden along the straight path to the end shape (see the module docs).
     pub fn controls(&self, grid: &Grid) -> Vec<Vector2<f64>> {
@@ -422,6 +447,21 @@ mod tests {
         let f = family(0.5, &a, 0, 64, true);
         assert!(f.iter().any(|s| s.turns == 3) && f.iter().any(|s| s.shape == Shape::Eight));
         assert!(f.iter().any(|s| s.aspect < 0.0) && f.iter().any(|s| s.aspect > 0.0));
+    }
+
+    /// A loop's barrier path is its own, whatever the seed's order; both paths are used.
+    #[test]
+    fn the_barrier_path_is_the_loops_own() {
+        let a = Vector2::zeros();
+        let first = family(0.5, &a, 0, 4096, false);
+        let other = family(0.5, &a, 5, 4096, false);
+        assert_ne!(first, other);
+        for s in &other {
+            let same = first.iter().find(|t| *t == s).expect("the same loops");
+            assert_eq!(same.path(), s.path());
+        }
+        let ones = first.iter().filter(|s| s.path() == 1).count();
+        assert!((400..=536).contains(&ones), "{ones} of {}", first.len());
     }
 
     #[test]

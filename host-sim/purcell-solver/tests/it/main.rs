@@ -4,6 +4,7 @@
 
 mod certificates;
 mod curvature;
+mod ladder;
 mod limited;
 mod power;
 mod seeds;
