@@ -71,12 +71,6 @@ const BANDS: usize = 20;
 const PANEL: f64 = 640.0;
 /// See [`PANEL`].
 const SINGLE_PANEL: f64 = 920.0;
-/// Colour bar: gap from the plot, width, room for its labels.
-const BAR_GAP: f64 = 24.0;
-/// See [`BAR_GAP`].
-const BAR_WIDTH: f64 = 36.0;
-/// See [`BAR_GAP`].
-const BAR_LABELS: f64 = 150.0;
 /// Height of a line of a panel's caption.
 const CAPTION_LINE: f64 = 52.0;
 

@@ -34,6 +34,13 @@ pub const LEFT_PAD: f64 = 12.0;
 pub const RIGHT: f64 = 40.0;
 /// Data lines.
 pub const LINE: f64 = 4.0;
+/// Colour bar (the field's and the sweep's maps): gap from the plot, width, room for its
+/// labels.
+pub const BAR_GAP: f64 = 24.0;
+/// See [`BAR_GAP`].
+pub const BAR_WIDTH: f64 = 36.0;
+/// See [`BAR_GAP`].
+pub const BAR_LABELS: f64 = 150.0;
 /// Legend: width of a line sample, gap to its label, space between entries.
 pub const LEGEND_SAMPLE: f64 = 56.0;
 /// See [`LEGEND_SAMPLE`].

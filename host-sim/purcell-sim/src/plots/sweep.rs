@@ -11,12 +11,6 @@ use purcell_solver::solver::continuation::{Lattice, SweepPoint};
 
 /// Plotting-area side.
 const PANEL: f64 = 1000.0;
-/// Colour bar: gap from the plot, width, room for its labels.
-const BAR_GAP: f64 = 24.0;
-/// See [`BAR_GAP`].
-const BAR_WIDTH: f64 = 36.0;
-/// See [`BAR_GAP`].
-const BAR_LABELS: f64 = 150.0;
 /// Room above the bar for its label.
 const BAR_TITLE: f64 = 60.0;
 /// Colour steps of the bar.
