@@ -58,8 +58,8 @@ python3 tests/commands.py "$target_dir/debug/purcell-sim"
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
 step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs
-# about 4 000 inputs/s. New inputs go to a scratch corpus, not into the tree; the gait
-# reader starts from the core's test gaits.
+# about 4 000 inputs/s; purcell-sim without its command line (fuzz/Cargo.toml). New inputs
+# go to a scratch corpus, not into the tree; the gait reader starts from the core's test gaits.
 for target in "costate_file fuzz/seeds fuzz/costate.dict" "gait_file ../../core/tests/data fuzz/gait.dict"; do
   read -r name seeds dict <<<"$target"
   corpus=$(mktemp -d)
