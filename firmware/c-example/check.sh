@@ -8,7 +8,7 @@
 #     instructions per step within PURCELL_C_MAX_INSN (mean, default 720) and
 #     PURCELL_C_MAX_STEP_INSN (largest, default 800), regression guards printed beside the
 #     Rust firmware's figures (firmware/check.sh's M4F log, when there is one), and the run's
-#     deepest stack (open, steps, digest, terminal error) within PURCELL_C_MAX_STACK (2560 B);
+#     deepest stack (open, steps, digest, terminal error) within PURCELL_C_MAX_STACK (2048 B);
 #  2. no panic machinery linked into the firmware, so none reachable from the API, and no
 #     soft-float helper reachable from purcell_flight_step (purcell-mcu-check disasm);
 #  3. the same C program built with the host's gcc against the host's libpurcell_capi.a flies
@@ -67,7 +67,7 @@ same_digest paper "$out/m4f.log"
 read -r mean max < <(sed -n 's/^insn_per_step: mean=\([0-9.]*\) max=\([0-9]*\).*/\1 \2/p' "$out/m4f.log")
 stack=$(sed -n 's/^stack: bytes=\([0-9]*\).*/\1/p' "$out/m4f.log")
 max_mean=${PURCELL_C_MAX_INSN:-720} max_step=${PURCELL_C_MAX_STEP_INSN:-800}
-max_stack=${PURCELL_C_MAX_STACK:-2560}
+max_stack=${PURCELL_C_MAX_STACK:-2048}
 if ! awk -v m="$mean" -v x="$max" -v s="$stack" -v bm="$max_mean" -v bx="$max_step" -v bs="$max_stack" \
   'BEGIN { exit !(m != "" && m <= bm && x <= bx && s != "" && s <= bs) }'; then
   echo "c-example: instructions per step mean=$mean max=$max, stack $stack B: over the budget" \

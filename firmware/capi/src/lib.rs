@@ -21,7 +21,7 @@ mod tests;
 use core::mem::{MaybeUninit, align_of, size_of};
 use purcell_core::cost::{Power, RunningCost};
 use purcell_core::gait::AnyReplay;
-use purcell_core::{Gait, Replay, Sample, State, TrajectoryDigest};
+use purcell_core::{Cost, Gait, Replay, Sample, State, TrajectoryDigest};
 pub use status::PurcellStatus;
 
 /// `purcell_flight_open` option: keep the trajectory's digest (FNV-1a over every sample and
@@ -224,19 +224,46 @@ fn sample(s: &Sample<f32>) -> PurcellSample {
     }
 }
 
-/// The gait in `bytes`, checked as `purcell_core::Gait::from_bytes` checks it, and its replay
-/// in `f32`.
-fn open(bytes: &'static [u8], options: u32) -> Result<Flying, PurcellStatus> {
+/// Opens into `slot` the flight of the gait in `bytes`, checked as
+/// `purcell_core::Gait::from_bytes` checks it, with its replay in `f32` of the gait's cost
+/// ([`fly`]); the first error found otherwise. Not inlined, so that the reader's frame (the
+/// deepest stack of a C flight) is not `purcell_flight_open`'s too.
+#[inline(never)]
+fn open(slot: &mut MaybeUninit<Slot>, bytes: &'static [u8], options: u32) -> PurcellStatus {
     if options & !PURCELL_OPTION_DIGEST != 0 {
-        return Err(PurcellStatus::BadOptions);
+        return PurcellStatus::BadOptions;
     }
-    let gait = Gait::from_bytes(bytes)?;
-    Ok(Flying {
-        gait,
-        replay: gait.replay_any()?,
-        digest: (options & PURCELL_OPTION_DIGEST != 0).then(TrajectoryDigest::new),
-        finished: false,
-    })
+    match Gait::from_bytes(bytes) {
+        Ok(g) => match g.params().cost {
+            Cost::Effort => fly(slot, g, options, AnyReplay::Effort),
+            Cost::Power => fly(slot, g, options, AnyReplay::Power),
+        },
+        Err(e) => e.into(),
+    }
+}
+
+/// Writes the open flight of `gait`, its replay in `f32` of the cost `C` (the gait's),
+/// into `slot`; the replay's error otherwise. One call per cost, not inlined, each replay
+/// built in its own frame and written once.
+#[inline(never)]
+fn fly<C: RunningCost>(
+    slot: &mut MaybeUninit<Slot>,
+    gait: Gait<'static>,
+    options: u32,
+    any: fn(Replay<'static, f32, C>) -> AnyReplay<'static, f32>,
+) -> PurcellStatus {
+    match gait.replay_for(true) {
+        Ok(replay) => {
+            slot.write(Slot::Open(Flying {
+                gait,
+                replay: any(replay),
+                digest: (options & PURCELL_OPTION_DIGEST != 0).then(TrajectoryDigest::new),
+                finished: false,
+            }));
+            PurcellStatus::Ok
+        }
+        Err(e) => e.into(),
+    }
 }
 
 /// Opens a flight of the gait file in `gait[0..len]` (`purcell-sim export`'s bytes, e.g. the
@@ -259,24 +286,24 @@ pub unsafe extern "C" fn purcell_flight_open(
         Ok(s) => s,
         Err(e) => return e,
     };
-    let slot = if gait.is_null() {
-        Slot::Refused(PurcellStatus::Null)
+    // SAFETY: non-null and aligned (`layout`), valid and not accessed elsewhere (the caller's
+    // contract); any bits are a valid `MaybeUninit`.
+    let slot = unsafe { &mut (*stored).slot };
+    let status = if gait.is_null() {
+        PurcellStatus::Null
     } else {
         // SAFETY: `len` bytes at `gait`, valid and unchanged while the flight is used.
-        let bytes = unsafe { core::slice::from_raw_parts(gait, len) };
-        open(bytes, options).map_or_else(Slot::Refused, Slot::Open)
+        open(
+            slot,
+            unsafe { core::slice::from_raw_parts(gait, len) },
+            options,
+        )
     };
-    let status = match &slot {
-        Slot::Open(_) => PurcellStatus::Ok,
-        Slot::Refused(s) => *s,
-    };
-    let opened = Stored {
-        magic: MAGIC,
-        slot: MaybeUninit::new(slot),
-    };
-    // SAFETY: non-null and aligned (`layout`), valid and not accessed elsewhere (the caller's
-    // contract).
-    unsafe { stored.write(opened) };
+    if status != PurcellStatus::Ok {
+        slot.write(Slot::Refused(status));
+    }
+    // SAFETY: as above; the slot is initialised.
+    unsafe { (*stored).magic = MAGIC };
     status
 }
 
