@@ -77,19 +77,20 @@ fn solve_falls_back_to_a_margin_of_the_overlap_when_no_extremal_is_admissible() 
     assert!(reach <= bound * (1.0 + 1e-12), "{reach}");
 }
 
-/// `ḡ = (0.02, 0.02, 0)` within `|α_i| ≤ 0.62` in 20 s: at the edge of what the limit can
-/// reach (0.61 reaches nothing, 0.68 solves at 113ade5). The coarse search finds extremals
-/// on its barrier, but the refinement cannot carry any to the problem's grid with the limit
-/// imposed on arcs. (Should a better refinement carry it, this test needs another case: it
-/// guards the exit path, not the failure.)
+/// A tiny target, `ḡ = (1e-5, 0, 0)` within `|α_i| ≤ 1` in 20 s (16 starts): the coarse
+/// search files extremals (points of one flat valley, the small loop's orientation about
+/// `ᾱ`), but on the finer grids stationarity stalls at 1e-6–1e-5 and none is carried to the
+/// problem's grid (issue 33). The case before, `(0.02, 0.02, 0)` within 0.62, solves since a
+/// start's barrier path is its own (with 24 starts or more). Should the refinement carry this
+/// one too, the test needs another case: it guards the exit path, not the failure.
 #[test]
 fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
     let e = no_solution(
         Solve::paper()
-            .target("0.02,0.02,0")
+            .target("1e-5,0,0")
             .horizon("20")
             .step("0.02")
-            .alpha_max("0.62")
+            .alpha_max("1")
             .starts(16)
             .no_plots(),
     );
@@ -99,7 +100,7 @@ fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
     );
     assert!(e.contains("smallest terminal defect"), "{e}");
     assert!(
-        e.contains("or a looser joint limit (--alpha-max; 0.62 now)"),
+        e.contains("or a looser joint limit (--alpha-max; 1 now)"),
         "{e}"
     );
 }
