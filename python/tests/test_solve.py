@@ -164,7 +164,9 @@ def test_power_solve_equals_the_command_line(cli, tmp_path):
 def test_sweep_takes_the_cost_and_checks_it():
     small = {"horizon": 10.0, "starts": 64}
     swept = purcell.sweep(0.001, 0.0, cost="power", **small)
-    solved = purcell.solve((0.001, 0.0, 0.0), cost="power", **small)
+    # 64 starts are below the search's stopping rule on this target: it says so.
+    with pytest.warns(UserWarning, match="budget of 64 starts"):
+        solved = purcell.solve((0.001, 0.0, 0.0), cost="power", **small)
     effort = purcell.sweep(0.001, 0.0, **small)
     assert abs(swept[0]["cost"] - solved.cost) <= 1e-9 * solved.cost
     assert effort[0]["cost"] != swept[0]["cost"]
