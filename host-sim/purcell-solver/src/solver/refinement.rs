@@ -225,9 +225,9 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 
 /// Carries coarse `candidates` (cheapest first) to the fine grid: the index of the cheapest
 /// admissible fine extremal, every distinct one refined, cheapest first, and the candidates
-/// whose refinement failed or was skipped ([`Unrefined`], each also logged at `debug`). `best_residual` is
-/// the search's smallest defect, for the error when no candidate was tried. `progress` ticks
-/// once per candidate carried and pulses within.
+/// whose refinement failed or was skipped ([`Unrefined`], each also logged at `debug`).
+/// `best_residual` is the search's smallest defect, for the error when no candidate was
+/// tried. `progress` ticks once per candidate carried and pulses within.
 ///
 /// Which: admissible candidates (with a margin for the coarse grid's error in `|α|`) until
 /// the cheapest admissible fine extremal is settled (every remaining candidate costs more,
@@ -236,8 +236,8 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 /// not resolve (prolonged to the next grid, it misses the target by more than the share
 /// [`UNRESOLVED`] of the displacement) comes after the others and is skipped once they have
 /// settled an admissible extremal (that miss is its defect in the report). A candidate that
-/// costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
-/// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
+/// costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
+/// extremal is kept with its candidate's coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
 /// the same extremal), nor those pruned (a prune costs an intermediate grid, not the
 /// problem's; under a joint limit the coarse costs do not order the fine ones: on (0, 0.1, 0)
@@ -267,7 +267,7 @@ pub fn refine_candidates(
     let (mut tried, mut repeats, mut pruned) = (0, 0, 0);
     let mut skipped = Vec::new();
     for (pass, list) in passes(problem, candidates).into_iter().enumerate() {
-        for c in list {
+        for (c, miss) in list {
             let settled = extremals
                 .iter()
                 .filter(|(x, _)| x.admissible)
@@ -276,7 +276,7 @@ pub fn refine_candidates(
             let margin = if pass < 2 { 1.0 + coarse_error } else { 1.0 };
             if pass == 1 && settled.is_finite() {
                 if c.cost <= settled * margin {
-                    skipped.push(unresolved(problem, c));
+                    skipped.push(unresolved(problem, c, miss));
                 }
                 continue;
             }
@@ -328,23 +328,34 @@ pub fn refine_candidates(
 /// The candidates in the order [`refine_candidates`] tries them: those that may be
 /// admissible (their largest `|α_i|` within [`COARSE_ALPHA_ERROR`] of the bound) whose path
 /// the coarse grid resolves; with a joint limit, those whose path it does not ([`miss`] above
-/// [`UNRESOLVED`]); the others.
+/// [`UNRESOLVED`]); the others. Each with its path's miss, computed once (0 where it is not
+/// needed: without a joint limit, and for the others).
 fn passes<'a>(
     problem: &Problem,
     candidates: &'a [search::Candidate],
-) -> [Vec<&'a search::Candidate>; 3] {
-    let near = |a: f64| a < problem.shape_bound() + COARSE_ALPHA_ERROR;
-    let (maybe, beyond): (Vec<_>, Vec<_>) = candidates.iter().partition(|c| near(c.max_abs_alpha));
-    let resolved =
-        |c: &&search::Candidate| problem.alpha_max.is_none() || miss(problem, c) <= UNRESOLVED;
-    let (maybe, deferred) = maybe.into_iter().partition(resolved);
+) -> [Vec<(&'a search::Candidate, f64)>; 3] {
+    let near = |c: &search::Candidate| c.max_abs_alpha < problem.shape_bound() + COARSE_ALPHA_ERROR;
+    let limited = problem.alpha_max.is_some();
+    let (maybe, beyond): (Vec<_>, Vec<_>) = (candidates.iter())
+        .map(|c| {
+            (
+                c,
+                if limited && near(c) {
+                    miss(problem, c)
+                } else {
+                    0.0
+                },
+            )
+        })
+        .partition(|(c, _)| near(c));
+    let (maybe, deferred) = maybe.into_iter().partition(|(_, m)| *m <= UNRESOLVED);
     [maybe, deferred, beyond]
 }
 
 /// Candidate `c` skipped as a minimum the coarse grid does not resolve: reported with its
-/// path's miss on the next grid as its defect.
-fn unresolved(problem: &Problem, c: &search::Candidate) -> Unrefined {
-    let defect = miss(problem, c) * problem.displacement();
+/// path's `miss` on the next grid ([`miss`]) as its defect.
+fn unresolved(problem: &Problem, c: &search::Candidate, miss: f64) -> Unrefined {
+    let defect = miss * problem.displacement();
     log::debug!(
         "candidate of coarse J {:.7} ({} hits) not refined: its path misses the target by \
          {defect:.1e} on the next grid",
