@@ -56,14 +56,28 @@ step "every command the READMEs show, run as typed or by the stage above that ru
 "$ruff" format --check tests/commands.py
 python3 tests/commands.py "$target_dir/debug/purcell-sim"
 fuzz_seconds=$(( (${PURCELL_FUZZ_SECONDS:=45} + 1) / 2 ))
-step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each (host-sim/purcell-sim/fuzz, nightly)"
+step "fuzz the costate-file and gait-file readers for ${fuzz_seconds} s each, side by side (host-sim/purcell-sim/fuzz, nightly)"
 # Unoptimised (--dev): builds in 40 % of the CPU time of a release build and still runs
-# about 4 000 inputs/s; purcell-sim without its command line (fuzz/Cargo.toml). New inputs
-# go to a scratch corpus, not into the tree; the gait reader starts from the core's test gaits.
+# about 4 000 inputs/s; purcell-sim without its command line (fuzz/Cargo.toml). Both targets
+# are built first, then run at once (each fuzzer is one process on one core); their logs are
+# printed when both are done. New inputs go to a scratch corpus, not into the tree; the gait
+# reader starts from the core's test gaits.
+cd host-sim/purcell-sim
+cargo +nightly fuzz build --dev --sanitizer none
+scratch=$(mktemp -d)
+pids=()
+trap 'kill "${pids[@]}" 2>/dev/null; rm -rf "$scratch"' EXIT
 for target in "costate_file fuzz/seeds fuzz/costate.dict" "gait_file ../../core/tests/data fuzz/gait.dict"; do
   read -r name seeds dict <<<"$target"
-  corpus=$(mktemp -d)
-  (cd host-sim/purcell-sim && cargo +nightly fuzz run "$name" --dev --sanitizer none "$corpus" "$seeds" \
-    -- -dict="$dict" -max_total_time="$fuzz_seconds" -max_len=4096 -rss_limit_mb=1024)
-  rm -rf "$corpus"
+  mkdir "$scratch/$name"
+  cargo +nightly fuzz run "$name" --dev --sanitizer none "$scratch/$name" "$seeds" \
+    -- -dict="$dict" -max_total_time="$fuzz_seconds" -max_len=4096 -rss_limit_mb=1024 \
+    >"$scratch/$name.log" 2>&1 &
+  pids+=("$!")
 done
+status=0
+for name in costate_file gait_file; do
+  if wait "${pids[0]}"; then tail -n 2 "$scratch/$name.log"; else cat "$scratch/$name.log"; status=1; fi
+  pids=("${pids[@]:1}")
+done
+exit "$status"
