@@ -31,16 +31,16 @@
 //!   same answers).
 //!
 //! The list is ordered so that any prefix is diverse. A first block is the same for every
-//! seed: the axis-aligned circles a direct transcription is usually started from and,
-//! without a joint limit, the one-turn lollipops with the whole stalk at the reference size
-//! and twice it, one for each of the 8 directions `ψ` of the stalk and each direction of
-//! travel, so that every seed tries each direction of the shape plane, near and far (at drag
-//! ratio 3 and `ḡ = (0, 0.12, 0)` the cheapest admissible gait's basin is reached by 20 of
-//! the 1 128 loops, all diagonal, two of them such lollipops; three seeds of eight met the
-//! stopping rule at 128 starts without reaching it). Then three box loops to one scaled loop
-//! until the box loops run out, each kind in an order mixed by a hash of the seed. (With a
-//! joint limit the lollipops stay in the mix: the order, and so every limited answer, is
-//! unchanged.)
+//! seed: the axis-aligned circles a direct transcription is usually started from and after
+//! them, without a joint limit (the box loops' family), the one-turn lollipops with the whole
+//! stalk at twice the reference size, one for each of the 8 directions `ψ` of the stalk and
+//! each direction of travel, so that every seed reaches far out in each direction of the
+//! shape plane (at drag ratio 3 and `ḡ = (0, 0.12, 0)` the cheapest admissible gait's basin
+//! is reached by 20 of the 1 128 loops, all diagonal, two of them such lollipops; three seeds
+//! of eight met the stopping rule at 128 starts without reaching it). Then three box loops to
+//! one scaled loop until the box loops run out, each kind in an order mixed by a hash of the
+//! seed. With a joint limit the lollipops stay in the mix (that family's order is unchanged;
+//! the search without the limit that a limited solve runs first has the block).
 //!
 //! **Transitions** (an end shape `β ≠ ᾱ`): no closed loop is feasible, and neither is the
 //! zero control. A start is then the straight shape path from `ᾱ` to `β` ([`straight`], the
@@ -336,12 +336,13 @@ pub fn family(
 }
 
 /// The start loops of [`family`] for a loop size `size`, before the mix: the round ellipses
-/// of the given size at `ψ = 0` and, with `directions`, the one-turn lollipops with the whole
-/// stalk of that size and twice it (first, the same block for every seed), and every other
+/// of the given size at `ψ = 0` and after them, with `directions`, the one-turn lollipops with
+/// the whole stalk at twice that size (first, the same block for every seed), and every other
 /// ellipse, figure-eight and lollipop.
 fn shapes(size: f64, directions: bool) -> (Vec<StartLoop>, Vec<StartLoop>) {
     let pi = core::f64::consts::PI;
     let mut first = Vec::new();
+    let mut far = Vec::new();
     let mut rest = Vec::new();
     for turns in [1u32, 2, 3] {
         for scale in [1.0, 0.5, 2.0] {
@@ -389,7 +390,7 @@ fn shapes(size: f64, directions: bool) -> (Vec<StartLoop>, Vec<StartLoop>) {
                             // One turn, the whole stalk, twice the reference size: each
                             // a direction of the shape plane, far out.
                             if directions && turns == 1 && scale == 2.0 && reach == 1.0 {
-                                first.push(l);
+                                far.push(l);
                             } else {
                                 rest.push(l);
                             }
@@ -399,6 +400,7 @@ fn shapes(size: f64, directions: bool) -> (Vec<StartLoop>, Vec<StartLoop>) {
             }
         }
     }
+    first.append(&mut far);
     (first, rest)
 }
 
