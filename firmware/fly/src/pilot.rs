@@ -18,10 +18,10 @@ use core::sync::atomic::{Ordering, compiler_fence};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use purcell_core::Real;
-use purcell_core::cost::{Power, RunningCost};
-use purcell_core::gait::{AnyReplay, Stored};
+use purcell_core::cost::RunningCost;
+use purcell_core::gait::{AnyReplay, Stored, WithAnyReplay};
 use purcell_core::nalgebra::Vector2;
-use purcell_core::{Error, Gait, Replay, Se2, State, TrajectoryDigest};
+use purcell_core::{Cost, Error, Gait, Replay, Se2, State, TrajectoryDigest};
 
 /// Where the joint commands go: a motor driver on a robot, a recorder in QEMU.
 pub trait Joints<S> {
@@ -104,13 +104,12 @@ impl<'a, S: Stored> Pilot<'a, S> {
     ///
     /// Errors: the core's, for a failing step.
     pub fn tick<J: Joints<S>>(&mut self, joints: &mut J) -> Result<Option<CycleEnd<S>>, Error> {
-        // Each cost's step with its own code around it: the effort's inlined as before the
-        // power existed, the power's a call.
         let (steps, digest) = (self.steps, &mut self.digest);
-        let end = match &mut self.replay {
-            AnyReplay::Effort(r) => advance(r, steps, digest, joints)?,
-            AnyReplay::Power(r) => advance_power(r, steps, digest, joints)?,
-        };
+        let end = self.replay.with_mut(Advance {
+            steps,
+            digest,
+            joints,
+        })?;
         let Some(end) = end else {
             return Ok(None);
         };
@@ -124,6 +123,26 @@ impl<'a, S: Stored> Pilot<'a, S> {
         };
         self.replay = self.fresh.clone();
         Ok(Some(closed))
+    }
+}
+
+/// [`Pilot::tick`]'s step in the replay of the gait's cost: the effort's inlined as before
+/// the power existed, every other cost's a call ([`advance_out_of_line`]).
+struct Advance<'t, J> {
+    steps: u32,
+    digest: &'t mut TrajectoryDigest,
+    joints: &'t mut J,
+}
+
+impl<'a, S: Stored, J: Joints<S>> WithAnyReplay<'a, S> for Advance<'_, J> {
+    type Output = Result<Option<State<S>>, Error>;
+    #[inline(always)]
+    fn run<C: RunningCost>(self, replay: &mut Replay<'a, S, C>) -> Self::Output {
+        if C::COST == Cost::Effort {
+            advance(replay, self.steps, self.digest, self.joints)
+        } else {
+            advance_out_of_line(replay, self.steps, self.digest, self.joints)
+        }
     }
 }
 
@@ -144,10 +163,10 @@ fn advance<S: Stored, C: RunningCost, J: Joints<S>>(
     Ok((replay.steps_done() >= steps).then(|| *replay.state()))
 }
 
-/// [`advance`] of a power gait, not inlined.
+/// [`advance`] of a gait of a cost other than the effort, not inlined.
 #[inline(never)]
-fn advance_power<S: Stored, J: Joints<S>>(
-    replay: &mut Replay<'_, S, Power>,
+fn advance_out_of_line<S: Stored, C: RunningCost, J: Joints<S>>(
+    replay: &mut Replay<'_, S, C>,
     steps: u32,
     digest: &mut TrajectoryDigest,
     joints: &mut J,
