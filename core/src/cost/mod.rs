@@ -32,8 +32,7 @@ pub use power::Power;
 
 use crate::kinematics::{Kinematics, State};
 pub use crate::law::Effort;
-use crate::law::Free;
-use crate::law::{Law, LawStep, OnArcs, Rows, check_inputs};
+use crate::law::{Free, Law, LawStep, OnArcs, Rows, check_inputs};
 use crate::passes::Passes;
 use crate::swimmer::Swimmer;
 use crate::{Error, Real};
