@@ -15,9 +15,10 @@ fn each_cost_has_its_own_name_and_the_type_of_its_row() {
     for (i, cost) in Cost::ALL.into_iter().enumerate() {
         assert_eq!(Cost::named(cost.name()), Some(cost));
         assert_eq!(with_cost!(cost, C => cost_of::<C>()), cost);
-        let others = Cost::ALL.iter().enumerate().filter(|&(j, _)| j != i);
-        assert!(others.clone().all(|(_, c)| c.name() != cost.name()));
-        assert!(others.all(|(_, &c)| c != cost));
+        for (j, other) in Cost::ALL.into_iter().enumerate().filter(|&(j, _)| j != i) {
+            assert_ne!(other, cost, "{j}");
+            assert_ne!(other.name(), cost.name(), "{j}");
+        }
     }
     assert_eq!(Cost::default(), Cost::Effort);
     assert_eq!(Cost::named("speed"), None);
