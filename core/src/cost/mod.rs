@@ -14,11 +14,12 @@
 //!
 //! **The costs' one table** is [`for_each_cost!`](crate::for_each_cost): each cost's type,
 //! code in a gait file and name. Everything that lists the costs derives from it — [`Cost`]
-//! with its names and codes, [`RunningCost`], [`with_cost!`] (the one match on a cost known at
-//! run time), the law's dispatch, [`crate::gait::AnyReplay`], and outside the core the
-//! solver's costs, the CLI's `--cost`, `report.json`'s costs and Python's `cost=`. A third cost
-//! is a module with its type and a `CostLaw` (its `Law` in [`crate::law`]: first iterate,
-//! plain pass, its terms of the one Newton pass, [`crate::passes`]) and a row of the table.
+//! with its names and codes, [`RunningCost`], [`with_cost!`](crate::with_cost) (the one
+//! match on a cost known at run time), the law's dispatch, [`crate::gait::AnyReplay`], and
+//! outside the core the solver's costs, the CLI's `--cost`, `report.json`'s costs and
+//! Python's `cost=`. A third cost is a module with its type and a `CostLaw` (its `Law` in
+//! [`crate::law`]: first iterate, plain pass, its terms of the one Newton pass,
+//! [`crate::passes`]) and a row of the table.
 //!
 //! [`Effort`] and [`Power`] are also types: the [`RunningCost`] parameter of a
 //! [`crate::Replay`], so that a replay's law is fixed when it is built (one compiled step per
@@ -60,7 +61,8 @@ macro_rules! for_each_cost {
 }
 
 /// `body` with `C` the [`RunningCost`] type of `cost`, a [`Cost`] known at run time: the one
-/// match on a cost, from [`for_each_cost!`], each cost's `body` its own compiled code.
+/// match on a cost, from [`for_each_cost!`](crate::for_each_cost), each cost's `body` its own
+/// compiled code.
 ///
 /// ```
 /// use purcell_core::cost::RunningCost;
@@ -77,7 +79,8 @@ macro_rules! with_cost {
     };
 }
 
-/// [`with_cost!`]'s match, from the rows of [`for_each_cost!`].
+/// [`with_cost!`](crate::with_cost)'s match, from the rows of
+/// [`for_each_cost!`](crate::for_each_cost).
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __with_cost {
@@ -92,7 +95,7 @@ macro_rules! __with_cost {
     };
 }
 
-/// [`Cost`] and what dispatches on it, from the rows of [`for_each_cost!`].
+/// [`Cost`] and what dispatches on it, from the rows of [`for_each_cost!`](crate::for_each_cost).
 macro_rules! costs {
     ({} $($(#[$attr:meta])* $ty:ident = $code:literal, $name:literal;)*) => {
         /// The costs the core's law runs, by the name a gait file and a costate file store.
@@ -164,7 +167,8 @@ macro_rules! costs {
 for_each_cost!(costs);
 
 impl Cost {
-    /// Its code in a gait file (docs/GAIT.md): its row's in [`for_each_cost!`].
+    /// Its code in a gait file (docs/GAIT.md): its row's in
+    /// [`for_each_cost!`](crate::for_each_cost).
     pub(crate) const fn code(self) -> u32 {
         self as u32
     }
@@ -180,7 +184,8 @@ impl Cost {
     }
 }
 
-/// A running cost as a type, the law a [`crate::Replay`] runs: a type of [`for_each_cost!`].
+/// A running cost as a type, the law a [`crate::Replay`] runs: a type of
+/// [`for_each_cost!`](crate::for_each_cost).
 pub trait RunningCost: Copy + Default + core::fmt::Debug + sealed::Sealed {
     /// The cost's name.
     const COST: Cost;
