@@ -20,7 +20,7 @@
 //! microcontroller compare. [`TerminalError`] is how far a replay ends from `(ᾱ, ḡ)`.
 
 use crate::arc::{Arc, ArcTable, Exits};
-use crate::cost::{Cost, Effort, PowerLaw, RunningCost};
+use crate::cost::{Cost, Effort, RunningCost};
 use crate::kinematics::{Kinematics, State};
 use crate::law::{Free, LawStep, OnArcs, Rows};
 use crate::sample::Sample;
@@ -295,11 +295,11 @@ impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
             self.event();
         }
         // A constant: each cost's replay compiles only its own branch.
-        if C::COST == Cost::Power {
+        if C::COST != Cost::Effort {
             return if self.on_arcs == OnArcs::NONE {
-                self.step_power(Free)
+                self.step_law(Free)
             } else {
-                self.step_power(self.on_arcs)
+                self.step_law(self.on_arcs)
             };
         }
         if self.on_arcs != OnArcs::NONE {
@@ -335,18 +335,18 @@ impl<'a, T: Real, C: RunningCost> Replay<'a, T, C> {
         self.record(step)
     }
 
-    /// [`Replay::step`] of the power ([`Kinematics::law_step_for`]) solving `rows`: [`Free`]
-    /// off the arcs (no test of the joints in its solves), the joints off their arcs on one.
-    /// Out of line, as [`Replay::step_on_arcs`].
+    /// [`Replay::step`] of a cost other than the effort ([`Kinematics::law_step_for`]) solving
+    /// `rows`: [`Free`] off the arcs (no test of the joints in its solves), the joints off their
+    /// arcs on one. Out of line, as [`Replay::step_on_arcs`].
     #[inline(never)]
-    fn step_power<R: Rows<T>>(&mut self, rows: R) -> Result<Option<&Sample<T>>, Error> {
-        let step = self.kinematics.law_step_trusted(
+    fn step_law<R: Rows<T>>(&mut self, rows: R) -> Result<Option<&Sample<T>>, Error> {
+        let step = self.kinematics.law_step_of(
+            C::COST,
             &self.state,
             &self.xi,
             &self.mu,
-            PowerLaw::new(self.kinematics.swimmer()),
             rows,
-            T::POWER_PASSES,
+            C::COST.passes::<T>(),
         );
         self.record(step)
     }

@@ -11,8 +11,9 @@ import inspect
 import numbers
 import operator
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import Any, Literal, ParamSpec, TypedDict, TypeVar
+from typing import Any, ParamSpec, TypedDict, TypeVar
 
+from . import _purcell
 from ._errors import InputError
 
 P = ParamSpec("P")
@@ -84,7 +85,7 @@ class Problem(TypedDict, total=False):
     drag: float
     ratio: float
     alpha_max: float | None
-    cost: Literal["effort", "power"]
+    cost: str
     starts: int
 
 
@@ -100,7 +101,7 @@ PROBLEM: dict[str, tuple[Any, Callable[[str, Any], Any]]] = {
     "drag": (1.0, number),
     "ratio": (2.0, number),
     "alpha_max": (None, optional(number)),
-    "cost": ("effort", one_of(("effort", "power"))),
+    "cost": ("effort", one_of(_purcell.COSTS)),
     "starts": (512, whole),
 }
 

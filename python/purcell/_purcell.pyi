@@ -15,6 +15,8 @@ import numpy.typing as npt
 F64: TypeAlias = npt.NDArray[np.float64]
 
 __version__: str
+COSTS: tuple[str, ...]
+"""The running costs' names, the values of `cost=` ("effort", "power", ...)."""
 
 class Connection:
     """The local connection at a shape: body velocity xi = -A(alpha) @ alpha_dot."""

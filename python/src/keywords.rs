@@ -54,10 +54,7 @@ impl ProblemKw {
 
     /// The running cost named `cost`.
     fn cost(&self) -> PyResult<Cost> {
-        Cost::ALL
-            .into_iter()
-            .find(|c| c.name() == self.cost)
-            .ok_or_else(|| input_error(format!("unknown cost {:?}", self.cost)))
+        Cost::named(&self.cost).ok_or_else(|| input_error(format!("unknown cost {:?}", self.cost)))
     }
 
     /// A sweep's problem (target 0) and its search options, checked.

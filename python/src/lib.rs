@@ -8,9 +8,9 @@
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use purcell_sim::words::{Front, Worded};
-use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::problem::{Cost, Problem, Spec};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 mod detach;
 mod field;
@@ -161,6 +161,8 @@ fn connection(
 #[pymodule]
 fn _purcell(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The costs' names, `cost=`'s values (the core's one table, `purcell_core::for_each_cost!`).
+    m.add("COSTS", PyTuple::new(m.py(), Cost::ALL.map(Cost::name))?)?;
     m.add_class::<Connection>()?;
     m.add_class::<solution::Extremal>()?;
     m.add_class::<solution::Solution>()?;

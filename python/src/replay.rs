@@ -4,9 +4,9 @@
 use crate::solution::Solution;
 use crate::{array1, array2, error, input_error, py_any, repr};
 use numpy::{PyArray1, PyArray2};
-use purcell_core::cost::{Effort, Power, RunningCost};
+use purcell_core::cost::RunningCost;
 use purcell_core::gait::Stored;
-use purcell_core::{Cost, Gait, Real};
+use purcell_core::{Gait, Real};
 use purcell_sim::budget::Work;
 use purcell_sim::costate_file::CostateFile;
 use purcell_sim::replay::{ReplayReport, check_stored, replay_gait};
@@ -175,10 +175,7 @@ struct Path {
 
 /// Replays `gait` in `T` with the law of its cost, recording every state and control.
 fn record<T: Stored>(gait: &Gait<'_>, checkpoints: bool) -> Result<Path, purcell_core::Error> {
-    match gait.params().cost {
-        Cost::Effort => record_for::<T, Effort>(gait, checkpoints),
-        Cost::Power => record_for::<T, Power>(gait, checkpoints),
-    }
+    purcell_core::with_cost!(gait.params().cost, C => record_for::<T, C>(gait, checkpoints))
 }
 
 /// [`record`] with the law of `C`, the gait's cost.

@@ -34,10 +34,24 @@
 //! up to `O(|u' − u|²)`. On an arc (MODEL.md §11, "Joint limits") the resting joint's costate
 //! is `ξ^k_i = (Gu)_i + (Aᵀζ^k)_i`.
 
-use crate::Real;
+use crate::cost::CostLaw;
 use crate::law::{Equation, Law, Mat2, NewtonAt, Pass, Rows, Step, mul};
 use crate::swimmer::Swimmer;
+use crate::{Passes, Real};
 use nalgebra::Vector2;
+
+/// The power the fluid dissipates as a [`crate::cost::RunningCost`] ([`crate::Cost::Power`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Power;
+
+impl<T: Real> CostLaw<T> for Power {
+    type Law = PowerLaw<T>;
+    const PASSES: Passes = T::POWER_PASSES;
+    #[inline(always)]
+    fn law(swimmer: &Swimmer<T>) -> PowerLaw<T> {
+        PowerLaw::new(swimmer)
+    }
+}
 
 /// The power of a swimmer of drag coefficient `k` (it scales `G`, and so the costate).
 #[derive(Clone, Copy, Debug)]

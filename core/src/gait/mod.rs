@@ -64,7 +64,7 @@ mod track;
 mod validate;
 
 pub use crate::arc::Arc;
-pub use any::AnyReplay;
+pub use any::{AnyReplay, WithAnyReplay, WithVariant};
 pub use crc::crc32;
 pub use encode::{
     encode, encode_with_tracking, encoded_len, encoded_len_of, encoded_len_with_tracking,

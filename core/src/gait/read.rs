@@ -1,8 +1,8 @@
 //! Reading a gait file in place ([`Gait::from_bytes`]) and replaying it ([`Gait::replay`]).
 
 use crate::arc::{self, Arc, ArcTable};
-use crate::cost::{Effort, Power, RunningCost};
-use crate::gait::any::AnyReplay;
+use crate::cost::RunningCost;
+use crate::gait::any::{AnyReplay, WithVariant};
 use crate::gait::crc::crc32;
 use crate::gait::layout::{
     ARCS_TAG, CK32_TAG, CK64_TAG, CRC_LEN, ENTRY_LEN, HEADER_LEN, MAGIC, PARAMS_TAG, SECTIONS,
@@ -381,10 +381,18 @@ impl<'a> Gait<'a> {
     ///
     /// Errors: as [`Gait::replay_for`].
     pub fn replay_any<T: Stored>(&self) -> Result<AnyReplay<'a, T>, Error> {
-        Ok(match self.params.cost {
-            Cost::Effort => AnyReplay::Effort(self.replay_for(true)?),
-            Cost::Power => AnyReplay::Power(self.replay_for(true)?),
-        })
+        /// The gait's replay of `C` in its variant.
+        struct Any<'g, 'a>(&'g Gait<'a>);
+        impl<'a, T: Stored> WithVariant<'a, T> for Any<'_, 'a> {
+            type Output = Result<AnyReplay<'a, T>, Error>;
+            fn run<C: RunningCost>(
+                self,
+                variant: fn(Replay<'a, T, C>) -> AnyReplay<'a, T>,
+            ) -> Self::Output {
+                self.0.replay_for(true).map(variant)
+            }
+        }
+        AnyReplay::for_cost(self.params.cost, Any(self))
     }
 
     /// Runs `with` on the replay in `T` of the gait's own cost ([`Gait::replay_for`], with or
@@ -397,9 +405,8 @@ impl<'a> Gait<'a> {
         checkpoints: bool,
         with: W,
     ) -> Result<W::Output, Error> {
-        Ok(match self.params.cost {
-            Cost::Effort => with.run(self.replay_for::<T, Effort>(checkpoints)?),
-            Cost::Power => with.run(self.replay_for::<T, Power>(checkpoints)?),
+        crate::with_cost!(self.params.cost, C => {
+            Ok(with.run(self.replay_for::<T, C>(checkpoints)?))
         })
     }
 }

@@ -7,6 +7,7 @@ mod common;
 
 mod arcs;
 mod connection;
+mod costs;
 mod end_shape;
 mod errors;
 mod gait;

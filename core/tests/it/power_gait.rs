@@ -107,18 +107,15 @@ fn a_replay_of_any_cost_is_the_gaits_own_cost_replay() {
     static PAPER: &[u8] = include_bytes!("../../examples/paper.gait");
     for (bytes, cost) in [(PAPER, Cost::Effort), (POWER, Cost::Power)] {
         let g = Gait::from_bytes(bytes).unwrap();
-        let (own, end) = match cost {
-            Cost::Effort => {
-                let r = g.replay::<f32>().unwrap();
-                (
-                    r.clone().map(Result::unwrap).collect::<Vec<_>>(),
-                    r.finish(),
-                )
-            }
-            Cost::Power => {
-                let r = g.replay_for::<f32, Power>(true).unwrap();
-                (r.clone().map(Result::unwrap).collect(), r.finish())
-            }
+        let (own, end) = if cost == Cost::Effort {
+            let r = g.replay::<f32>().unwrap();
+            (
+                r.clone().map(Result::unwrap).collect::<Vec<_>>(),
+                r.finish(),
+            )
+        } else {
+            let r = g.replay_for::<f32, Power>(true).unwrap();
+            (r.clone().map(Result::unwrap).collect(), r.finish())
         };
         assert_eq!(g.with_replay(true, Samples).unwrap(), own);
         let mut any = g.replay_any::<f32>().unwrap();

@@ -19,8 +19,8 @@ mod status;
 mod tests;
 
 use core::mem::{MaybeUninit, align_of, size_of};
-use purcell_core::cost::{Power, RunningCost};
-use purcell_core::gait::AnyReplay;
+use purcell_core::cost::RunningCost;
+use purcell_core::gait::{AnyReplay, WithAnyReplay, WithVariant};
 use purcell_core::{Cost, Gait, Replay, Sample, State, TrajectoryDigest};
 pub use status::PurcellStatus;
 
@@ -234,11 +234,33 @@ fn open(slot: &mut MaybeUninit<Slot>, bytes: &'static [u8], options: u32) -> Pur
         return PurcellStatus::BadOptions;
     }
     match Gait::from_bytes(bytes) {
-        Ok(g) => match g.params().cost {
-            Cost::Effort => fly(slot, g, options, AnyReplay::Effort),
-            Cost::Power => fly(slot, g, options, AnyReplay::Power),
-        },
+        Ok(gait) => AnyReplay::for_cost(
+            gait.params().cost,
+            Fly {
+                slot,
+                gait,
+                options,
+            },
+        ),
         Err(e) => e.into(),
+    }
+}
+
+/// [`fly`] for the gait's cost.
+struct Fly<'s> {
+    slot: &'s mut MaybeUninit<Slot>,
+    gait: Gait<'static>,
+    options: u32,
+}
+
+impl WithVariant<'static, f32> for Fly<'_> {
+    type Output = PurcellStatus;
+    #[inline(always)]
+    fn run<C: RunningCost>(
+        self,
+        any: fn(Replay<'static, f32, C>) -> AnyReplay<'static, f32>,
+    ) -> PurcellStatus {
+        fly(self.slot, self.gait, self.options, any)
     }
 }
 
@@ -321,13 +343,27 @@ pub unsafe extern "C" fn purcell_flight_step(flight: *mut PurcellFlight) -> Purc
         Ok(f) => f,
         Err(e) => return e,
     };
-    // Each cost's step with its own code around it: the effort's inlined as before the power
-    // existed (a match on the result of either would cost the effort's step 10 instructions
-    // on the M4F), the power's a call.
     let (replay, digest, finished) = (&mut f.replay, &mut f.digest, &mut f.finished);
-    match replay {
-        AnyReplay::Effort(r) => step(r, digest, finished),
-        AnyReplay::Power(r) => power_step(r, digest, finished),
+    replay.with_mut(Step { digest, finished })
+}
+
+/// [`purcell_flight_step`] in the replay of the gait's cost: the effort's step inlined as
+/// before the power existed (a match on the result of either would cost the effort's step 10
+/// instructions on the M4F), every other cost's a call ([`step_out_of_line`]).
+struct Step<'f> {
+    digest: &'f mut Option<TrajectoryDigest>,
+    finished: &'f mut bool,
+}
+
+impl WithAnyReplay<'static, f32> for Step<'_> {
+    type Output = PurcellStatus;
+    #[inline(always)]
+    fn run<C: RunningCost>(self, replay: &mut Replay<'static, f32, C>) -> PurcellStatus {
+        if C::COST == Cost::Effort {
+            step(replay, self.digest, self.finished)
+        } else {
+            step_out_of_line(replay, self.digest, self.finished)
+        }
     }
 }
 
@@ -357,10 +393,10 @@ fn step<C: RunningCost>(
     }
 }
 
-/// [`step`] of a power gait, not inlined.
+/// [`step`] of a gait of a cost other than the effort, not inlined.
 #[inline(never)]
-fn power_step(
-    replay: &mut Replay<'static, f32, Power>,
+fn step_out_of_line<C: RunningCost>(
+    replay: &mut Replay<'static, f32, C>,
     digest: &mut Option<TrajectoryDigest>,
     finished: &mut bool,
 ) -> PurcellStatus {

@@ -2,9 +2,9 @@
 //! (through `purcell_fly`), so equal digests prove that what flew is what was simulated.
 
 use crate::error::HostError;
-use purcell_core::cost::{Effort, Power, RunningCost};
+use purcell_core::cost::RunningCost;
 use purcell_core::gait::Stored;
-use purcell_core::{Cost, Error, Gait, Replay, TerminalError};
+use purcell_core::{Error, Gait, Replay, TerminalError};
 
 /// The host's flight of a gait in one precision.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,10 +30,7 @@ pub struct Reference {
 impl Reference {
     /// Flies `gait` on the host in `T`, with the law of its cost.
     pub fn compute<T: Stored>(gait: &Gait<'_>, scalar: &'static str) -> Result<Self, HostError> {
-        match gait.params().cost {
-            Cost::Effort => Self::compute_for::<T, Effort>(gait, scalar),
-            Cost::Power => Self::compute_for::<T, Power>(gait, scalar),
-        }
+        purcell_core::with_cost!(gait.params().cost, C => Self::compute_for::<T, C>(gait, scalar))
     }
 
     /// [`Reference::compute`] with the law of `C`, the gait's cost.

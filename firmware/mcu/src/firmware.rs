@@ -19,7 +19,7 @@
 use core::hint::black_box;
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
-use purcell_core::cost::{Effort, Power, RunningCost};
+use purcell_core::cost::{Effort, RunningCost};
 use purcell_core::{Cost, Error, Gait, Replay, Sample};
 use purcell_fly::Counter;
 use purcell_mcu::{Systick, TICKS_PER_INSN_DEN, TICKS_PER_INSN_NUM};
@@ -89,10 +89,12 @@ fn purcell_mcu_step<'r>(replay: &'r mut Replay<'_, S>) -> Result<Option<&'r Samp
     replay.step()
 }
 
-/// One control step of a gait solved for the power (`solve --cost power`), as
-/// [`purcell_mcu_step`] of the effort.
+/// One control step of a gait solved for another cost than the effort (`solve --cost power`),
+/// as [`purcell_mcu_step`] of the effort.
 #[inline(never)]
-fn power_step<'r>(replay: &'r mut Replay<'_, S, Power>) -> Result<Option<&'r Sample<S>>, Error> {
+fn cost_step<'r, C: RunningCost>(
+    replay: &'r mut Replay<'_, S, C>,
+) -> Result<Option<&'r Sample<S>>, Error> {
     replay.step()
 }
 
@@ -196,10 +198,14 @@ fn run() -> Result<(), Failure> {
 
     let gait = purcell_fly::load(GAIT)?;
     // The law of the gait's cost, chosen once: each cost's step is its own code.
-    match gait.params().cost {
-        Cost::Effort => fly_law::<Effort, _>(&gait, base, purcell_mcu_step),
-        Cost::Power => fly_law::<Power, _>(&gait, base, power_step),
-    }
+    // The effort's step is `purcell_mcu_step`, every other cost's `cost_step`.
+    purcell_core::with_cost!(gait.params().cost, C => {
+        if C::COST == Cost::Effort {
+            fly_law::<Effort, _>(&gait, base, purcell_mcu_step)
+        } else {
+            fly_law::<C, _>(&gait, base, cost_step::<C>)
+        }
+    })
 }
 
 /// Flies `gait` with the law of `L` through `step` (timed), measures a step's stack, and

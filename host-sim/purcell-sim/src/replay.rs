@@ -6,9 +6,9 @@
 use crate::costate_file::CostateFile;
 use crate::output::path::{PathCsv, Row};
 use nalgebra::Vector2;
-use purcell_core::cost::{Effort, Power, RunningCost};
+use purcell_core::cost::RunningCost;
 use purcell_core::gait::Stored;
-use purcell_core::{Cost, Flight, Gait, State};
+use purcell_core::{Flight, Gait, State};
 use purcell_solver::problem::{InputError, Problem, check_gait_precision};
 use purcell_solver::solver::Trajectory;
 use serde::Serialize;
@@ -75,10 +75,9 @@ pub fn replay_gait<T: Stored>(
     precision: &'static str,
     checkpoints: bool,
 ) -> ReplayReport {
-    match gait.params().cost {
-        Cost::Effort => replay_gait_for::<T, Effort>(gait, precision, checkpoints),
-        Cost::Power => replay_gait_for::<T, Power>(gait, precision, checkpoints),
-    }
+    purcell_core::with_cost!(gait.params().cost, C => {
+        replay_gait_for::<T, C>(gait, precision, checkpoints)
+    })
 }
 
 /// [`replay_gait`] with the law of `C`, the gait's cost.
@@ -118,10 +117,7 @@ fn replay_gait_for<T: Stored, C: RunningCost>(
 /// ([`crate::output::path`]: `trajectory.csv`'s columns, numbers in `T`); up to the
 /// failing step if the replay fails.
 pub fn trace<T: Stored + Display + Default>(gait: &Gait<'_>, checkpoints: bool) -> String {
-    match gait.params().cost {
-        Cost::Effort => trace_for::<T, Effort>(gait, checkpoints),
-        Cost::Power => trace_for::<T, Power>(gait, checkpoints),
-    }
+    purcell_core::with_cost!(gait.params().cost, C => trace_for::<T, C>(gait, checkpoints))
 }
 
 /// [`trace`] with the law of `C`, the gait's cost.

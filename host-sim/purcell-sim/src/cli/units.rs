@@ -33,11 +33,8 @@ impl<const N: usize> TypedValueParser for List<N> {
 /// A running cost by its name (`effort`, `power`: [`purcell_solver::problem::Cost::name`]).
 pub fn cost(text: &str) -> Result<purcell_solver::problem::Cost, String> {
     use purcell_solver::problem::Cost;
-    Cost::ALL
-        .into_iter()
-        .find(|c| c.name() == text)
-        .ok_or_else(|| {
-            let names: Vec<_> = Cost::ALL.iter().map(|c| c.name()).collect();
-            format!("unknown cost {text:?} (one of {})", names.join(", "))
-        })
+    Cost::named(text).ok_or_else(|| {
+        let names: Vec<_> = Cost::ALL.iter().map(|c| c.name()).collect();
+        format!("unknown cost {text:?} (one of {})", names.join(", "))
+    })
 }

@@ -6,8 +6,8 @@ use super::gait::{POINTS, thin};
 use super::style::*;
 use super::time::{Mark, Panel, Series, TimeFigure};
 use crate::costate_file::CostateFile;
-use purcell_core::cost::{Effort, Power, RunningCost};
-use purcell_core::{Cost, Gait, State, TerminalError};
+use purcell_core::cost::RunningCost;
+use purcell_core::{Gait, State, TerminalError};
 
 /// One `f32` replay against the `f64` one: per plotted step, the largest state error (the
 /// replays' metric, [`TerminalError`]: the larger of `|Δα|` and `|log(g₆₄⁻¹g₃₂)|`) since the
@@ -18,10 +18,7 @@ struct Run {
 }
 
 fn run(file: &CostateFile, checkpoints: bool) -> Result<Run, PlotError> {
-    match file.cost {
-        Cost::Effort => run_for::<Effort>(file, checkpoints),
-        Cost::Power => run_for::<Power>(file, checkpoints),
-    }
+    purcell_core::with_cost!(file.cost, C => run_for::<C>(file, checkpoints))
 }
 
 /// [`run`] with the law of `C`, the file's cost.

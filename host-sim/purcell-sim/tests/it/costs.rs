@@ -44,3 +44,35 @@ fn the_report_s_power_cost_is_the_dissipation_of_the_trajectory_s_controls() {
         "report {power}, recomputed {recomputed}"
     );
 }
+
+/// The schemas name the costs of the core's one table (`purcell_core::for_each_cost!`): the
+/// enum of `problem.cost` in both reports, and `costs`' properties and required keys.
+#[test]
+fn the_schemas_name_the_costs_of_the_core_s_table() {
+    let names: Vec<&str> = purcell_core::Cost::ALL.map(|c| c.name()).to_vec();
+    let schema = |name: &str| -> serde_json::Value {
+        let path = format!("{}/../../docs/schemas/{name}", env!("CARGO_MANIFEST_DIR"));
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    };
+    let strings = |v: &serde_json::Value| -> Vec<String> {
+        let list = v.as_array().unwrap().iter();
+        list.map(|s| s.as_str().unwrap().to_string()).collect()
+    };
+    for file in ["solve-report.schema.json", "sweep-report.schema.json"] {
+        let s = schema(file);
+        let cost = &s["properties"]["problem"]["properties"]["cost"]["enum"];
+        assert_eq!(strings(cost), names, "{file}: problem.cost");
+    }
+    let costs = &schema("solve-report.schema.json")["$defs"]["costs"];
+    let mut properties: Vec<&str> = costs["properties"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    let mut sorted = names.clone();
+    properties.sort_unstable();
+    sorted.sort_unstable();
+    assert_eq!(properties, sorted, "costs' properties");
+    assert_eq!(strings(&costs["required"]), names, "costs' required");
+}

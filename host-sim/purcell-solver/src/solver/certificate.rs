@@ -24,9 +24,10 @@ use super::stage::coordinates;
 use crate::dual::Dual;
 use crate::problem::Problem;
 use nalgebra::{SVector, Vector2, Vector3};
-use purcell_core::{OnArcs, Real, Se2, State};
+use purcell_core::{OnArcs, Se2, State};
 
-/// `max_k |u_law(α_k, g_k, ξ^{k−1}, μ) − u_k|_∞`, relative to `max_k |u_k|_∞` (absolute when
+/// `max_k |u_law(α_k, g_k, ξ^{k−1}, μ) − u_k|_∞` of the core's law of the problem's cost
+/// ([`purcell_core::Kinematics::law_step_for`]), relative to `max_k |u_k|_∞` (absolute when
 /// the controls are zero). Errors if the law refuses a state (e.g. past the overlap limit).
 /// For the power cost, the residual of its law's equations instead ([`power_law_residual`]).
 pub fn law_residual(
@@ -38,10 +39,11 @@ pub fn law_residual(
         return power_law_residual(problem, t, mu);
     }
     let kin = problem.kinematics::<f64>()?;
+    let passes = problem.cost.passes::<f64>();
     let mut worst = 0.0f64;
     let mut scale = 0.0f64;
     for ((s, u), xi) in t.states.iter().zip(&t.controls).zip(&t.xis) {
-        let step = kin.law_step(s, xi, mu, OnArcs::NONE, f64::PASSES)?;
+        let step = kin.law_step_for(s, xi, mu, problem.cost, OnArcs::NONE, passes)?;
         worst = worst.max((step.u - u).amax());
         scale = scale.max(u.amax());
     }

@@ -5,7 +5,7 @@
 use super::search;
 use super::settings::{KKT_TOL, LAW_TOL, TERMINAL_TOL};
 use nalgebra::{Vector2, Vector3};
-use purcell_core::{Arc, State};
+use purcell_core::{Arc, Cost, State};
 
 /// A trajectory on the grid: `k = 0..N` states, `k < N` controls, costates `ξ^{k−1}`.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -23,9 +23,9 @@ pub struct Trajectory {
 pub struct Extremal {
     /// `J` of the problem's cost ([`crate::problem::Problem::cost`]).
     pub cost: f64,
-    /// `J` of its controls under each cost of [`crate::problem::Cost::ALL`] (effort, power),
-    /// whichever the problem minimises.
-    pub costs: [f64; 2],
+    /// `J` of its controls under each cost of [`Cost::ALL`] (effort, power, …), whichever the
+    /// problem minimises.
+    pub costs: [f64; Cost::ALL.len()],
     /// Spatial momentum `μ`.
     pub mu: Vector3<f64>,
     /// `ξ^{−1}`.

@@ -48,30 +48,42 @@ pub struct ShapeTerms {
     pub hau: Matrix2<f64>,
 }
 
-/// A [`Cost`] with what it needs to be evaluated; dispatches [`StageCost`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Costs {
-    /// [`Effort`].
-    Effort(Effort),
-    /// [`Power`].
-    Power(Power),
+/// [`Costs`] from the rows of [`purcell_core::for_each_cost!`]: each core cost's type is
+/// named here by a [`StageCost`] of the same name, made by [`OfSwimmer`].
+macro_rules! costs {
+    ({} $($(#[$attr:meta])* $ty:ident = $code:literal, $name:literal;)*) => {
+        /// A [`Cost`] with what it needs to be evaluated; dispatches [`StageCost`].
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Costs {
+            $(
+                #[doc = concat!("[`", stringify!($ty), "`].")]
+                $ty($ty),
+            )*
+        }
+
+        impl Costs {
+            /// `cost` ready to evaluate for `swimmer`.
+            pub fn of(cost: Cost, swimmer: purcell_core::Swimmer<f64>) -> Costs {
+                match cost {
+                    $(Cost::$ty => Costs::$ty($ty::of(&swimmer)),)*
+                }
+            }
+
+            fn inner(&self) -> &dyn StageCost {
+                match self {
+                    $(Costs::$ty(c) => c,)*
+                }
+            }
+        }
+    };
 }
 
-impl Costs {
-    /// `cost` ready to evaluate for `swimmer`.
-    pub fn of(cost: Cost, swimmer: purcell_core::Swimmer<f64>) -> Costs {
-        match cost {
-            Cost::Effort => Costs::Effort(Effort),
-            Cost::Power => Costs::Power(Power::new(&swimmer)),
-        }
-    }
+purcell_core::for_each_cost!(costs);
 
-    fn inner(&self) -> &dyn StageCost {
-        match self {
-            Costs::Effort(c) => c,
-            Costs::Power(c) => c,
-        }
-    }
+/// A [`StageCost`] of a swimmer: what [`Costs::of`] makes.
+pub trait OfSwimmer {
+    /// The cost of `swimmer`.
+    fn of(swimmer: &purcell_core::Swimmer<f64>) -> Self;
 }
 
 impl StageCost for Costs {
@@ -99,6 +111,12 @@ impl StageCost for Costs {
 /// The control effort `ℓ(u) = h/2·|u|²`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Effort;
+
+impl OfSwimmer for Effort {
+    fn of(_: &purcell_core::Swimmer<f64>) -> Effort {
+        Effort
+    }
+}
 
 impl StageCost for Effort {
     /// `J = h/2·Σ_k |u_k|²` (`h/2` taken out of the sum).

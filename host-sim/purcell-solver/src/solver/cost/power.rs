@@ -7,7 +7,7 @@
 //! (only in `∇²_αα ℓ`, the Newton step's and the inertia test's Hessian) is the central
 //! difference of the exact `∂G/∂α_i` with step [`SECOND`] (relative error about `1e-10`).
 
-use super::{ShapeTerms, StageCost};
+use super::{OfSwimmer, ShapeTerms, StageCost};
 use crate::dual::Dual;
 use crate::solver::stage::StageState;
 use nalgebra::{Matrix2, Vector2};
@@ -135,6 +135,12 @@ fn schur<T: Real>(r: &[[T; 5]; 5]) -> [[T; 2]; 2] {
             (0..3).fold(m(3 + a, 3 + b), |acc, i| acc - m(3 + a, i) * xs[i][b])
         })
     })
+}
+
+impl OfSwimmer for Power {
+    fn of(swimmer: &Swimmer<f64>) -> Power {
+        Power::new(swimmer)
+    }
 }
 
 impl StageCost for Power {
