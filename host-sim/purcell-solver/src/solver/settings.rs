@@ -191,8 +191,8 @@ pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
 /// its first weight ([`super::refinement`]).
 pub const RESCUE_TAUS: [f64; 2] = [1e-4, 1e-5];
 /// Newton iterations per barrier weight; the second for a path that ran out of the first (as
-/// one pinned to a tight limit can). In the search: a start's iterations without a joint
-/// limit, per barrier weight the second with one ([`super::search`]).
+/// one pinned to a tight limit can). In the search, the second pass of starts only
+/// ([`super::search`]).
 pub const PATIENCE: [usize; 2] = [100, 300];
 /// Most active-set rounds (from a barrier solution on the same grid, two suffice: arcs
 /// found, then confirmed).
@@ -288,6 +288,9 @@ pub const PULL: f64 = 0.97;
 /// on the far and turning targets whose extremals all cross it ((0.3, −0.25, 1), (0.15, 0.25,
 /// −0.6), (0, 0.4, 0), (0, 0, 2.8)), that limit's search finds a gait for each.
 pub const OVERLAP_MARGIN: f64 = 0.1;
+/// A start whose terminal defect is within this share of the displacement asked for came
+/// near the target (with a joint limit, the search then runs again with more patience).
+pub const NEAR_TARGET: f64 = 1e-3;
 
 // The refinement ([`super::refine_candidates`]).
 
