@@ -5,7 +5,7 @@ CasADi + IPOPT (the paper's method), multi-start, next to purcell-sim's result. 
     pip install casadi
     python3 peers/casadi_ipopt.py --check                        # transcription check
     python3 peers/casadi_ipopt.py PROBLEMS.json [--only a,b] [--starts 8] [--guard A] \
-        [--jsonl FILE] [--ours BENCH.md] [--max-cpu 400] [--max-iter 3000]
+        [--jsonl FILE] [--ours BENCH.md] [--max-cpu 400] [--max-iter 3000] [--paths DIR]
     python3 peers/casadi_ipopt.py PROBLEMS.json --table --jsonl FILE [--ours BENCH.md]
     python3 peers/casadi_ipopt.py --cost power [--starts 4]        # the power cost (MODEL.md 11)
 
@@ -17,7 +17,9 @@ start, so IPOPT checks that extremal on its own transcription besides the family
 the paper's problem. Each problem is run from the first --starts starts of a fixed family
 (below), one after the other; every start prints a line and, with --jsonl, appends one JSON line
 {problem, start, label, status, cost, max_abs_alpha, admissible, replay_error, seconds,
-cpu_seconds, iterations}. A (problem, start) pair already in the --jsonl file is not run again
+cpu_seconds, iterations}; with --paths, each start's solution goes to DIR/PROBLEM-START.csv
+(t, alpha, g, u per step, purcell-sim's column names: a `trajectory` start reads it back,
+and its shape loop can be looked at). A (problem, start) pair already in the --jsonl file is not run again
 (resume an interrupted run with the same command). With --table nothing is run: the table is
 made from the --jsonl file alone (CasADi not needed).
 
@@ -180,10 +182,11 @@ class Transcription:
         ulo = np.full(2 * n, -np.inf)
         return (np.concatenate([lo.flatten("F"), ulo]), np.concatenate([hi.flatten("F"), -ulo]))
 
-    def solve(self, p, alpha, guard=None):
+    def solve(self, p, alpha, guard=None, save=None):
         """IPOPT from the shape path alpha (2 x N+1, from alpha0 to alpha_end). With guard:
         first with the bound |alpha_i| <= guard, then without it from that solution (phase 2's
-        result is what counts: an extremal of the problem as posed)."""
+        result is what counts: an extremal of the problem as posed). With save (a path): the
+        solution written there as CSV (save_path)."""
         n, h = self.n, self.h
         u0 = np.diff(alpha, axis=1) / h
         x0 = np.vstack([alpha[:, :1], np.zeros((3, 1))])
@@ -203,6 +206,8 @@ class Transcription:
         end = np.array(self.replay(np.concatenate([p["alpha0"], [0, 0, 0]]), U))[:, -1]
         err = float(np.max(np.abs(end - np.concatenate([p["alpha_end"], p["target"]]))))
         inside = amax <= p["alpha_max"] + 1e-9 if p["alpha_max"] is not None else amax < math.pi
+        if save:
+            save_path(save, X, U, h)
         return {"status": st["return_status"], "cost": self.cost(w), "max_abs_alpha": amax,
                 "admissible": bool(st["return_status"] == "Solve_Succeeded" and inside),
                 "replay_error": err, "seconds": round(dt, 2), "cpu_seconds": round(dc, 2),
@@ -217,6 +222,18 @@ class Transcription:
         X = w[: 5 * (self.n + 1)].reshape((self.n + 1, 5)).T
         U = w[5 * (self.n + 1):].reshape((self.n, 2)).T
         return float(np.sum(np.array(self.stage(X[:, :-1], U))))
+
+
+def save_path(path, X, U, h):
+    """IPOPT's solution as CSV, one row per step k = 0..N: t, the shape alpha_k, the position
+    g_k and u_k (the last row repeats u_{N-1}; the columns of purcell-sim's trajectory.csv that
+    a ("trajectory", CSV) start reads)."""
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    u = np.hstack([U, U[:, -1:]])
+    t = h * np.arange(X.shape[1])
+    cols = np.vstack([t, X, u]).T
+    np.savetxt(path, cols, delimiter=",", fmt="%.17g", comments="",
+               header="t_s,alpha1_rad,alpha2_rad,x_m,y_m,theta_rad,u1_rad_s,u2_rad_s")
 
 
 # Start family, in mirror pairs: (kind, a, b, phi, turns, direction). An ellipse through
@@ -316,7 +333,8 @@ def run(problems, args):
                     print(f"(IPOPT instance for N={n}, h={p['step']}: built in "
                           f"{cache[key].build_seconds:.1f} s)", flush=True)
                 r = {"problem": p["name"], "start": i, "label": label}
-                r.update(cache[key].solve(p, start_path(s, p["alpha0"], n, p["alpha_end"]), guard))
+                save = args.paths and os.path.join(args.paths, f"{p['name']}-{i}{'-guard' if guard else ''}.csv")
+                r.update(cache[key].solve(p, start_path(s, p["alpha0"], n, p["alpha_end"]), guard, save))
                 if args.jsonl:
                     with open(args.jsonl, "a") as f:
                         f.write(json.dumps(r) + "\n")
@@ -422,6 +440,8 @@ def main():
     ap.add_argument("--max-iter", type=int, default=3000, help="IPOPT max_iter per start")
     ap.add_argument("--guard", type=float, metavar="A",
                     help="also run every start in two phases: with |alpha_i| <= A, then without (problems without alpha_max)")
+    ap.add_argument("--paths", metavar="DIR",
+                    help="write each start's solution to DIR/PROBLEM-START.csv (t, alpha, g, u)")
     ap.add_argument("--check", action="store_true", help="check the transcription on the paper's problem")
     ap.add_argument("--cost", choices=["effort", "power"], default="effort",
                     help="the running cost (MODEL.md 11): effort h/2 |u|^2 or power h/2 u^T G(alpha) u")
