@@ -94,14 +94,7 @@ pub fn refine(
             }
         };
         if !run.converged() {
-            return Err(if run.defect <= tol_defect {
-                Stop::Stationarity {
-                    defect: run.defect,
-                    stationarity: run.kkt,
-                }
-            } else {
-                Stop::Defect(run.defect)
-            });
+            return Err(stalled(&run, tol_defect));
         }
         if last {
             let Some(alpha_max) = problem.alpha_max else {
@@ -110,8 +103,8 @@ pub fn refine(
             let fine = Settings::fine(problem, &run.point.u);
             let polished = homotopy::polish(&grid, alpha_max, &run.point, &fine, pulse);
             return polished.map_err(|e| match e {
-                PolishError::NotConverged(d) => Stop::Defect(d),
-                PolishError::Unsettled => Stop::Defect(f64::INFINITY),
+                PolishError::NotConverged(run) => stalled(&run, fine.tol_defect),
+                PolishError::Failed | PolishError::Unsettled => Stop::Defect(f64::INFINITY),
             });
         }
         if grid.cost(&run.point.u, &run.point.states) > bound {
@@ -119,6 +112,19 @@ pub fn refine(
         }
         u = run.point.u;
         nu = run.point.nu;
+    }
+}
+
+/// Why the run `run`, not converged, stopped: stationarity if it met the terminal defect
+/// `tol_defect`, otherwise the defect.
+fn stalled(run: &Run, tol_defect: f64) -> Stop {
+    if run.defect <= tol_defect {
+        Stop::Stationarity {
+            defect: run.defect,
+            stationarity: run.kkt,
+        }
+    } else {
+        Stop::Defect(run.defect)
     }
 }
 
