@@ -316,26 +316,12 @@ pub fn refine_candidates(
             progress.tick();
             let (fine, run) = match refined {
                 Ok(r) => r,
+                Err(Stop::Dearer) => {
+                    pruned += 1;
+                    continue;
+                }
                 Err(stop) => {
-                    log::debug!(
-                        "candidate of coarse J {:.7} ({} hits, max |α| {:.4}) not refined: {stop:?}",
-                        c.cost,
-                        c.hits,
-                        c.max_abs_alpha
-                    );
-                    if let Stop::Stationarity { stationarity, .. } = stop {
-                        stalled = Some(stalled.map_or(stationarity, |s: f64| s.min(stationarity)));
-                    }
-                    match stop {
-                        Stop::Defect(defect) | Stop::Stationarity { defect, .. } => {
-                            unrefined.push(Unrefined {
-                                minimum: Minimum::of(c),
-                                defect,
-                                cheaper: false,
-                            })
-                        }
-                        Stop::Dearer => pruned += 1,
-                    }
+                    unrefined.push(stopped(c, stop, &mut stalled));
                     continue;
                 }
             };
@@ -359,6 +345,26 @@ pub fn refine_candidates(
         tried,
         (best_residual, stalled),
     )
+}
+
+/// Candidate `c`, whose refinement stopped with `stop` short of the problem's grid (not
+/// [`Stop::Dearer`]), as unrefined (logged at `debug`); `stalled`, the smallest stationarity
+/// of the refinements that stalled in it, updated.
+fn stopped(c: &search::Candidate, stop: Stop, stalled: &mut Option<f64>) -> Unrefined {
+    log::debug!(
+        "candidate of coarse J {:.7} ({} hits, max |α| {:.4}) not refined: {stop:?}",
+        c.cost,
+        c.hits,
+        c.max_abs_alpha
+    );
+    if let Stop::Stationarity { stationarity, .. } = stop {
+        *stalled = Some(stalled.map_or(stationarity, |s: f64| s.min(stationarity)));
+    }
+    Unrefined {
+        minimum: Minimum::of(c),
+        defect: stop.defect(),
+        cheaper: false,
+    }
 }
 
 /// The candidates in the order [`refine_candidates`] tries them: those that may be
