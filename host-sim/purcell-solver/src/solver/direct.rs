@@ -210,7 +210,8 @@ fn iterate(
         let Some(p) = search.point else {
             return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
-        at_rounding = delta == 0.0 && amax(&du) <= ROUNDING_STEP * amax(&pt.u);
+        at_rounding =
+            settings.rounding_stall && delta == 0.0 && amax(&du) <= ROUNDING_STEP * amax(&pt.u);
         pt = p;
     }
 }
