@@ -80,7 +80,7 @@ fn solve_falls_back_to_a_margin_of_the_overlap_when_no_extremal_is_admissible() 
 /// A tiny target, `ḡ = (1e-5, 0, 0)` within `|α_i| ≤ 1` in 20 s (16 starts): the coarse
 /// search files extremals (points of one flat valley, the small loop's orientation about
 /// `ᾱ`), but on the finer grids stationarity stalls at 1e-6–1e-5 and none is carried to the
-/// problem's grid (issue 33). The case before, `(0.02, 0.02, 0)` within 0.62, solves since a
+/// problem's grid (issue 33); the message says so. The case before, `(0.02, 0.02, 0)` within 0.62, solves since a
 /// start's barrier path is its own (with 24 starts or more). Should the refinement carry this
 /// one too, the test needs another case: it guards the exit path, not the failure.
 #[test]
@@ -99,6 +99,11 @@ fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
         "{e}"
     );
     assert!(e.contains("smallest terminal defect"), "{e}");
+    // The cause: the defect was met, stationarity stalled (the defect alone said 4e-18).
+    assert!(
+        e.contains("Newton met the terminal defect there but its stationarity stalled at"),
+        "{e}"
+    );
     assert!(
         e.contains("or a looser joint limit (--alpha-max; 1 now)"),
         "{e}"

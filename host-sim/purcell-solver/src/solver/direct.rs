@@ -37,7 +37,9 @@ use super::filter::{Filter, Step};
 use super::grid::{Grid, Point};
 use super::linearisation::Linearisation;
 use super::riccati::Factor;
-use super::settings::{DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, Settings};
+use super::settings::{
+    DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, ROUNDING_KKT, ROUNDING_STEP, Settings,
+};
 use super::stage::StageState;
 use nalgebra::{Vector2, Vector5};
 use purcell_core::Error;
@@ -65,11 +67,13 @@ pub struct Run {
 }
 
 /// What Newton carries from one iteration to the next besides the iterate: the last
-/// regularisation and the filter.
+/// regularisation, the filter, and whether the last step was at rounding
+/// ([`Settings::rounding_stall`]).
 #[derive(Clone, Debug)]
 struct Resume {
     delta_last: f64,
     filter: Filter,
+    at_rounding: bool,
 }
 
 /// How a Newton run ended.
@@ -115,6 +119,7 @@ pub fn newton_pulsed(
     let state = Resume {
         delta_last: 0.0,
         filter,
+        at_rounding: false,
     };
     iterate(grid, start, 0, state, settings, pulse)
 }
@@ -142,6 +147,7 @@ fn iterate(
     let Resume {
         mut delta_last,
         mut filter,
+        mut at_rounding,
     } = state;
     loop {
         pulse();
@@ -149,9 +155,15 @@ fn iterate(
         let lz = Linearisation::new(grid, &pt.states, &pt.u, &pt.nu)?;
         let maps = grid.limits.control_maps(grid.steps);
         let maps = maps.as_deref();
-        let done = c.amax() <= settings.tol_defect && lz.kkt <= settings.tol_kkt;
+        let stalled =
+            settings.rounding_stall && at_rounding && lz.kkt <= ROUNDING_KKT * settings.tol_kkt;
+        let done = c.amax() <= settings.tol_defect && (lz.kkt <= settings.tol_kkt || stalled);
         if done || iterations >= settings.max_iterations {
-            let state = Resume { delta_last, filter };
+            let state = Resume {
+                delta_last,
+                filter,
+                at_rounding,
+            };
             return Ok(ended(grid, pt, lz, iterations, done, settings, state));
         }
         iterations += 1;
@@ -193,11 +205,13 @@ fn iterate(
             factor.negative_m,
             nu_qp.amax(),
             search.t,
-            du.iter().map(|v| v.amax()).fold(0.0, f64::max)
+            amax(&du)
         );
         let Some(p) = search.point else {
             return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
+        at_rounding =
+            settings.rounding_stall && delta == 0.0 && amax(&du) <= ROUNDING_STEP * amax(&pt.u);
         pt = p;
     }
 }
@@ -258,6 +272,11 @@ fn convex_factor(
             return None;
         }
     }
+}
+
+/// The largest `|u_{k,i}|` of `u`.
+fn amax(u: &[Vector2<f64>]) -> f64 {
+    u.iter().map(|v| v.amax()).fold(0.0, f64::max)
 }
 
 /// Logs at `trace` level how far the step's linearised end `δs_N` misses `−c`.

@@ -129,10 +129,12 @@ fn barrier_grid(grid: &Grid, alpha_max: f64, tau: f64) -> Grid {
 }
 
 /// Why [`polish`] gave up.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum PolishError {
-    /// Newton did not converge (the terminal defect where it stopped).
-    NotConverged(f64),
+    /// Newton failed (a rollout or a step could not be computed).
+    Failed,
+    /// Newton did not converge: its run.
+    NotConverged(Box<Run>),
     /// The active set did not settle within the rounds allowed.
     Unsettled,
 }
@@ -157,11 +159,11 @@ pub fn polish(
         };
         let alpha0 = Vector2::new(g.start[0], g.start[1]);
         let start = Point::new(&g, g.limits.snap(&point.u, alpha0, g.h()), point.nu)
-            .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
-        let r = direct::newton_pulsed(&g, start, settings, pulse)
-            .map_err(|_| PolishError::NotConverged(f64::INFINITY))?;
+            .map_err(|_| PolishError::Failed)?;
+        let r =
+            direct::newton_pulsed(&g, start, settings, pulse).map_err(|_| PolishError::Failed)?;
         if !r.converged() {
-            return Err(PolishError::NotConverged(r.defect));
+            return Err(PolishError::NotConverged(Box::new(r)));
         }
         // States beyond the limit off the arcs, and arc states with η < 0.
         let states = &r.point.states;

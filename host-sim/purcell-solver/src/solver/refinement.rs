@@ -11,7 +11,7 @@ use super::homotopy::{self, PolishError};
 use super::progress::Progress;
 use super::search;
 use super::settings::{
-    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, LIMITED_COARSE_COST_ERROR, PRUNE,
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FINE_TAUS, LIMITED_COARSE_COST_ERROR, PATIENCE, PRUNE,
     RESCUE_TAUS, Settings, SolveOptions, UNRESOLVED,
 };
 use super::solution::{Extremal, Minimum, SolveError, Unrefined};
@@ -24,6 +24,15 @@ use nalgebra::{Vector2, Vector5};
 pub enum Stop {
     /// Newton did not converge on a grid: the terminal defect where it stopped.
     Defect(f64),
+    /// Newton met the terminal defect on a grid but not stationarity: the defect and the
+    /// stationarity residual where it stopped (seen on tiny targets, whose coarse minima lie
+    /// in one flat valley).
+    Stationarity {
+        /// The terminal defect, within its tolerance.
+        defect: f64,
+        /// The stationarity residual, above its tolerance.
+        stationarity: f64,
+    },
     /// On an intermediate grid the extremal already cost more than the bound.
     Dearer,
 }
@@ -32,7 +41,7 @@ impl Stop {
     /// The terminal defect where it stopped (0 for [`Stop::Dearer`], which converged).
     pub fn defect(self) -> f64 {
         match self {
-            Stop::Defect(d) => d,
+            Stop::Defect(d) | Stop::Stationarity { defect: d, .. } => d,
             Stop::Dearer => 0.0,
         }
     }
@@ -68,23 +77,24 @@ pub fn refine(
         let inf = |_| Stop::Defect(f64::INFINITY);
         let (grid, last) = finer_grid(problem, u.len()).map_err(inf)?;
         let start = Point::new(&grid, grid::prolong(&u, grid.steps), nu).map_err(inf)?;
-        let run = match barrier {
+        let (run, tol_defect) = match barrier {
             None => {
                 let settings = if last {
                     Settings::fine(problem, &start.u)
                 } else {
                     Settings::INTERMEDIATE
                 };
-                direct::newton_pulsed(&grid, start, &settings, pulse).map_err(inf)?
+                let run = direct::newton_pulsed(&grid, start, &settings, pulse).map_err(inf)?;
+                (run, settings.tol_defect)
             }
             Some(alpha_max) => {
                 let (reached, run) = barrier_stage(&grid, alpha_max, from, start, pulse)?;
                 from = reached;
-                run
+                (run, Settings::barrier(PATIENCE[0]).tol_defect)
             }
         };
         if !run.converged() {
-            return Err(Stop::Defect(run.defect));
+            return Err(stalled(&run, tol_defect));
         }
         if last {
             let Some(alpha_max) = problem.alpha_max else {
@@ -93,8 +103,8 @@ pub fn refine(
             let fine = Settings::fine(problem, &run.point.u);
             let polished = homotopy::polish(&grid, alpha_max, &run.point, &fine, pulse);
             return polished.map_err(|e| match e {
-                PolishError::NotConverged(d) => Stop::Defect(d),
-                PolishError::Unsettled => Stop::Defect(f64::INFINITY),
+                PolishError::NotConverged(run) => stalled(&run, fine.tol_defect),
+                PolishError::Failed | PolishError::Unsettled => Stop::Defect(f64::INFINITY),
             });
         }
         if grid.cost(&run.point.u, &run.point.states) > bound {
@@ -102,6 +112,19 @@ pub fn refine(
         }
         u = run.point.u;
         nu = run.point.nu;
+    }
+}
+
+/// Why the run `run`, not converged, stopped: stationarity if it met the terminal defect
+/// `tol_defect`, otherwise the defect.
+fn stalled(run: &Run, tol_defect: f64) -> Stop {
+    if run.defect <= tol_defect {
+        Stop::Stationarity {
+            defect: run.defect,
+            stationarity: run.kkt,
+        }
+    } else {
+        Stop::Defect(run.defect)
     }
 }
 
@@ -266,6 +289,8 @@ pub fn refine_candidates(
     };
     let (mut tried, mut repeats, mut pruned) = (0, 0, 0);
     let mut skipped = Vec::new();
+    // The smallest stationarity of the refinements that stalled in it.
+    let mut stalled = None;
     for (pass, list) in passes(problem, candidates).into_iter().enumerate() {
         for (c, miss) in list {
             let settled = extremals
@@ -291,21 +316,12 @@ pub fn refine_candidates(
             progress.tick();
             let (fine, run) = match refined {
                 Ok(r) => r,
+                Err(Stop::Dearer) => {
+                    pruned += 1;
+                    continue;
+                }
                 Err(stop) => {
-                    log::debug!(
-                        "candidate of coarse J {:.7} ({} hits, max |α| {:.4}) not refined: {stop:?}",
-                        c.cost,
-                        c.hits,
-                        c.max_abs_alpha
-                    );
-                    match stop {
-                        Stop::Defect(defect) => unrefined.push(Unrefined {
-                            minimum: Minimum::of(c),
-                            defect,
-                            cheaper: false,
-                        }),
-                        Stop::Dearer => pruned += 1,
-                    }
+                    unrefined.push(stopped(c, stop, &mut stalled));
                     continue;
                 }
             };
@@ -322,7 +338,33 @@ pub fn refine_candidates(
         }
     }
     unrefined.extend(skipped);
-    settle(problem, extremals, unrefined, tried, best_residual)
+    settle(
+        problem,
+        extremals,
+        unrefined,
+        tried,
+        (best_residual, stalled),
+    )
+}
+
+/// Candidate `c`, whose refinement stopped with `stop` short of the problem's grid (not
+/// [`Stop::Dearer`]), as unrefined (logged at `debug`); `stalled`, the smallest stationarity
+/// of the refinements that stalled in it, updated.
+fn stopped(c: &search::Candidate, stop: Stop, stalled: &mut Option<f64>) -> Unrefined {
+    log::debug!(
+        "candidate of coarse J {:.7} ({} hits, max |α| {:.4}) not refined: {stop:?}",
+        c.cost,
+        c.hits,
+        c.max_abs_alpha
+    );
+    if let Stop::Stationarity { stationarity, .. } = stop {
+        *stalled = Some(stalled.map_or(stationarity, |s: f64| s.min(stationarity)));
+    }
+    Unrefined {
+        minimum: Minimum::of(c),
+        defect: stop.defect(),
+        cheaper: false,
+    }
 }
 
 /// The candidates in the order [`refine_candidates`] tries them: those that may be
@@ -395,13 +437,14 @@ fn miss(problem: &Problem, c: &search::Candidate) -> f64 {
 /// [`refine_candidates`]' outcome from the extremals it found (each with its candidate's
 /// coarse cost) after `tried` candidates: the extremals cheapest first with the index of the
 /// cheapest admissible one, and the candidates not refined (`cheaper` than it on the coarse
-/// grid or not); or why there is none.
+/// grid or not); or why there is none (with the search's smallest defect and the smallest
+/// stationarity of the refinements that stalled in it, `(best_residual, stalled)`).
 fn settle(
     problem: &Problem,
     mut extremals: Vec<(Extremal, f64)>,
     mut unrefined: Vec<Unrefined>,
     tried: usize,
-    best_residual: f64,
+    (best_residual, stalled): (f64, Option<f64>),
 ) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
     if extremals.is_empty() {
         return Err(if tried == 0 {
@@ -413,6 +456,7 @@ fn settle(
                     .iter()
                     .map(|u| u.defect)
                     .fold(f64::INFINITY, f64::min),
+                stationarity: stalled,
             }
         });
     }

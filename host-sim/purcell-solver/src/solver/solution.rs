@@ -218,13 +218,17 @@ pub enum SolveError {
     /// The search found extremals on its coarse grid, but none could be carried to the
     /// problem's grid.
     #[error(
-        "{found} extremal(s) of the coarse search, none carried to the problem's grid: smallest terminal defect {best_residual:.3e}"
+        "{found} extremal(s) of the coarse search, none carried to the problem's grid: smallest terminal defect {best_residual:.3e}{}",
+        stalled_stationarity(*.stationarity)
     )]
     NotRefined {
         /// How many were tried.
         found: usize,
         /// Smallest terminal defect where a refinement stopped.
         best_residual: f64,
+        /// Smallest stationarity residual of the refinements that met their terminal defect
+        /// and stalled there ([`super::Stop::Stationarity`]); `None` if none did.
+        stationarity: Option<f64>,
     },
     /// Extremals were found but none is admissible.
     #[error(
@@ -236,6 +240,13 @@ pub enum SolveError {
         /// Smallest of their largest `|α_i|`.
         best_alpha: f64,
     },
+}
+
+/// [`SolveError::NotRefined`]'s words for refinements that stalled in stationarity.
+fn stalled_stationarity(stationarity: Option<f64>) -> String {
+    stationarity.map_or(String::new(), |s| {
+        format!("; Newton met the terminal defect there but its stationarity stalled at {s:.1e}")
+    })
 }
 
 #[cfg(test)]
