@@ -257,8 +257,12 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 /// with a margin for the coarse grid's error in `J`), then the inadmissible ones cheaper
 /// than it, for the report. With a joint limit, a candidate whose path the coarse grid does
 /// not resolve (prolonged to the next grid, it misses the target by more than the share
-/// [`UNRESOLVED`] of the displacement) comes after the others and is skipped once they have
-/// settled an admissible extremal (that miss is its defect in the report). A candidate that
+/// [`UNRESOLVED`] of the displacement) comes after the others and, once they have settled an
+/// admissible extremal, is skipped (that miss is its defect in the report) unless its coarse
+/// cost is below that of the cheapest resolved candidate that settled one; those are tried,
+/// cheapest first, until one settles a cheaper extremal (on (0, 0.1, 0) within 1.3 rad, seed
+/// 0's one resolved candidate, coarse 1.5841, settled 1.5707995; its cheapest unresolved one,
+/// coarse 1.5077, refines to 1.5494037). A candidate that
 /// costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
 /// extremal is kept with its candidate's coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
@@ -292,14 +296,16 @@ pub fn refine_candidates(
     // The smallest stationarity of the refinements that stalled in it.
     let mut stalled = None;
     for (pass, list) in passes(problem, candidates).into_iter().enumerate() {
+        // Before the unresolved candidates: the settled cost, and the coarse cost of the
+        // cheapest resolved candidate that settled an admissible extremal.
+        let before = (
+            admissible(&extremals, |x, _| x.cost),
+            admissible(&extremals, |_, c| c),
+        );
         for (c, miss) in list {
-            let settled = extremals
-                .iter()
-                .filter(|(x, _)| x.admissible)
-                .map(|(x, _)| x.cost)
-                .fold(f64::INFINITY, f64::min);
+            let settled = admissible(&extremals, |x, _| x.cost);
             let margin = if pass < 2 { 1.0 + coarse_error } else { 1.0 };
-            if pass == 1 && settled.is_finite() {
+            if pass == 1 && settled.is_finite() && (settled < before.0 || c.cost >= before.1) {
                 if c.cost <= settled * margin {
                     skipped.push(unresolved(problem, c, miss));
                 }
@@ -345,6 +351,15 @@ pub fn refine_candidates(
         tried,
         (best_residual, stalled),
     )
+}
+
+/// The least of `f(extremal, its candidate's coarse cost)` over the admissible `extremals`
+/// (∞ if none).
+fn admissible(extremals: &[(Extremal, f64)], f: impl Fn(&Extremal, f64) -> f64) -> f64 {
+    (extremals.iter())
+        .filter(|(x, _)| x.admissible)
+        .map(|(x, c)| f(x, *c))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Candidate `c`, whose refinement stopped with `stop` short of the problem's grid (not
