@@ -30,12 +30,13 @@ fn the_zero_target_from_a_bent_start_is_the_zero_gait() {
     }
 }
 
-/// At `α_max = 1.5` (the public problem `joint-limit-1.5`) fourteen coarse minima of the
+/// At `α_max = 1.5` (the public problem `joint-limit-1.5`) thirteen coarse minima of the
 /// barrier problem end 6–7 % of the displacement asked for off the target once prolonged to
 /// the next grid: minima of the coarse grid's error, whose barrier path there stalls (about
-/// 1 s of Newton each, most of the solve). They are skipped once a resolved minimum settles
-/// the cheapest gait, and reported as unrefined; the gait is the public problem's, and the
-/// cheapest skipped minimum, refined all the same, stalls.
+/// 1 s of Newton each, most of the solve). All dearer on the coarse grid than the resolved
+/// minimum that settles the cheapest gait, they are skipped and reported as unrefined; the
+/// gait is the public problem's, and the cheapest skipped minimum, refined all the same,
+/// stalls.
 #[test]
 fn unresolved_coarse_minima_are_skipped_not_lost() {
     let problem = Problem::new(&Spec {
