@@ -66,7 +66,8 @@ cd host-sim/purcell-sim
 cargo +nightly fuzz build --dev --sanitizer none
 scratch=$(mktemp -d)
 pids=()
-trap 'kill "${pids[@]}" 2>/dev/null; rm -rf "$scratch"' EXIT
+# On any exit (Ctrl-C too) a fuzzer still running is stopped and the scratch corpus removed.
+trap 'kill "${pids[@]}" 2>/dev/null || true; rm -rf "$scratch"' EXIT
 for target in "costate_file fuzz/seeds fuzz/costate.dict" "gait_file ../../core/tests/data fuzz/gait.dict"; do
   read -r name seeds dict <<<"$target"
   mkdir "$scratch/$name"
@@ -76,8 +77,8 @@ for target in "costate_file fuzz/seeds fuzz/costate.dict" "gait_file ../../core/
   pids+=("$!")
 done
 status=0
-for name in costate_file gait_file; do
-  if wait "${pids[0]}"; then tail -n 2 "$scratch/$name.log"; else cat "$scratch/$name.log"; status=1; fi
-  pids=("${pids[@]:1}")
+names=(costate_file gait_file)
+for i in 0 1; do
+  if wait "${pids[$i]}"; then tail -n 2 "$scratch/${names[$i]}.log"; else cat "$scratch/${names[$i]}.log"; status=1; fi
 done
 exit "$status"
