@@ -262,9 +262,9 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 /// cost is below that of the cheapest resolved candidate that settled one; those are tried,
 /// cheapest first, until one settles a cheaper extremal (on (0, 0.1, 0) within 1.3 rad, seed
 /// 0's one resolved candidate, coarse 1.5841, settled 1.5707995; its cheapest unresolved one,
-/// coarse 1.5077, refines to 1.5494037). A candidate that
-/// costs more than the settled one on an intermediate grid stops there ([`PRUNE`]). Each
-/// extremal is kept with its candidate's coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
+/// coarse 1.5077, refines to 1.5494037). A candidate that costs more than the settled one on
+/// an intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
+/// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
 /// the same extremal), nor those pruned (a prune costs an intermediate grid, not the
 /// problem's; under a joint limit the coarse costs do not order the fine ones: on (0, 0.1, 0)
