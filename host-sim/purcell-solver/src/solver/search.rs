@@ -20,23 +20,33 @@
 //! minimum it reaches counts as a hit, and so does every later hit of the minimum it was
 //! pulled from (those starts reach it too).
 //!
-//! **Free minima under a joint limit.** With a joint limit the cheapest minimum may be reached
-//! by one or two of the 936 (loop, barrier path) pairs, so a seed found it or not by which
-//! 512 it ran (the paper's target at `α_max = 2.2`: three seeds of four returned the interior
-//! extremal 0.8183904, 2 % dearer than 0.8021628 on two arcs). Each loop runs its own barrier
-//! path ([`StartLoop::path`]), so the pairs are the same for every seed and only their order
-//! differs: a search over the whole family files the same minima. After the starts, the distinct
-//! minima of the same problem without the limit (its own search, `free`) are carried into
-//! it (`inward`): each scaled about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both
-//! coarse paths; what they reach is filed as candidates. They do not count for the stopping
-//! rule, which stays the starts'.
+//! **Under a joint limit.** The cheapest minimum may be reached by one or two of the 936
+//! (loop, barrier path) pairs (the paper's target at `α_max = 2.2`: three seeds of four
+//! returned the interior extremal 0.8183904, 2 % dearer than 0.8021628 on two arcs). Each
+//! loop runs its own barrier path ([`StartLoop::path`]), so the pairs are the same for every
+//! seed, and what a start reaches does not depend on its place. The search is made
+//! seed-independent by construction: every seed runs the loops in one order (seed 0's), and
+//! the search runs its whole budget (with the default budget, the first 512 loops of that
+//! order; `--starts 936` runs the whole family) — neither the stopping rule nor the hopeless
+//! rule ends it, since either let seeds stop at different minima (issue 33: at `α_max = 1.2`,
+//! target (0, 0, −0.5), the cheapest gait 2.8620559 comes from start 357; seed 7 gave up after
+//! 96 starts without a candidate; at `α_max = 1.0`, seed 4 found 2.9734287, the others
+//! 3.1658241). Only the zero gait (`J = 0`) ends it early. Each start has the second of
+//! [`PATIENCE`] (300) Newton iterations per barrier weight: the starts under a limit converge
+//! slowly (their defect falls from about 0.5 to 0.03 of the target over 200–300 iterations
+//! before Newton's fast phase; over the whole family of `α_max = 1.2`, target (0, 0, −0.5),
+//! 14 starts converge with 100, 219 with 300, and with 100 or 200 the solve returned
+//! 3.0872855 instead of 2.8620559). After the starts, the distinct minima of the same problem
+//! without the limit (its own search, `free`) are carried into it (`inward`): each scaled
+//! about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both coarse paths; what they reach is
+//! filed as candidates.
 //!
 //! **Stopping rule.** After each batch, with `n` starts run and `b` the cheapest admissible
 //! extremal so far, the minima that matter are those no dearer than `b` (`b` and cheaper
 //! inadmissible ones). By the Good–Turing estimate, the chance that the next start reaches a
 //! minimum not seen yet is about the share of starts that reached a minimum no other start
 //! reached; restricted to the minima that matter, `f₁/n` with `f₁` the number of them
-//! reached by exactly one start ([`Search::unseen`]). The search stops once at least
+//! reached by exactly one start ([`Search::unseen`]). Without a joint limit the search stops once at least
 //! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (below 200 starts: no such minimum; from
 //! 200: one; from 400: two) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin
 //! is not a lucky hit); it also stops when the zero loop solves the problem (`J = 0`), when
@@ -51,8 +61,8 @@ use super::grid::{self, Grid, Point};
 use super::homotopy;
 use super::progress::Progress;
 use super::settings::{
-    self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, NEAR_TARGET, PATIENCE, PULL,
-    SHRINK, Settings, UNSEEN,
+    self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, PATIENCE, PULL, SHRINK, Settings,
+    UNSEEN,
 };
 use super::starts::{self, StartLoop};
 use crate::problem::OVERLAP;
@@ -151,71 +161,61 @@ pub fn search(
     let (min_starts, max_starts) = (*starts.start(), *starts.end());
     let pulse = &|| progress.pulse();
     let size = starts::reference_size(grid);
-    let family = starts::of_grid(grid, size, seed, max_starts, limit.is_none());
+    // Under a joint limit, one order for every seed (see the module docs).
+    let order = if limit.is_some() { 0 } else { seed };
+    let family = starts::of_grid(grid, size, order, max_starts, limit.is_none());
     // The zero loop first: the solution when the target is the start (J = 0); for any other
     // target its Newton step is singular and it stops at once. For a transition, the straight
     // shape path in its place ([`starts::straight`]).
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
         .chain(family.iter().enumerate().map(|(i, s)| (i + 1, Some(*s))))
         .collect();
-    // Newton iterations per start (per barrier weight with a limit): the first of
-    // [`PATIENCE`]; the second for a search with a limit whose first pass found nothing
-    // though a start came near the target ([`NEAR_TARGET`]).
-    let run = |patience: usize, best_residual: f64| {
-        let settings = Settings::search(patience, limit.is_some());
-        let mut out = Search {
-            best_residual,
-            ..Search::default()
-        };
-        // The zero loop rides with the first batch of start loops.
-        let (first, rest) = all.split_at((1 + BATCH).min(all.len()));
-        for batch in core::iter::once(first).chain(rest.chunks(BATCH)) {
-            let results: Vec<_> = batch
-                .par_iter()
-                .map(|&(index, start_loop)| {
-                    let r = run_start(grid, limit, &settings, start_loop, pulse);
-                    progress.tick();
-                    (index, start_loop, r)
-                })
-                .collect();
-            for (index, start_loop, r) in results {
-                let pull = limit.is_none().then_some(&settings);
-                out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
-            }
-            if out.after_batch(min_starts, admissible) {
-                break;
-            }
-        }
-        // With a limit, the free minima carried into it, each both ways along both coarse
-        // paths, after the starts (see the module docs).
-        if let Some(a) = limit {
-            let ways = [Inward::Shrink, Inward::Clip];
-            let all: Vec<(&Candidate, Inward, &[f64])> = (free.iter())
-                .flat_map(|c| {
-                    ways.iter()
-                        .flat_map(move |&w| COARSE_PATHS.map(|t| (c, w, t)))
-                })
-                .collect();
-            let results: Vec<_> = all
-                .par_iter()
-                .map(|&(c, way, taus)| inward(grid, a, c, way, taus, &settings, pulse))
-                .collect();
-            for r in results {
-                out.absorb(grid, (0, None), r, None, admissible, pulse);
-            }
-            out.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        }
-        out
+    // Newton iterations per start (per barrier weight with a limit, [`PATIENCE`]).
+    let patience = PATIENCE[usize::from(limit.is_some())];
+    let settings = Settings::search(patience, limit.is_some());
+    let mut out = Search {
+        best_residual: f64::INFINITY,
+        ..Search::default()
     };
-    let out = run(PATIENCE[0], f64::INFINITY);
-    // Nothing found, but a start ended near the target: the starts ran out of iterations, not
-    // of room (with a tight limit the barrier paths spend long pinned to it).
-    let near = out.best_residual <= NEAR_TARGET * (grid.terminal.target - grid.start).amax();
-    if out.candidates.is_empty() && limit.is_some() && near {
-        run(PATIENCE[1], out.best_residual)
-    } else {
-        out
+    // The zero loop rides with the first batch of start loops.
+    let (first, rest) = all.split_at((1 + BATCH).min(all.len()));
+    for batch in core::iter::once(first).chain(rest.chunks(BATCH)) {
+        let results: Vec<_> = batch
+            .par_iter()
+            .map(|&(index, start_loop)| {
+                let r = run_start(grid, limit, &settings, start_loop, pulse);
+                progress.tick();
+                (index, start_loop, r)
+            })
+            .collect();
+        for (index, start_loop, r) in results {
+            let pull = limit.is_none().then_some(&settings);
+            out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
+        }
+        if out.after_batch(min_starts, limit.is_some(), admissible) {
+            break;
+        }
     }
+    // With a limit, the free minima carried into it, each both ways along both coarse
+    // paths, after the starts (see the module docs).
+    if let Some(a) = limit {
+        let ways = [Inward::Shrink, Inward::Clip];
+        let all: Vec<(&Candidate, Inward, &[f64])> = (free.iter())
+            .flat_map(|c| {
+                ways.iter()
+                    .flat_map(move |&w| COARSE_PATHS.map(|t| (c, w, t)))
+            })
+            .collect();
+        let results: Vec<_> = all
+            .par_iter()
+            .map(|&(c, way, taus)| inward(grid, a, c, way, taus, &settings, pulse))
+            .collect();
+        for r in results {
+            out.absorb(grid, (0, None), r, None, admissible, pulse);
+        }
+        out.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    }
+    out
 }
 
 /// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
@@ -368,6 +368,7 @@ impl Search {
     fn after_batch(
         &mut self,
         min_starts: usize,
+        limited: bool,
         admissible: &(dyn Fn(f64) -> bool + Sync),
     ) -> bool {
         self.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
@@ -381,7 +382,12 @@ impl Search {
         // Nothing at all after a few batches: the target is out of reach (or needs more
         // starts than the default; `--starts` bounds the search, not this rule).
         let hopeless = self.candidates.is_empty() && self.starts >= HOPELESS_BATCHES * BATCH;
-        self.satisfied || hopeless
+        // Under a joint limit only the zero gait ends the search before its budget.
+        if limited {
+            trivial
+        } else {
+            self.satisfied || hopeless
+        }
     }
 }
 

@@ -209,8 +209,10 @@ pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
 /// its first weight ([`super::refinement`]).
 pub const RESCUE_TAUS: [f64; 2] = [1e-4, 1e-5];
 /// Newton iterations per barrier weight; the second for a path that ran out of the first (as
-/// one pinned to a tight limit can). In the search, the second pass of starts only
-/// ([`super::search`]).
+/// one pinned to a tight limit can). In the search, the first for a start without a joint
+/// limit, the second for every start under one ([`super::search`]: on the coarse grid of
+/// `α_max = 1.2`, target (0, 0, −0.5), the starts that converge take up to 299 iterations at
+/// their first weight; 14 of 936 converge within 100, 136 within 200, 219 within 300).
 pub const PATIENCE: [usize; 2] = [100, 300];
 /// Most active-set rounds (from a barrier solution on the same grid, two suffice: arcs
 /// found, then confirmed).
@@ -291,7 +293,8 @@ pub const CONFIRMATIONS: usize = 3;
 /// Largest estimated chance that a further start reaches a minimum not seen yet that is no
 /// dearer than the cheapest admissible one, for the search to stop.
 pub const UNSEEN: f64 = 0.005;
-/// Batches without any extremal after which the search gives up.
+/// Batches without any extremal after which a search without a joint limit gives up (one
+/// under a limit runs its whole budget, [`super::search`]).
 pub const HOPELESS_BATCHES: usize = 3;
 /// Two control sequences run the same shape path when their shapes agree to this (radians)
 /// at every node.
@@ -306,9 +309,6 @@ pub const PULL: f64 = 0.97;
 /// on the far and turning targets whose extremals all cross it ((0.3, −0.25, 1), (0.15, 0.25,
 /// −0.6), (0, 0.4, 0), (0, 0, 2.8)), that limit's search finds a gait for each.
 pub const OVERLAP_MARGIN: f64 = 0.1;
-/// A start whose terminal defect is within this share of the displacement asked for came
-/// near the target (with a joint limit, the search then runs again with more patience).
-pub const NEAR_TARGET: f64 = 1e-3;
 
 // The refinement ([`super::refine_candidates`]).
 

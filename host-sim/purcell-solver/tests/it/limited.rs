@@ -69,50 +69,41 @@ fn unresolved_coarse_minima_are_skipped_not_lost() {
     );
 }
 
-/// Every start loop runs its own barrier path, whatever its place in a seed's order
-/// ([`StartLoop::path`](purcell_solver::solver::starts::StartLoop::path)): run over the whole
-/// family, two seeds' searches file the same minima. By its place (every other start), seed 3
-/// of `--alpha-max 1.1 --target 0,0,0.3 --starts 936` returned 1.7266 and the others 1.5449.
-/// About 20 s (two coarse searches of 936 starts under a tight limit).
+/// Under a joint limit every seed runs the loops in one order and the whole budget (module
+/// docs of [`search`](purcell_solver::solver::search)): two seeds' searches file the same
+/// minima, bit for bit. On `--alpha-max 1.2 --target 0,0,-0.5`, seed 7 of main 5289f99 gave
+/// up after 96 starts without a candidate (the hopeless rule) and the cheapest gait,
+/// 2.8620559, comes from start 357 of seed 0; here 128 starts run for both seeds (issue 33).
+/// About 5 CPU-s.
 #[test]
-fn the_whole_family_files_the_same_minima_for_every_seed() {
-    use purcell_solver::solver::grid::same_path;
+fn every_seed_runs_one_order_and_its_whole_budget() {
     use purcell_solver::solver::{coarse_grid, search::search};
     let problem = Problem::new(&Spec {
-        target: [0.0, 0.0, 0.3],
-        alpha_max: Some(1.1),
+        target: [0.0, 0.0, -0.5],
+        alpha_max: Some(1.2),
         ..Spec::default()
     })
     .unwrap();
     let grid = coarse_grid(&problem, &SolveOptions::default()).unwrap();
     let run = |seed| {
-        let all = 936..=936;
+        let admits = |a| problem.admits(a);
         search(
             &grid,
-            all,
+            128..=128,
             seed,
             problem.alpha_max,
-            &|a| problem.admits(a),
+            &admits,
             &[],
             &|| {},
         )
     };
-    let (a, b) = (run(0), run(3));
-    assert_eq!(a.starts, 936);
+    let (a, b) = rayon::join(|| run(0), || run(7));
+    assert_eq!((a.starts, b.starts), (128, 128));
     assert!(!a.candidates.is_empty());
     assert_eq!(a.candidates.len(), b.candidates.len());
-    // Twins cost the same to rounding: matched by path, not by place in the list.
-    for x in &a.candidates {
-        let y = (b.candidates.iter())
-            .find(|y| same_path(&x.u, &y.u, grid.h()))
-            .unwrap_or_else(|| panic!("{} (seed 0) not filed by seed 3", x.cost));
-        assert!(
-            (x.cost / y.cost - 1.0).abs() <= 1e-9,
-            "{} vs {}",
-            x.cost,
-            y.cost
-        );
-        assert_eq!(x.hits, y.hits, "{}", x.cost);
+    for (x, y) in a.candidates.iter().zip(&b.candidates) {
+        assert_eq!(x.u, y.u, "{} vs {}", x.cost, y.cost);
+        assert_eq!((x.cost, x.hits, x.start), (y.cost, y.hits, y.start));
     }
 }
 
