@@ -107,14 +107,14 @@ fn every_seed_runs_one_order_and_its_whole_budget() {
     }
 }
 
-/// On (0, 0.1, 0) within 1.3 rad, seed 0's one resolved coarse minimum (coarse 1.5841)
-/// settles 1.5707995; its unresolved ones (coarse 1.5077–1.5203, each missing the target by
-/// 1.2–1.3 % on the next grid) are cheaper on the coarse grid, so the cheapest is refined all
-/// the same and settles 1.5494037 (skipped, the solve returned 1.5707995). Seeds 1–7 reach
-/// 1.5258579 from a coarse minimum seed 0 does not file (issue 33): the test asks for no
-/// dearer than 1.5494037, so a search that finds it too still passes. About 10 s.
+/// On (0, 0.1, 0) within 1.3 rad, seed 0 of main 5289f99 returned 1.5494037 (its one resolved
+/// coarse minimum settled 1.5707995, and the cheapest of its unresolved ones, refined since
+/// cheaper on the coarse grid, 1.5494037) and seeds 1–7 1.5258579, from a coarse minimum seed
+/// 0's early stop did not file (issue 33). Under a joint limit every seed now runs the same
+/// starts through the whole budget, and the resolved minima settle 1.5258579 (nothing is
+/// skipped). About 20 s.
 #[test]
-fn unresolved_minima_cheaper_than_the_resolved_ones_are_refined() {
+fn the_cheapest_gait_within_1_3_rad_is_every_seeds() {
     let problem = Problem::new(&Spec {
         target: [0.0, 0.1, 0.0],
         alpha_max: Some(1.3),
@@ -123,8 +123,5 @@ fn unresolved_minima_cheaper_than_the_resolved_ones_are_refined() {
     .unwrap();
     let s = solve(&problem, &SolveOptions::default(), &|| {}).unwrap();
     let cost = s.extremals[s.best].cost;
-    assert!(cost <= 1.5494037 + 1e-7, "{cost}");
-    let limit = UNRESOLVED * problem.displacement();
-    let unrefined = &s.search.as_ref().unwrap().unrefined;
-    assert!(unrefined.iter().any(|u| u.defect > limit), "{unrefined:?}");
+    assert!((cost - 1.5258579).abs() <= 1e-7, "{cost}");
 }
