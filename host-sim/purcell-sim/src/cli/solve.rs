@@ -24,7 +24,7 @@ use std::time::Instant;
 pub struct SearchArgs {
     /// Budget of start loops of the global search (run in batches of 32, in parallel; 1 to
     /// 4096; the family has 1 128 loops, 936 with --alpha-max, a larger budget runs them
-    /// all). The search stops
+    /// all). With --alpha-max the whole budget runs; without, the search stops
     /// earlier once its stopping rule is met: at least 128 starts run, an estimated chance
     /// below 0.5 % that another start reaches a minimum not seen yet that is no dearer than
     /// the cheapest admissible one (Good-Turing: the share of starts that alone reached such
@@ -33,6 +33,8 @@ pub struct SearchArgs {
     #[arg(long, default_value_t = SolveOptions::default().starts)]
     pub starts: usize,
     /// Orders the start loops (any value gives a diverse family; 0 is the default order).
+    /// With --alpha-max every seed runs the same starts (seed 0's order), so the seed does not
+    /// change the gait.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
 }
