@@ -82,7 +82,7 @@ pub struct Unsolved {
     /// Its seed.
     pub seed: u64,
     /// Under a joint limit, when no extremal was found past it: the same problem solved
-    /// without it ([`free_reach`]).
+    /// without it.
     pub free: Option<Free>,
 }
 
