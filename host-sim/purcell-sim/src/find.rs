@@ -7,7 +7,7 @@ use crate::words::{Front, Worded};
 use purcell_solver::problem::{OVERLAP, Problem};
 use purcell_solver::solver::continuation::{self, Warm};
 use purcell_solver::solver::settings::OVERLAP_MARGIN;
-use purcell_solver::solver::{Progress, Solution, SolveError, solve, starts};
+use purcell_solver::solver::{Progress, Solution, SolveError, SolveOptions, solve, starts};
 use std::time::Instant;
 
 /// A solve that found a gait.
@@ -61,6 +61,15 @@ impl Worded for Note {
     }
 }
 
+/// The problem of an [`Unsolved`] solve without its joint limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Free {
+    /// Solved: the largest `|α_i|` of its gait.
+    Reach(f64),
+    /// Not solved either: a looser limit would not help.
+    Unsolved,
+}
+
 /// A solve that found no gait: why, and what to try.
 #[derive(Debug)]
 pub struct Unsolved {
@@ -72,12 +81,16 @@ pub struct Unsolved {
     pub starts: usize,
     /// Its seed.
     pub seed: u64,
+    /// Under a joint limit, when no extremal was found past it: the same problem solved
+    /// without it.
+    pub free: Option<Free>,
 }
 
 impl Worded for Unsolved {
     /// The error, then on a line of its own what to try, by its cause: more starts (never more
-    /// than the family holds), another seed, a warm start, and a looser joint limit when the
-    /// extremals found lie past it (naming one that admits the nearest of them).
+    /// than the family holds), another seed, a warm start, and a looser joint limit: when the
+    /// extremals found lie past it, one that admits the nearest of them; otherwise one that
+    /// admits the gait found without a limit, and none if that problem is not solved either.
     fn words(&self, f: Front) -> String {
         let (e, problem, starts) = (&self.error, &self.problem, self.starts);
         let boxes = problem.alpha_max.is_none();
@@ -95,11 +108,16 @@ impl Worded for Unsolved {
                 Front::Python => format!("{}=<its Solution>", warm_arg(f)),
             }
         ));
+        // A limit that admits the gait without one solves (the search carries that gait in).
+        let admits_free = match self.free {
+            Some(Free::Reach(reach)) => Some(looser(reach))
+                .filter(|l| problem.alpha_max.is_some_and(|limit| *l > limit) && *l < OVERLAP),
+            _ => None,
+        };
         match (e, problem.alpha_max) {
-            (SolveError::Unreachable { .. }, _) => {}
             (SolveError::NoneAdmissible { best_alpha, .. }, Some(limit)) => {
                 // The nearest extremal found is admitted by a limit just above its reach.
-                let looser = ((best_alpha * 100.0).ceil() + 1.0) / 100.0;
+                let looser = looser(*best_alpha);
                 tries.push(if looser < OVERLAP {
                     format!(
                         "a looser joint limit ({}, which admits the nearest extremal found; \
@@ -110,6 +128,13 @@ impl Worded for Unsolved {
                     format!("a looser joint limit ({}; {limit} now)", f.arg("alpha_max"))
                 });
             }
+            (_, Some(limit)) if let Some(looser) = admits_free => tries.push(format!(
+                "a looser joint limit ({}, which admits the gait found without one; {limit} \
+                 now; tighter ones may solve too)",
+                f.given("alpha_max", looser)
+            )),
+            (_, Some(_)) if self.free == Some(Free::Unsolved) => {}
+            (SolveError::Unreachable { .. }, _) => {}
             (_, Some(limit)) => tries.push(format!(
                 "a looser joint limit ({}; {limit} now)",
                 f.arg("alpha_max")
@@ -122,7 +147,43 @@ impl Worded for Unsolved {
             (_, None) => {}
         }
         let last = tries.pop().unwrap_or_default();
-        format!("{e}\ntry {}, or {last}", tries.join(", "))
+        let mut words = format!("{e}\ntry {}, or {last}", tries.join(", "));
+        if self.free == Some(Free::Unsolved) {
+            words +=
+                "\nwithout the joint limit no gait is found either: a looser one would not help";
+        }
+        if let SolveError::NotRefined {
+            stationarity: Some(_),
+            ..
+        } = e
+        {
+            words += "\nthe extremals found meet the target but none is certified stationary: \
+                      seen on tiny targets, whose gait is a loop so small that the terminal \
+                      constraint is nearly degenerate (the paper's swimmer: x of 5e-5 m or less, \
+                      theta of 1e-6 rad; 1e-4 m and 1e-5 rad solve)";
+        }
+        words
+    }
+}
+
+/// The limit, in hundredths of a radian, just above a reach `alpha` (so that it admits it).
+fn looser(alpha: f64) -> f64 {
+    ((alpha * 100.0).ceil() + 1.0) / 100.0
+}
+
+/// `problem` solved without its joint limit by `options` (its phases told to `progress`): the
+/// largest `|α_i|` of the gait, whose minimum the search of any limit that admits it carries
+/// into that limit; [`Free::Unsolved`] if no start reaches the target or nothing refines
+/// there either; `None` if every extremal found crosses the links' overlap.
+fn free_reach(problem: &Problem, options: &SolveOptions, progress: &dyn Progress) -> Option<Free> {
+    let free = Problem {
+        alpha_max: None,
+        ..*problem
+    };
+    match solve(&free, options, progress) {
+        Ok(s) => Some(Free::Reach(s.extremals[s.best].max_abs_alpha)),
+        Err(SolveError::NoneAdmissible { .. }) => None,
+        Err(_) => Some(Free::Unsolved),
     }
 }
 
@@ -154,12 +215,13 @@ pub fn find(
             result
         }
     };
-    let unsolved = |error| {
+    let unsolved = |error, free| {
         Box::new(Unsolved {
             error,
             problem: *problem,
             starts: options.starts,
             seed: options.seed,
+            free,
         })
     };
     let (solution, problem) = match result {
@@ -175,10 +237,18 @@ pub fn find(
                     notes.push(Note::OverlapMargin { error, alpha_max });
                     (solution, margin)
                 }
-                Err(_) => return Err(unsolved(error)),
+                Err(_) => return Err(unsolved(error, None)),
             }
         }
-        Err(e) => return Err(unsolved(e)),
+        // Under a joint limit with no extremal past it to name a looser one by: the solve
+        // without the limit names one.
+        Err(e @ (SolveError::Unreachable { .. } | SolveError::NotRefined { .. }))
+            if problem.alpha_max.is_some() =>
+        {
+            let reach = free_reach(problem, options, progress);
+            return Err(unsolved(e, reach));
+        }
+        Err(e) => return Err(unsolved(e, None)),
     };
     Ok(Found {
         solution,
@@ -203,6 +273,7 @@ mod tests {
             problem: Problem::new(&spec).unwrap(),
             starts: 16,
             seed: 3,
+            free: None,
         }
     }
 
@@ -224,6 +295,31 @@ mod tests {
         let python = u.words(Front::Python);
         assert!(python.contains("(alpha_max=1.25, which admits"), "{python}");
         assert!(python.contains("starts=64") && python.contains("warm=") && !python.contains("--"));
+    }
+
+    /// Issue 33: under a joint limit with nothing found past it, the solve without the limit
+    /// names a looser one (just above its gait's reach); if that is not solved either, none.
+    #[test]
+    fn the_solve_without_the_limit_names_a_looser_one_or_none() {
+        let mut u = unsolved(SolveError::Unreachable { best_residual: 0.1 }, Some(0.3));
+        u.free = Some(Free::Reach(1.2961));
+        let words = u.words(Front::Cli);
+        assert!(
+            words.contains("or a looser joint limit (--alpha-max 1.31, which admits the gait found without one; 0.3 now"),
+            "{words}"
+        );
+        u.free = Some(Free::Reach(0.25));
+        assert!(!u.words(Front::Cli).contains("alpha-max"));
+        u.free = Some(Free::Unsolved);
+        u.error = SolveError::NotRefined {
+            found: 2,
+            best_residual: 1e-18,
+            stationarity: Some(1e-6),
+        };
+        let words = u.words(Front::Python);
+        assert!(!words.contains("alpha_max"), "{words}");
+        assert!(words.contains("a looser one would not help"), "{words}");
+        assert!(words.contains("none is certified stationary"), "{words}");
     }
 
     #[test]

@@ -44,7 +44,8 @@ pub struct SearchArgs {
 pub struct SolveArgs {
     /// Target position g_bar = X,Y,THETA reached from the origin: X, Y in metres, THETA in
     /// radians or degrees with deg (0.1,0.1,30deg), taken modulo 2 pi into ]-pi, pi]; 0,0,0
-    /// or a largest component of at least 1e-6.
+    /// or a largest component of at least 1e-6 (the smallest may exit 3: on the paper's swimmer
+    /// X of 5e-5 m or less and THETA of 1e-6 rad do, their extremals not certified stationary).
     #[arg(long, value_parser = units::List([Length, Length, Angle]), default_value = "0.1,0.1,0",
           allow_hyphen_values = true)]
     pub target: [f64; 3],

@@ -104,10 +104,45 @@ fn solve_exits_3_when_no_extremal_is_carried_to_the_problems_grid() {
         e.contains("Newton met the terminal defect there but its stationarity stalled at"),
         "{e}"
     );
+    // Without the limit it is not solved either (issue 33): no looser limit is advised, and
+    // the message says why none is certified.
+    assert!(!e.contains("--alpha-max"), "{e}");
     assert!(
-        e.contains("or a looser joint limit (--alpha-max; 1 now)"),
+        e.contains(
+            "\nwithout the joint limit no gait is found either: a looser one would not help"
+        ),
         "{e}"
     );
+    assert!(
+        e.contains("\nthe extremals found meet the target but none is certified stationary: seen on tiny targets"),
+        "{e}"
+    );
+}
+
+/// `ḡ = (0.02, 0.02, 0)` in 10 s within `|α_i| ≤ 0.3` (32 starts): no start reaches it; the
+/// same problem without the limit solves (J = 0.8319134, largest `|α_i|` 1.2961), so exit 3
+/// names the limit that admits that gait, and that limit solves, to the same gait (issue 33).
+#[test]
+fn exit_3_under_a_limit_names_one_that_admits_the_gait_without_it() {
+    let problem = || {
+        Solve::paper()
+            .target("0.02,0.02,0")
+            .horizon("10")
+            .step("0.1")
+            .starts(32)
+            .no_plots()
+    };
+    let e = no_solution(problem().alpha_max("0.3"));
+    assert!(e.contains("no start reached the target"), "{e}");
+    assert!(
+        e.contains("or a looser joint limit (--alpha-max 1.31, which admits the gait found without one; 0.3 now; tighter ones may solve too)"),
+        "{e}"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let o = problem().alpha_max("1.31").out(tmp.path()).run();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let cost = report(tmp.path())["cost"].as_f64().unwrap();
+    assert!((cost - 0.8319134).abs() <= 1e-6, "{cost}");
 }
 
 /// Isotropic drag (`--ratio 1`): the swimmer cannot move, so no target of the lattice is

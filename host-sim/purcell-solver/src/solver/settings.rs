@@ -331,6 +331,10 @@ pub const LIMITED_COARSE_COST_ERROR: f64 = 0.1;
 /// 0.2–0.6 %; those whose barrier path on the next grid stalls (and which cost about 1 s of
 /// Newton each before they give up) by 2–7 %.
 pub const UNRESOLVED: f64 = 0.012;
+/// When no minimum of the search refines ([`super::SolveError::NotRefined`]), the search runs
+/// again on grids twice as fine, up to this many times the options' coarse steps
+/// ([`super::solve`]): 64, 128, 256 by default.
+pub const FINER_COARSE: usize = 4;
 /// Margin for the coarse grid's error in `|α|` (radians): a candidate whose largest `|α_i|`
 /// is below the bound on the shape plus this may be admissible on the problem's grid.
 pub const COARSE_ALPHA_ERROR: f64 = 0.05;
