@@ -57,10 +57,11 @@ def solve(
         (MODEL.md §11). The report gives the returned gait's cost under both
         (``report["costs"]``).
     starts : int, default 512
-        Budget of start loops of the global search, 1 to 4096 (it may stop sooner: its
-        stopping rule).
+        Budget of start loops of the global search, 1 to 4096 (without ``alpha_max`` it may
+        stop sooner: its stopping rule; with one the whole budget runs).
     seed : int, default 0
-        Orders the starts.
+        Orders the starts (with ``alpha_max`` every seed runs seed 0's order, so the seed
+        does not change the gait).
     checkpoint_every : int or None, default None
         Costate checkpoint spacing in steps in the costate file (None: 100; 0: none).
     warm : Solution, str, os.PathLike or None, default None

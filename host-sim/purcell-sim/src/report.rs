@@ -128,9 +128,11 @@ impl Worded for SearchWarning<'_> {
                     Front::Python => "report[\"search\"][\"unrefined\"]",
                 };
                 format!(
-                    "{cheapest} ({count} such minima in {report}): try another {} or {}",
-                    f.arg("seed"),
-                    f.arg("starts")
+                    "{cheapest} ({count} such minima in {report}): raise {} (without {}, \
+                     another {} also orders the starts differently)",
+                    f.arg("starts"),
+                    f.arg("alpha_max"),
+                    f.arg("seed")
                 )
             }
         }
