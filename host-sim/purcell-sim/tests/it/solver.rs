@@ -14,10 +14,75 @@ use purcell_solver::solver::{
     Extremal, Solution, SolveError, SolveOptions, Stop, coarse_grid, refine, search, solve,
 };
 use purcell_solver::testkit::check_extremal;
+use rayon::prelude::*;
+use std::sync::OnceLock;
 
 fn public_problems() -> Vec<SuiteProblem> {
     let text = include_str!("../../../../tests/problems/public.json");
     read_suite(text).expect("problems file parses")
+}
+
+/// A public problem's solves: the default one (seed 0), and the costs seeds 1–7 reach
+/// (none for a problem that expects an exit).
+struct PublicSolves {
+    sp: SuiteProblem,
+    problem: Problem,
+    default: Result<Solution, SolveError>,
+    other_seeds: Vec<Result<f64, SolveError>>,
+}
+
+/// Every public problem solved once per test binary, all the solves in parallel: the tests
+/// of the default solve read seed 0's, [`every_seed_reaches_the_same_cost`] every seed's
+/// (before, each test solved its own, seed 0 twice).
+fn public_solves() -> &'static [PublicSolves] {
+    static SOLVES: OnceLock<Vec<PublicSolves>> = OnceLock::new();
+    SOLVES.get_or_init(|| {
+        let problems: Vec<(SuiteProblem, Problem)> = (public_problems().into_iter())
+            .map(|sp| {
+                let p = Problem::new(&sp.spec).unwrap();
+                (sp, p)
+            })
+            .collect();
+        let runs: Vec<(usize, u64)> = (problems.iter().enumerate())
+            .flat_map(|(i, (sp, _))| {
+                let seeds = if sp.expect.is_some() { 0..1 } else { 0..8 };
+                seeds.map(move |seed| (i, seed))
+            })
+            .collect();
+        let mut solved: Vec<Option<Result<Solution, SolveError>>> = runs
+            .par_iter()
+            .map(|&(i, seed)| {
+                let options = SolveOptions {
+                    seed,
+                    ..SolveOptions::default()
+                };
+                Some(solve(&problems[i].1, &options, &|| {}))
+            })
+            .collect();
+        (problems.into_iter().enumerate())
+            .map(|(i, (sp, problem))| {
+                let mut mine = (runs.iter().zip(&mut solved))
+                    .filter(|((j, _), _)| *j == i)
+                    .map(|(_, s)| s.take().unwrap());
+                let default = mine.next().unwrap();
+                let other_seeds = mine.map(|s| s.map(|s| s.extremals[s.best].cost)).collect();
+                PublicSolves {
+                    sp,
+                    problem,
+                    default,
+                    other_seeds,
+                }
+            })
+            .collect()
+    })
+}
+
+/// The default solve of the public problem whose spec is `spec`.
+fn public_solve(spec: &Spec) -> &'static Solution {
+    let x = (public_solves().iter())
+        .find(|x| x.sp.spec == *spec)
+        .unwrap_or_else(|| panic!("no public problem {spec:?}"));
+    x.default.as_ref().expect(&x.sp.name)
 }
 
 /// What a returned gait must satisfy, and its costate file: replayed through the core it
@@ -82,12 +147,16 @@ fn arc_steps_reproduce_the_controls(name: &str, p: &Problem, x: &Extremal) -> f6
 
 #[test]
 fn every_public_problem_solves_at_or_below_its_reference() {
-    for sp in public_problems() {
+    for PublicSolves {
+        sp,
+        problem: p,
+        default: r,
+        ..
+    } in public_solves()
+    {
         if sp.spec.alpha_max.is_some() {
             continue; // joint-limit problems: the constrained solver
         }
-        let p = Problem::new(&sp.spec).unwrap();
-        let r = solve(&p, &SolveOptions::default(), &|| {});
         match sp.expect.as_deref() {
             Some("exit 3") => assert!(
                 matches!(r, Err(SolveError::Unreachable { .. })),
@@ -95,7 +164,7 @@ fn every_public_problem_solves_at_or_below_its_reference() {
                 sp.name
             ),
             _ => {
-                check_solution(&sp.name, &p, &r.unwrap(), sp.reference);
+                check_solution(&sp.name, p, r.as_ref().unwrap(), sp.reference);
             }
         }
     }
@@ -106,21 +175,17 @@ fn every_public_problem_solves_at_or_below_its_reference() {
 /// reference.
 #[test]
 fn every_seed_reaches_the_same_cost() {
-    for sp in public_problems() {
+    for x in public_solves() {
+        let sp = &x.sp;
         if sp.expect.is_some() {
             continue;
         }
-        let p = Problem::new(&sp.spec).unwrap();
-        let costs: Vec<f64> = (0..8)
-            .map(|seed| {
-                let options = SolveOptions {
-                    seed,
-                    ..SolveOptions::default()
-                };
-                let s = solve(&p, &options, &|| {}).unwrap();
-                s.extremals[s.best].cost
-            })
+        let first = x.default.as_ref().map(|s| s.extremals[s.best].cost);
+        let others = x.other_seeds.iter().map(|c| c.as_ref().copied());
+        let costs: Vec<f64> = (std::iter::once(first).chain(others).enumerate())
+            .map(|(seed, c)| c.unwrap_or_else(|e| panic!("{} seed {seed}: {e}", sp.name)))
             .collect();
+        assert_eq!(costs.len(), 8, "{}", sp.name);
         let reference = sp.reference.unwrap();
         for (seed, c) in costs.iter().enumerate() {
             assert!(
@@ -169,15 +234,15 @@ fn every_seed_reaches_the_same_cost_under_a_joint_limit() {
 /// (1.5) or inside it (2.0), with its certificates.
 #[test]
 fn joint_limit_problems_solve_at_or_below_their_reference() {
-    for sp in public_problems() {
+    for x in public_solves() {
+        let (sp, p) = (&x.sp, &x.problem);
         let Some(limit) = sp.spec.alpha_max else {
             continue;
         };
-        let p = Problem::new(&sp.spec).unwrap();
-        let s = solve(&p, &SolveOptions::default(), &|| {}).unwrap();
+        let s = x.default.as_ref().expect(&sp.name);
         let best = &s.extremals[s.best];
-        let [f64_error, f32_error] = check_solution(&sp.name, &p, &s, sp.reference);
-        let law = arc_steps_reproduce_the_controls(&sp.name, &p, best);
+        let [f64_error, f32_error] = check_solution(&sp.name, p, s, sp.reference);
+        let law = arc_steps_reproduce_the_controls(&sp.name, p, best);
         assert!(law <= LAW_TOL, "{}: {law}", sp.name);
         eprintln!(
             "{}: {} arcs, replay errors f64 {f64_error:.1e}, f32 {f32_error:.1e}, law on the arcs {law:.1e}",
@@ -362,15 +427,15 @@ fn zero_target_returns_the_zero_gait_at_cost_zero() {
 /// its own mirror image, and its extremals come in twins.
 #[test]
 fn mirror_images_have_the_same_cost_and_are_reported_as_twins() {
-    let solve_at = |target| {
-        let spec = Spec {
-            target,
-            ..Spec::default()
-        };
-        let p = Problem::new(&spec).unwrap();
-        solve(&p, &SolveOptions::default(), &|| {}).unwrap()
+    let spec = |target| Spec {
+        target,
+        ..Spec::default()
     };
-    let (up, down) = (solve_at([0.1, 0.1, 0.0]), solve_at([0.1, -0.1, 0.0]));
+    // The public problems `paper` and `right-down`.
+    let (up, down) = (
+        public_solve(&spec([0.1, 0.1, 0.0])),
+        public_solve(&spec([0.1, -0.1, 0.0])),
+    );
     let (a, b) = (&up.extremals[up.best], &down.extremals[down.best]);
     assert!(
         (a.cost - b.cost).abs() <= 1e-9 * a.cost,
@@ -381,7 +446,12 @@ fn mirror_images_have_the_same_cost_and_are_reported_as_twins() {
     for (x, y) in a.trajectory.states.iter().zip(&b.trajectory.states) {
         assert!((x.alpha + y.alpha).amax() <= 1e-6);
     }
-    let ahead = solve_at([0.2, 0.0, 0.0]);
+    let ahead = solve(
+        &Problem::new(&spec([0.2, 0.0, 0.0])).unwrap(),
+        &SolveOptions::default(),
+        &|| {},
+    )
+    .unwrap();
     let x = &ahead.extremals[ahead.best];
     let twin = &ahead.extremals[x.twin_of.expect("the mirror image is found too")];
     assert!((x.cost - twin.cost).abs() <= 1e-9 * x.cost);
