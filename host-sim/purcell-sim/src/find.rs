@@ -88,7 +88,7 @@ pub struct Unsolved {
 
 impl Worded for Unsolved {
     /// The error, then on a line of its own what to try, by its cause: more starts (never more
-    /// than the family holds), another seed, a warm start, and a looser joint limit: when the
+    /// than the family holds), another seed (without a joint limit), a warm start, and a looser joint limit: when the
     /// extremals found lie past it, one that admits the nearest of them; otherwise one that
     /// admits the gait found without a limit, and none if that problem is not solved either.
     fn words(&self, f: Front) -> String {
@@ -100,7 +100,10 @@ impl Worded for Unsolved {
             let more = f.given("starts", (4 * starts).min(family));
             tries.push(format!("more starts ({more}; {starts} now)"));
         }
-        tries.push(format!("another {} ({} now)", f.arg("seed"), self.seed));
+        // Under a joint limit every seed runs the same starts (the solver's `search`).
+        if boxes {
+            tries.push(format!("another {} ({} now)", f.arg("seed"), self.seed));
+        }
         tries.push(format!(
             "a warm start from the gait of a nearer target, solved first ({})",
             match f {
@@ -291,14 +294,19 @@ mod tests {
             cli.contains("a looser joint limit (--alpha-max 1.25, which admits"),
             "{cli}"
         );
-        assert!(cli.contains("try more starts (--starts 64; 16 now), another --seed (3 now)"));
+        // Under a joint limit every seed runs the same starts: more starts, not another seed.
+        assert!(
+            cli.contains("try more starts (--starts 64; 16 now), a warm start"),
+            "{cli}"
+        );
         let python = u.words(Front::Python);
         assert!(python.contains("(alpha_max=1.25, which admits"), "{python}");
         assert!(python.contains("starts=64") && python.contains("warm=") && !python.contains("--"));
     }
 
     /// Issue 33: under a joint limit with nothing found past it, the solve without the limit
-    /// names a looser one (just above its gait's reach); if that is not solved either, none.
+    /// names a looser one (just above its gait's reach); if that is not solved either, none;
+    /// never another seed (every seed runs the same starts there).
     #[test]
     fn the_solve_without_the_limit_names_a_looser_one_or_none() {
         let mut u = unsolved(SolveError::Unreachable { best_residual: 0.1 }, Some(0.3));
@@ -308,6 +316,8 @@ mod tests {
             words.contains("or a looser joint limit (--alpha-max 1.31, which admits the gait found without one; 0.3 now"),
             "{words}"
         );
+        // Every seed runs the same starts under a joint limit: no other seed to try.
+        assert!(!words.contains("--seed"), "{words}");
         u.free = Some(Free::Reach(0.25));
         assert!(!u.words(Front::Cli).contains("alpha-max"));
         u.free = Some(Free::Unsolved);
