@@ -260,9 +260,9 @@ pub fn extremal(problem: &Problem, grid: &Grid, run: &Run) -> Extremal {
 /// [`UNRESOLVED`] of the displacement) comes after the others and, once they have settled an
 /// admissible extremal, is skipped (that miss is its defect in the report) unless its coarse
 /// cost is below that of the cheapest resolved candidate that settled one; those are tried,
-/// cheapest first, until one settles a cheaper extremal (on (0, 0.1, 0) within 1.3 rad, seed
-/// 0's one resolved candidate, coarse 1.5841, settled 1.5707995; its cheapest unresolved one,
-/// coarse 1.5077, refines to 1.5494037). A candidate that costs more than the settled one on
+/// cheapest first, until one settles a cheaper extremal (on (0, 0.1, 0) within 1.3 rad, with
+/// the seed-ordered search of 5289f99, seed 0's one resolved candidate, coarse 1.5841, settled
+/// 1.5707995; its cheapest unresolved one, coarse 1.5077, refined to 1.5494037). A candidate that costs more than the settled one on
 /// an intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
 /// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
