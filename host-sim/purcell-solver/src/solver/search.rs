@@ -105,7 +105,8 @@ pub struct Search {
     /// The stopping rule's estimate `f₁/n` when the search stopped (see the module docs).
     pub unseen: f64,
     /// Whether the stopping rule was met (otherwise the budget ran out first, or nothing was
-    /// found).
+    /// found); under a joint limit, where the rule does not end the search, whether it was
+    /// met once the budget had run.
     pub satisfied: bool,
     /// Each minimum past the overlap that was pulled inside, with the controls of the
     /// admissible minimum its pull reached (see the module docs).
