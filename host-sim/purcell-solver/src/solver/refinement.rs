@@ -328,7 +328,8 @@ pub fn refine_candidates(
     } else {
         COARSE_COST_ERROR
     };
-    let (mut tried, mut repeats, mut pruned) = (0, 0, 0);
+    // Candidates tried, and those of them not counted: repeats and prunes (see above).
+    let (mut tried, mut uncounted) = (0, 0);
     let mut skipped = Vec::new();
     // The intermediate grids' paths of the refinements that reached an extremal.
     let mut trails = Vec::new();
@@ -350,9 +351,7 @@ pub fn refine_candidates(
                 }
                 continue;
             }
-            if tried - unrefined.len() - repeats - pruned >= options.refine
-                || c.cost > settled * margin
-            {
+            if tried - unrefined.len() - uncounted >= options.refine || c.cost > settled * margin {
                 break;
             }
             tried += 1;
@@ -365,12 +364,8 @@ pub fn refine_candidates(
                     trails.extend(trail);
                     (fine, run)
                 }
-                Err(Stop::Dearer) => {
-                    pruned += 1;
-                    continue;
-                }
-                Err(Stop::Repeat) => {
-                    repeats += 1;
+                Err(Stop::Dearer | Stop::Repeat) => {
+                    uncounted += 1;
                     continue;
                 }
                 Err(stop) => {
@@ -378,16 +373,8 @@ pub fn refine_candidates(
                     continue;
                 }
             };
-            let mut x = extremal(problem, &fine, &run);
-            x.start = c.start;
-            x.hits = c.hits;
-            if extremals.iter().any(|(o, _)| {
-                grid::same_path(&o.trajectory.controls, &x.trajectory.controls, problem.h)
-            }) {
-                repeats += 1;
-            } else {
-                extremals.push((x, c.cost));
-            }
+            let x = extremal(problem, &fine, &run);
+            uncounted += usize::from(!file(&mut extremals, x, c, problem.h));
         }
     }
     unrefined.extend(skipped);
@@ -398,6 +385,18 @@ pub fn refine_candidates(
         tried,
         (best_residual, stalled),
     )
+}
+
+/// Files `x`, refined from candidate `c`, unless `extremals` hold its path (controls at step
+/// `h`) already; whether it was new.
+fn file(extremals: &mut Vec<(Extremal, f64)>, x: Extremal, c: &search::Candidate, h: f64) -> bool {
+    let same = |o: &Extremal| grid::same_path(&o.trajectory.controls, &x.trajectory.controls, h);
+    let new = !extremals.iter().any(|(o, _)| same(o));
+    if new {
+        let (start, hits) = (c.start, c.hits);
+        extremals.push((Extremal { start, hits, ..x }, c.cost));
+    }
+    new
 }
 
 /// The least of `f(extremal, its candidate's coarse cost)` over the admissible `extremals`
@@ -586,18 +585,14 @@ mod tests {
         let (grid, run, trail) = carry(&problem, &c.u, &c.nu, f64::INFINITY, &[], &|| ()).unwrap();
         assert_eq!(grid.steps, 2000);
         assert_eq!(trail.iter().map(Vec::len).collect::<Vec<_>>(), [1024]);
-        let (_, alone) = refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| ()).unwrap();
-        assert_eq!(alone.point.u, run.point.u);
-        let again = carry(&problem, &c.u, &c.nu, f64::INFINITY, &trail, &|| ());
-        assert_eq!(again.err(), Some(Stop::Repeat));
-        // A path of another extremal is no repeat of this one.
-        let other = (found.candidates.iter())
-            .find(|o| {
-                refine(&problem, &o.u, &o.nu, f64::INFINITY, &|| ())
-                    .is_ok_and(|(_, r)| !grid::same_path(&r.point.u, &run.point.u, grid.h()))
-            })
-            .expect("a second extremal");
-        let apart = carry(&problem, &other.u, &other.nu, f64::INFINITY, &trail, &|| ());
-        assert!(apart.is_ok(), "{:?}", apart.err());
+        let again =
+            |c: &search::Candidate| carry(&problem, &c.u, &c.nu, f64::INFINITY, &trail, &|| ());
+        assert_eq!(again(c).err(), Some(Stop::Repeat));
+        // The path of another extremal is no repeat of this one.
+        let other = (found.candidates.iter()).find(|o| {
+            refine(&problem, &o.u, &o.nu, f64::INFINITY, &|| ())
+                .is_ok_and(|(_, r)| !grid::same_path(&r.point.u, &run.point.u, grid.h()))
+        });
+        assert!(again(other.expect("a second extremal")).is_ok());
     }
 }
