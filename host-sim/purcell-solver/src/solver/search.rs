@@ -49,7 +49,10 @@
 //! reached by exactly one start ([`Search::unseen`]). Without a joint limit the search stops once at least
 //! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (below 200 starts: no such minimum; from
 //! 200: one; from 400: two) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin
-//! is not a lucky hit); it also stops when the zero loop solves the problem (`J = 0`), when
+//! is not a lucky hit); there `b` must be clear of the overlap by the coarse grid's error in
+//! `|α|` ([`COARSE_ALPHA_ERROR`]), since one closer may cross it on the problem's grid (drag
+//! ratio 1.5, target (0.3, 0, 0.5): seed 7 stopped on 1.7238 at 3.135, which did, and
+//! returned 1.8085956 where seed 0 found 1.6620245); it also stops when the zero loop solves the problem (`J = 0`), when
 //! [`HOPELESS_BATCHES`] batches found nothing, or when `max_starts` (the budget) have run
 //! ([`Search::satisfied`] is then false). Boender and Rinnooy Kan's Bayesian estimate of the
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
@@ -61,8 +64,8 @@ use super::grid::{self, Grid, Point};
 use super::homotopy;
 use super::progress::Progress;
 use super::settings::{
-    self, BATCH, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, PATIENCE, PULL, SHRINK, Settings,
-    UNSEEN,
+    self, BATCH, COARSE_ALPHA_ERROR, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, PATIENCE, PULL,
+    SHRINK, Settings, UNSEEN,
 };
 use super::starts::{self, StartLoop};
 use crate::problem::OVERLAP;
@@ -373,7 +376,13 @@ impl Search {
         admissible: &(dyn Fn(f64) -> bool + Sync),
     ) -> bool {
         self.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        let (unseen, confirmed) = self.rule(admissible);
+        // Without a limit, `b` clear of the overlap (see the module docs).
+        let clear = |a: f64| admissible(a + COARSE_ALPHA_ERROR);
+        let (unseen, confirmed) = if limited {
+            self.rule(admissible)
+        } else {
+            self.rule(&clear)
+        };
         self.unseen = unseen;
         self.satisfied = confirmed && unseen <= UNSEEN && self.starts >= min_starts;
         // The zero target is solved by the zero loop; nothing can be cheaper.
