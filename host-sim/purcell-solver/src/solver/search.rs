@@ -46,15 +46,15 @@
 //! inadmissible ones). By the Good–Turing estimate, the chance that the next start reaches a
 //! minimum not seen yet is about the share of starts that reached a minimum no other start
 //! reached; restricted to the minima that matter, `f₁/n` with `f₁` the number of them
-//! reached by exactly one start ([`Search::unseen`]). Without a joint limit the search stops once at least
-//! `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (below 200 starts: no such minimum; from
-//! 200: one; from 400: two) and `b` has been reached from [`CONFIRMATIONS`] starts (its basin
-//! is not a lucky hit); there `b` must be clear of the overlap by the coarse grid's error in
-//! `|α|` ([`COARSE_ALPHA_ERROR`]), since one closer may cross it on the problem's grid (drag
-//! ratio 1.5, target (0.3, 0, 0.5): seed 7 stopped on 1.7238 at 3.135, which did, and
-//! returned 1.8085956 where seed 0 found 1.6620245); it also stops when the zero loop solves the problem (`J = 0`), when
-//! [`HOPELESS_BATCHES`] batches found nothing, or when `max_starts` (the budget) have run
-//! ([`Search::satisfied`] is then false). Boender and Rinnooy Kan's Bayesian estimate of the
+//! reached by exactly one start ([`Search::unseen`]). Without a joint limit the search stops
+//! once at least `min_starts` starts have run, `f₁/n ≤` [`UNSEEN`] (below 200 starts: no such
+//! minimum; from 200: one; from 400: two) and `b` has been reached from [`CONFIRMATIONS`]
+//! starts (its basin is not a lucky hit); there `b` must be clear of the overlap by the coarse
+//! grid's error in `|α|` ([`COARSE_ALPHA_ERROR`]), since one closer may cross it on the
+//! problem's grid (drag ratio 1.5, target (0.3, 0, 0.5): seed 7 stopped on 1.7238 at 3.135,
+//! which did, and returned 1.8085956 where seed 0 found 1.6620245); it also stops when the
+//! zero loop solves the problem (`J = 0`), when [`HOPELESS_BATCHES`] batches found nothing, or
+//! when `max_starts` (the budget) have run ([`Search::satisfied`] is then false). Boender and Rinnooy Kan's Bayesian estimate of the
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
 //! ([`Search::expected_minima`]).
 
