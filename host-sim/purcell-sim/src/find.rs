@@ -88,9 +88,10 @@ pub struct Unsolved {
 
 impl Worded for Unsolved {
     /// The error, then on a line of its own what to try, by its cause: more starts (never more
-    /// than the family holds), another seed (without a joint limit), a warm start, and a looser joint limit: when the
-    /// extremals found lie past it, one that admits the nearest of them; otherwise one that
-    /// admits the gait found without a limit, and none if that problem is not solved either.
+    /// than the family holds), another seed (without a joint limit), a warm start, and a
+    /// looser joint limit: when the extremals found lie past it, one that admits the nearest
+    /// of them; otherwise one that admits the gait found without a limit, and none if that
+    /// problem is not solved either.
     fn words(&self, f: Front) -> String {
         let (e, problem, starts) = (&self.error, &self.problem, self.starts);
         let boxes = problem.alpha_max.is_none();

@@ -377,12 +377,8 @@ impl Search {
     ) -> bool {
         self.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         // Without a limit, `b` clear of the overlap (see the module docs).
-        let clear = |a: f64| admissible(a + COARSE_ALPHA_ERROR);
-        let (unseen, confirmed) = if limited {
-            self.rule(admissible)
-        } else {
-            self.rule(&clear)
-        };
+        let margin = if limited { 0.0 } else { COARSE_ALPHA_ERROR };
+        let (unseen, confirmed) = self.rule(&|a| admissible(a + margin));
         self.unseen = unseen;
         self.satisfied = confirmed && unseen <= UNSEEN && self.starts >= min_starts;
         // The zero target is solved by the zero loop; nothing can be cheaper.
