@@ -77,6 +77,8 @@ pub struct Walk {
     /// If `run` did not converge: the index in the path of the last weight that did, and its
     /// run (`None` if the first weight did not).
     pub reached: Option<(usize, Run)>,
+    /// Whether [`walk_watched`]'s watch ended the path early, at `run`'s weight.
+    pub cut: bool,
 }
 
 /// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last
@@ -92,19 +94,41 @@ pub fn walk(
     settings: &Settings,
     pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
-    walk_on(grid, alpha_max, taus, start, None, settings, pulse)
+    walk_watched(
+        grid,
+        alpha_max,
+        taus,
+        start,
+        settings,
+        pulse,
+        &mut |_, _| false,
+    )
 }
 
-/// [`walk`] from `point`, after the weights up to the index of `reached` (if any: its run),
-/// which converged.
-fn walk_on(
+/// [`walk`], showing `watch` the point each weight converged to (with the weight's index in
+/// `taus`); the path ends there ([`Walk::cut`]) once `watch` returns true.
+pub fn walk_watched(
     grid: &Grid,
     alpha_max: f64,
     taus: &[f64],
-    mut point: Point,
-    mut reached: Option<(usize, Run)>,
+    start: Point,
     settings: &Settings,
     pulse: &dyn Fn(),
+    watch: &mut dyn FnMut(usize, &Point) -> bool,
+) -> Result<Walk, Error> {
+    let path = (alpha_max, taus);
+    walk_on(grid, path, (start, None), settings, pulse, watch)
+}
+
+/// [`walk_watched`] along `(alpha_max, taus)` from `point`, after the weights up to the index
+/// of `reached` (if any: its run), which converged.
+fn walk_on(
+    grid: &Grid,
+    (alpha_max, taus): (f64, &[f64]),
+    (mut point, mut reached): (Point, Option<(usize, Run)>),
+    settings: &Settings,
+    pulse: &dyn Fn(),
+    watch: &mut dyn FnMut(usize, &Point) -> bool,
 ) -> Result<Walk, Error> {
     let first = reached.as_ref().map_or(0, |(i, _)| i + 1);
     for (i, &tau) in taus.iter().enumerate().skip(first) {
@@ -112,13 +136,27 @@ fn walk_on(
         let p = Point::new(&g, point.u.clone(), point.nu)?;
         let run = direct::newton_pulsed(&g, p, settings, pulse)?;
         if !run.converged() {
-            return Ok(Walk { run, reached });
+            let cut = false;
+            return Ok(Walk { run, reached, cut });
+        }
+        if watch(i, &run.point) {
+            let cut = true;
+            return Ok(Walk {
+                run,
+                reached: None,
+                cut,
+            });
         }
         point = run.point.clone();
         reached = Some((i, run));
     }
     let (_, run) = reached.ok_or(Error::NonFinite)?;
-    Ok(Walk { run, reached: None })
+    let cut = false;
+    Ok(Walk {
+        run,
+        reached: None,
+        cut,
+    })
 }
 
 /// `grid` with the barrier of weight `tau`.
@@ -246,18 +284,13 @@ pub fn patient_barrier_path(
         return Ok(Walk {
             run,
             reached: first.reached,
+            cut: false,
         });
     }
     let point = run.point.clone();
-    walk_on(
-        grid,
-        alpha_max,
-        taus,
-        point,
-        Some((stalled, run)),
-        &patient,
-        pulse,
-    )
+    let path = (alpha_max, taus);
+    let from = (point, Some((stalled, run)));
+    walk_on(grid, path, from, &patient, pulse, &mut |_, _| false)
 }
 
 #[cfg(test)]

@@ -41,6 +41,14 @@
 //! about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both coarse paths; what they reach is
 //! filed as candidates.
 //!
+//! **Repeats.** Most starts under a limit meet another's barrier path: at `α_max = 1.5` the
+//! 512 starts reach 86 distinct minima. After each weight a start's point is compared with
+//! the points the starts of earlier batches reached at that weight of the same path; once
+//! one is the same ([`grid::same_path`]), the walk stops there and the start is filed as
+//! the earlier start's run ([`Search::repeats`]), saving its path's later weights (a quarter
+//! of the search's Newton iterations at 1.5). The earlier batches only, so that what is a
+//! repeat does not depend on the threads.
+//!
 //! **Stopping rule.** After each batch, with `n` starts run and `b` the cheapest admissible
 //! extremal so far, the minima that matter are those no dearer than `b` (`b` and cheaper
 //! inadmissible ones). By the Good–Turing estimate, the chance that the next start reaches a
@@ -107,6 +115,9 @@ pub struct Search {
     pub unresolved: usize,
     /// The stopping rule's estimate `f₁/n` when the search stopped (see the module docs).
     pub unseen: f64,
+    /// Under a joint limit, starts whose barrier path met an earlier start's and ended there,
+    /// filed as that start's run (see the module docs).
+    pub repeats: usize,
     /// Whether the stopping rule was met (otherwise the budget ran out first, or nothing was
     /// found); under a joint limit, where the rule does not end the search, whether it was
     /// met once the budget had run.
@@ -114,6 +125,26 @@ pub struct Search {
     /// Each minimum past the overlap that was pulled inside, with the controls of the
     /// admissible minimum its pull reached (see the module docs).
     pulls: Vec<(Controls, Controls)>,
+    /// Under a joint limit, the barrier path of each start of the batches so far that was not
+    /// a repeat, and where it ended (see the module docs).
+    trails: Vec<Trail>,
+}
+
+/// A start's barrier path under a joint limit: its weights, the point each converged to, in
+/// turn, and its run at the last weight tried.
+#[derive(Clone, Debug)]
+struct Trail {
+    taus: &'static [f64],
+    points: Vec<Controls>,
+    end: Result<Run, Error>,
+}
+
+/// What a start came to: its own run (and under a joint limit its barrier path), or, under a
+/// limit, the end of an earlier start's path (its index in [`Search::trails`]) that its own
+/// path met.
+enum Outcome {
+    Ran(Box<(Result<Run, Error>, Option<Trail>)>),
+    Repeat(usize),
 }
 
 /// A coarse minimum's controls.
@@ -184,15 +215,27 @@ pub fn search(
     // The zero loop rides with the first batch of start loops.
     let (first, rest) = all.split_at((1 + BATCH).min(all.len()));
     for batch in core::iter::once(first).chain(rest.chunks(BATCH)) {
+        let known = &out.trails;
         let results: Vec<_> = batch
             .par_iter()
             .map(|&(index, start_loop)| {
-                let r = run_start(grid, limit, &settings, start_loop, pulse);
+                let r = run_start(grid, limit, &settings, start_loop, known, pulse);
                 progress.tick();
                 (index, start_loop, r)
             })
             .collect();
-        for (index, start_loop, r) in results {
+        for (index, start_loop, outcome) in results {
+            let r = match outcome {
+                Outcome::Ran(ran) => {
+                    let (r, trail) = *ran;
+                    out.trails.extend(trail);
+                    r
+                }
+                Outcome::Repeat(j) => {
+                    out.repeats += 1;
+                    out.trails[j].end.clone()
+                }
+            };
             let pull = limit.is_none().then_some(&settings);
             out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
         }
@@ -224,35 +267,50 @@ pub fn search(
 
 /// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
 /// straight path) through Newton on `grid`; with a joint limit `limit`, shrunk into it and
-/// along its barrier path ([`StartLoop::path`]).
+/// along its barrier path ([`StartLoop::path`]), a repeat once a point of it is one of the
+/// same weight on a path of `known` (see the module docs).
 fn run_start(
     grid: &Grid,
     limit: Option<f64>,
     settings: &Settings,
     start_loop: Option<StartLoop>,
+    known: &[Trail],
     pulse: &dyn Fn(),
-) -> Result<Run, Error> {
+) -> Outcome {
     // The zero loop (no start loop, a loop problem) runs without the joint limit's barrier
     // (`zero_loop`); a transition's first start is the straight path to its end shape.
     let u = match start_loop {
         Some(s) => s.controls(grid),
-        None if starts::drift(grid).is_none() => return zero_loop(grid, settings, pulse),
+        None if starts::drift(grid).is_none() => {
+            return Outcome::Ran(Box::new((zero_loop(grid, settings, pulse), None)));
+        }
         None => starts::straight(grid),
     };
-    match limit {
-        None => {
-            let p = Point::new(grid, u, Vector5::zeros())?;
-            direct::newton_pulsed(grid, p, settings, pulse)
-        }
-        Some(a) => {
-            let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-            let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
-            Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-                let path = start_loop.map_or(0, |s| s.path());
-                homotopy::walk(grid, a, settings::coarse_path(path), p, settings, pulse)
-                    .map(|w| w.run)
-            })
-        }
+    let Some(a) = limit else {
+        let r = Point::new(grid, u, Vector5::zeros())
+            .and_then(|p| direct::newton_pulsed(grid, p, settings, pulse));
+        return Outcome::Ran(Box::new((r, None)));
+    };
+    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
+    let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
+    let taus = settings::coarse_path(start_loop.map_or(0, |s| s.path()));
+    let (mut points, mut repeat) = (Vec::new(), None);
+    let mut watch = |i: usize, p: &Point| {
+        repeat = (known.iter()).position(|t| {
+            t.taus == taus
+                && t.points
+                    .get(i)
+                    .is_some_and(|q| grid::same_path(q, &p.u, grid.h()))
+        });
+        points.push(p.u.clone());
+        repeat.is_some()
+    };
+    let end = Point::new(grid, u, Vector5::zeros()).and_then(|p| {
+        homotopy::walk_watched(grid, a, taus, p, settings, pulse, &mut watch).map(|w| w.run)
+    });
+    match repeat {
+        Some(j) => Outcome::Repeat(j),
+        None => Outcome::Ran(Box::new((end.clone(), Some(Trail { taus, points, end })))),
     }
 }
 
@@ -458,4 +516,55 @@ fn cheapest_admissible<'a>(
     admissible: &(dyn Fn(f64) -> bool + Sync),
 ) -> Option<&'a Candidate> {
     candidates.iter().find(|c| admissible(c.max_abs_alpha))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::{Problem, Spec};
+    use crate::solver::{SolveOptions, coarse_grid};
+
+    /// Under a joint limit (the public problem `joint-limit-1.5`) a start whose barrier path
+    /// meets one of an earlier batch is filed as that start's run: the search files the
+    /// candidates (paths, costs, hits, first starts) that walking every start to its path's
+    /// end files.
+    #[test]
+    fn a_repeat_files_what_its_own_walk_would() {
+        let problem = Problem::new(&Spec {
+            alpha_max: Some(1.5),
+            ..Spec::default()
+        })
+        .unwrap();
+        let grid = coarse_grid(&problem, &SolveOptions::default()).unwrap();
+        let admits = |a| problem.admits(a);
+        let n = 96;
+        let found = search(&grid, n..=n, 0, problem.alpha_max, &admits, &[], &|| {});
+        assert!(found.repeats >= n / 4, "{}", found.repeats);
+        let size = starts::reference_size(&grid);
+        let family = starts::of_grid(&grid, size, 0, n, false);
+        let settings = Settings::search(PATIENCE[1], true);
+        let mut walked = Search {
+            best_residual: f64::INFINITY,
+            ..Search::default()
+        };
+        let all = core::iter::once(None).chain(family.into_iter().map(Some));
+        for (index, start_loop) in all.enumerate() {
+            let outcome = run_start(&grid, problem.alpha_max, &settings, start_loop, &[], &|| ());
+            let Outcome::Ran(ran) = outcome else {
+                panic!("start {index}: a repeat of no known path")
+            };
+            walked.absorb(&grid, (index, start_loop), ran.0, None, &admits, &|| ());
+        }
+        walked.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        assert_eq!(found.candidates.len(), walked.candidates.len());
+        for (a, b) in found.candidates.iter().zip(&walked.candidates) {
+            assert!(
+                grid::same_path(&a.u, &b.u, grid.h()),
+                "{} vs {}",
+                a.cost,
+                b.cost
+            );
+            assert_eq!((a.cost, a.hits, a.start), (b.cost, b.hits, b.start));
+        }
+    }
 }
