@@ -163,7 +163,7 @@ CHEAPER = [
     (
         r"^sweep --x -0\.3:0\.3:13 --y -0\.3:0\.3:13 ",
         ["--starts", "16", "--horizon", "10"],
-        "169 global searches of 512 starts take minutes of CPU",
+        "169 global searches of up to 1 024 starts take minutes of CPU",
     ),
 ]
 

@@ -43,7 +43,7 @@ def main():
     p.add_argument("--theta", default="0")
     p.add_argument("--horizon", type=float, default=100.0)
     p.add_argument("--step", type=float, default=0.01)
-    p.add_argument("--starts", type=int, default=512)
+    p.add_argument("--starts", type=int, default=None, help="default: the solver's budget")
     p.add_argument("--dask", type=int, default=0, help="workers of a local Dask cluster")
     p.add_argument("--out", type=Path, default=Path("atlas"))
     a = p.parse_args()

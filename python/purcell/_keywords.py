@@ -86,7 +86,7 @@ class Problem(TypedDict, total=False):
     ratio: float
     alpha_max: float | None
     cost: str
-    starts: int
+    starts: int | None
 
 
 #: Each problem keyword's default (the command line's) and check, in the native dict's
@@ -102,7 +102,7 @@ PROBLEM: dict[str, tuple[Any, Callable[[str, Any], Any]]] = {
     "ratio": (2.0, number),
     "alpha_max": (None, optional(number)),
     "cost": ("effort", one_of(_purcell.COSTS)),
-    "starts": (512, whole),
+    "starts": (None, optional(whole)),
 }
 
 

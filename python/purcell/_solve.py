@@ -56,9 +56,10 @@ def solve(
         paper's), or "power", what the fluid dissipates, ``sum h/2 u_k^T G(alpha_k) u_k``
         (MODEL.md §11). The report gives the returned gait's cost under both
         (``report["costs"]``).
-    starts : int, default 512
-        Budget of start loops of the global search, 1 to 4096 (without ``alpha_max`` it may
-        stop sooner: its stopping rule; with one the whole budget runs).
+    starts : int or None, default None
+        Budget of start loops of the global search, 1 to 4096 (None: 1024, 512 with
+        ``alpha_max``; without ``alpha_max`` it may stop sooner: its stopping rule; with one
+        the whole budget runs).
     seed : int, default 0
         Orders the starts (with ``alpha_max`` every seed runs seed 0's order, so the seed
         does not change the gait).

@@ -70,8 +70,9 @@ def sweep(
         Target theta, radians, as `xs`.
     horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max, cost
         The problem, as in `solve` (seconds, radians, metres).
-    starts : int, default 512
-        Budget of each target's global search, 1 to 4096.
+    starts : int or None, default None
+        Budget of each target's global search, 1 to 4096 (None: 1024, 512 with
+        ``alpha_max``).
     progress : callable or None, default None
         Called as ``progress(done, total, phase)`` every 0.1 s with the command line's count
         and at the end with ``(total, total, phase)``: the phases "search" (one per target),

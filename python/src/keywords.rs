@@ -21,7 +21,7 @@ pub(crate) struct ProblemKw {
     alpha_max: Option<f64>,
     /// The running cost's name (`_keywords.py` checked it is one of [`Cost::ALL`]'s).
     cost: String,
-    starts: i64,
+    starts: Option<i64>,
     /// A solve's only (a sweep orders its starts by the default seed).
     #[pyo3(default)]
     seed: u64,
@@ -46,7 +46,7 @@ impl ProblemKw {
                 alpha_max: self.alpha_max,
                 cost: self.cost()?,
             },
-            starts: starts(self.starts)?,
+            starts: self.starts.map(starts).transpose()?,
             seed: self.seed,
             checkpoint_every: self.checkpoint_every,
         })

@@ -72,7 +72,8 @@ def test_progress_counts_each_phase_to_its_total():
     assert phase == "refinement" and done == total > 0
     assert all(c[2] in ("search", "refinement") for c in calls)
     search = [c for c in calls if c[2] == "search"]
-    assert all(c[1] == 513 for c in search)
+    # The default budget without a joint limit (1 024 starts) and the zero loop.
+    assert all(c[1] == 1025 for c in search)
     assert [c[0] for c in search] == sorted(c[0] for c in search)
     assert all(0 <= c[0] <= c[1] for c in calls)
 

@@ -223,7 +223,7 @@ pub fn find(
         Box::new(Unsolved {
             error,
             problem: *problem,
-            starts: options.starts,
+            starts: options.budget(problem),
             seed: options.seed,
             free,
         })

@@ -148,8 +148,8 @@ impl From<InputError> for SpecError {
 pub struct SolveSpec {
     /// The problem, its target as given (theta not yet wrapped).
     pub problem: Spec,
-    /// Budget of start loops.
-    pub starts: usize,
+    /// Budget of start loops (`None`: the problem's default, [`SolveOptions::budget`]).
+    pub starts: Option<usize>,
     /// Order of the start loops.
     pub seed: u64,
     /// Costate checkpoint spacing in steps (`None`: [`CHECKPOINT_EVERY`]; 0: none).
@@ -197,9 +197,10 @@ pub fn prepare(spec: &SolveSpec) -> Result<Prepared, SpecError> {
     })
 }
 
-/// The bounds of a search: `1 ≤ starts ≤ MAX_STARTS`, at most `MAX_SOLVE_STEPS` steps.
-pub fn search_limits(problem: &Problem, starts: usize) -> Result<(), SpecError> {
-    if !(1..=MAX_STARTS).contains(&starts) {
+/// The bounds of a search: `1 ≤ starts ≤ MAX_STARTS` if given, at most `MAX_SOLVE_STEPS`
+/// steps.
+pub fn search_limits(problem: &Problem, starts: Option<usize>) -> Result<(), SpecError> {
+    if let Some(starts) = starts.filter(|s| !(1..=MAX_STARTS).contains(s)) {
         return Err(SpecError::Starts(starts as i128));
     }
     if problem.steps > MAX_SOLVE_STEPS {
@@ -221,9 +222,9 @@ fn checkpoint_spacing(given: Option<u32>, steps: u32) -> Result<u32, SpecError> 
     Ok(every)
 }
 
-/// The search options of a sweep of `spec` (its target unused) with `starts` starts each,
-/// the problem and the search's limits checked.
-pub fn sweep_options(spec: &Spec, starts: usize) -> Result<SolveOptions, SpecError> {
+/// The search options of a sweep of `spec` (its target unused) with `starts` starts each
+/// (`None`: the problem's default), the problem and the search's limits checked.
+pub fn sweep_options(spec: &Spec, starts: Option<usize>) -> Result<SolveOptions, SpecError> {
     search_limits(&Problem::new(spec)?, starts)?;
     Ok(SolveOptions {
         starts,

@@ -15,7 +15,7 @@ use crate::report::{Solved, search_warnings};
 use crate::spec::{self, Prepared, SolveSpec};
 use crate::words::{Front, Worded};
 use clap::Args;
-use purcell_solver::solver::{Progress as _, Solution, SolveOptions};
+use purcell_solver::solver::{Progress as _, Solution};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -24,14 +24,15 @@ use std::time::Instant;
 pub struct SearchArgs {
     /// Budget of start loops of the global search (run in batches of 32, in parallel; 1 to
     /// 4096; the family has 1 128 loops, 936 with --alpha-max, a larger budget runs them
-    /// all). With --alpha-max the whole budget runs; without, the search stops
-    /// earlier once its stopping rule is met: at least 128 starts run, an estimated chance
-    /// below 0.5 % that another start reaches a minimum not seen yet that is no dearer than
-    /// the cheapest admissible one (Good-Turing: the share of starts that alone reached such
-    /// a minimum), and that extremal reached from 3 starts. A search that spends its budget first says so on stderr and returns the
-    /// cheapest gait it found.
-    #[arg(long, default_value_t = SolveOptions::default().starts)]
-    pub starts: usize,
+    /// all). With --alpha-max the whole budget runs; without, the search stops earlier once
+    /// its stopping rule is met: at least 128 starts run, an estimated chance below 0.5 % that
+    /// another start reaches a minimum not seen yet that is no dearer than the cheapest
+    /// admissible one (Good-Turing: the share of starts that alone reached such a minimum),
+    /// and that extremal reached from 3 starts. A search that spends its budget first says so
+    /// on stderr and returns the cheapest gait it found [default: 1024, 512 with
+    /// --alpha-max].
+    #[arg(long)]
+    pub starts: Option<usize>,
     /// Orders the start loops (any value gives a diverse family; 0 is the default order).
     /// With --alpha-max every seed runs the same starts (seed 0's order), so the seed does not
     /// change the gait.

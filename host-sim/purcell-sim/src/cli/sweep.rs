@@ -8,16 +8,17 @@ use crate::spec;
 use crate::units::{self, Quantity::Angle, Quantity::Length};
 use crate::{output, plots};
 use clap::Args;
+use purcell_solver::solver::Progress as _;
 use purcell_solver::solver::continuation;
-use purcell_solver::solver::{Progress as _, SolveOptions};
 use std::time::Instant;
 
 /// `sweep`'s search flags.
 #[derive(Debug, Args)]
 pub struct SearchArgs {
-    /// Budget of start loops of each global search (see `solve --help`).
-    #[arg(long, default_value_t = SolveOptions::default().starts)]
-    pub starts: usize,
+    /// Budget of start loops of each global search (see `solve --help`) [default: 1024, 512
+    /// with --alpha-max].
+    #[arg(long)]
+    pub starts: Option<usize>,
 }
 
 /// `sweep` flags. The problem's flags are `solve`'s, with two shorter help texts.

@@ -65,7 +65,7 @@ impl Default for Rule {
             left: 0.2,
             moved: 0.001,
             options: SolveOptions {
-                starts: 128,
+                starts: Some(128),
                 min_starts: 64,
                 ..SolveOptions::default()
             },

@@ -17,7 +17,7 @@ pub struct Solve {
 
 impl Solve {
     /// The paper's problem: every default (100 s in steps of 0.01 s to `(0.1, 0.1, 0)`, a
-    /// search of at most 512 starts).
+    /// search of at most 1 024 starts).
     pub fn paper() -> Self {
         Self::default()
     }

@@ -432,3 +432,17 @@ fn no_worker_threads_is_exit_1_not_a_panic() {
     assert_exit(&o, 1, "cannot start worker threads");
     assert!(!out.exists());
 }
+
+/// `solve --help` and `sweep --help` state the solver's default budgets of `--starts`.
+#[test]
+fn the_help_states_the_default_budgets() {
+    use purcell_solver::solver::settings::{FREE_STARTS, LIMITED_STARTS};
+    let default = format!("[default: {FREE_STARTS}, {LIMITED_STARTS} with --alpha-max]");
+    for command in ["solve", "sweep"] {
+        let help = String::from_utf8_lossy(&sim(&[command, "--help"]).stdout).into_owned();
+        assert!(
+            help.contains(&default),
+            "{command} --help lacks {default}: {help}"
+        );
+    }
+}

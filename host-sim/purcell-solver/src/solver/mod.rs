@@ -123,7 +123,8 @@ fn solve_on(
     options: &SolveOptions,
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
-    progress.phase("search", options.starts + 1, "starts");
+    let budget = options.budget(problem);
+    progress.phase("search", budget + 1, "starts");
     let found = search_coarse(problem, options, progress)?;
     progress.phase("refinement", found.candidates.len(), "candidates");
     let (best, extremals, unrefined) = refinement::refine_candidates(
@@ -136,7 +137,7 @@ fn solve_on(
     Ok(Solution {
         best,
         extremals,
-        search: Some(Evidence::of(&found, options.starts, unrefined)),
+        search: Some(Evidence::of(&found, budget, unrefined)),
     })
 }
 
@@ -154,6 +155,8 @@ pub fn search_coarse(
         })
     };
     let grid = grid_of(problem)?;
+    // One budget for both searches: the problem's (the free one under a limit too).
+    let starts = options.min_starts..=options.budget(problem);
     // With a joint limit, the minima of the problem without it, carried into the limit.
     let free = match problem.alpha_max {
         None => Vec::new(),
@@ -164,7 +167,7 @@ pub fn search_coarse(
             };
             let found = search::search(
                 &grid_of(&free)?,
-                options.min_starts..=options.starts,
+                starts.clone(),
                 options.seed,
                 None,
                 &|a| free.admits(a),
@@ -176,7 +179,7 @@ pub fn search_coarse(
     };
     Ok(search::search(
         &grid,
-        options.min_starts..=options.starts,
+        starts,
         options.seed,
         problem.alpha_max,
         &|a| problem.admits(a),

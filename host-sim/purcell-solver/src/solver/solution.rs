@@ -116,7 +116,7 @@ pub struct Solution {
 pub struct Evidence {
     /// Start loops run.
     pub starts: usize,
-    /// The budget ([`super::SolveOptions::starts`]).
+    /// The budget ([`super::SolveOptions::budget`]).
     pub budget: usize,
     /// The distinct minima of the coarse problem, cheapest first.
     pub minima: Vec<Minimum>,

@@ -142,7 +142,7 @@ fn a_tight_limit_whose_coarse_grid_is_too_coarse_is_searched_on_finer_grids() {
     .unwrap();
     let options = SolveOptions {
         coarse_steps: 32,
-        starts: 128,
+        starts: Some(128),
         ..SolveOptions::default()
     };
     let found = search_coarse(&problem, &options, &|| {}).unwrap();

@@ -30,7 +30,7 @@ fn dissipated(p: &Problem, controls: &[Vector2<f64>]) -> f64 {
 /// few, and the test keeps its CPU time short).
 fn solved(p: &Problem) -> Extremal {
     let options = SolveOptions {
-        starts: 64,
+        starts: Some(64),
         min_starts: 32,
         ..SolveOptions::default()
     };

@@ -49,7 +49,7 @@ fn the_first_block_reaches_the_diagonal_basin_at_ratio_3() {
     for seed in [2, 4] {
         let options = SolveOptions {
             seed,
-            starts: 40,
+            starts: Some(40),
             min_starts: 40,
             ..SolveOptions::default()
         };

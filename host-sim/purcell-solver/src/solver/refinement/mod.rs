@@ -298,7 +298,7 @@ mod tests {
         })
         .unwrap();
         let options = SolveOptions {
-            starts: 32,
+            starts: Some(32),
             min_starts: 32,
             ..SolveOptions::default()
         };
