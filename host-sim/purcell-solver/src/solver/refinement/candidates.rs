@@ -319,7 +319,7 @@ mod tests {
         .unwrap();
         let refine = |starts| {
             let options = SolveOptions {
-                starts,
+                starts: Some(starts),
                 ..SolveOptions::default()
             };
             let found = search_coarse(&problem, &options, &|| {}).unwrap();
