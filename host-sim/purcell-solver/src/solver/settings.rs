@@ -354,10 +354,10 @@ pub const LIMITED_COARSE_COST_ERROR: f64 = 0.1;
 pub const UNRESOLVED: f64 = 0.012;
 /// With a joint limit, an unresolved coarse minimum ([`UNRESOLVED`]) that misses by more than
 /// this share is refined only if no other candidate settles an admissible extremal
-/// ([`super::refinement::refine_candidates`]). Of the 27 limited problems of MEASUREMENTS'
-/// ladder and table (2026-11-29), every coarse minimum that refined missed by at most 1.8 %,
-/// and every one that missed by more than 5 % (9.5–20 %, 42 of them, 0.3–1.1 s of Newton
-/// each) stalled on the next grid.
+/// ([`super::refinement::refine_candidates`]). On 40 limited problems (MEASUREMENTS,
+/// 2026-11-29) every coarse minimum that refined missed by at most 1.8 %, and every one that
+/// missed by more than 5 % (8.2–20 %, 44 of them, 0.3–1.2 s of Newton each) stalled on the
+/// next grid.
 pub const FAR_MISS: f64 = 0.05;
 /// When no minimum of the search refines ([`super::SolveError::NotRefined`]), the search runs
 /// again on grids twice as fine, up to this many times the options' coarse steps
