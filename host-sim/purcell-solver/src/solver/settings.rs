@@ -305,7 +305,7 @@ pub const TRUST_RADIUS: f64 = 0.3;
 /// against 0.8043649) and 1024 make seeds 0–7 agree (issue 33).
 pub const FREE_STARTS: usize = 1024;
 /// The default budget of a search under a joint limit, which runs all of it (every seed runs
-/// seed 0's order, [`super::search`]): 10–25 s a solve already.
+/// seed 0's order, [`super::search`]): 4–15 s a solve already.
 pub const LIMITED_STARTS: usize = 512;
 /// Starts per batch.
 pub const BATCH: usize = 32;
