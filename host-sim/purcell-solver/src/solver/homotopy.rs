@@ -136,26 +136,27 @@ fn walk_on(
         let p = Point::new(&g, point.u.clone(), point.nu)?;
         let run = direct::newton_pulsed(&g, p, settings, pulse)?;
         if !run.converged() {
-            let cut = false;
-            return Ok(Walk { run, reached, cut });
+            return Ok(Walk {
+                run,
+                reached,
+                cut: false,
+            });
         }
         if watch(i, &run.point) {
-            let cut = true;
             return Ok(Walk {
                 run,
                 reached: None,
-                cut,
+                cut: true,
             });
         }
         point = run.point.clone();
         reached = Some((i, run));
     }
     let (_, run) = reached.ok_or(Error::NonFinite)?;
-    let cut = false;
     Ok(Walk {
         run,
         reached: None,
-        cut,
+        cut: false,
     })
 }
 
