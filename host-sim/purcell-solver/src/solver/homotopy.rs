@@ -82,7 +82,8 @@ pub struct Walk {
 }
 
 /// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last
-/// (`pulse` before each Newton iteration), up to the last weight or the first that did not
+/// (`pulse` before each Newton iteration; each weight but the last to
+/// [`BARRIER_KAPPA`](super::settings::BARRIER_KAPPA) times itself, [`Settings::at_weight`]), up to the last weight or the first that did not
 /// converge, keeping the run at the last weight that converged when a later one stalls (as
 /// Newton can at the smallest weights, where the barrier's Hessian `τ/d²` is largest and
 /// the line search stops on rounding).
@@ -134,7 +135,8 @@ fn walk_on(
     for (i, &tau) in taus.iter().enumerate().skip(first) {
         let g = barrier_grid(grid, alpha_max, tau);
         let p = Point::new(&g, point.u.clone(), point.nu)?;
-        let run = direct::newton_pulsed(&g, p, settings, pulse)?;
+        let at = settings.at_weight(tau, i + 1 == taus.len());
+        let run = direct::newton_pulsed(&g, p, &at, pulse)?;
         if !run.converged() {
             return Ok(Walk {
                 run,
@@ -280,7 +282,8 @@ pub fn patient_barrier_path(
     let patient = Settings::barrier(PATIENCE[1]);
     let stalled = first.reached.as_ref().map_or(0, |(i, _)| i + 1);
     let g = barrier_grid(grid, alpha_max, taus[stalled]);
-    let run = direct::resume(&g, first.run, &patient, pulse)?;
+    let at = patient.at_weight(taus[stalled], stalled + 1 == taus.len());
+    let run = direct::resume(&g, first.run, &at, pulse)?;
     if !run.converged() {
         return Ok(Walk {
             run,
@@ -297,6 +300,52 @@ pub fn patient_barrier_path(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::problem::{Problem, Spec};
+    use crate::solver::settings::{BARRIER_KAPPA, TOL_DEFECT};
+    use crate::solver::stage::Rule;
+    use nalgebra::Vector5;
+
+    /// A weight of a path but the last is solved only to `κ·τ`: from a circle shrunk into
+    /// `α_max = 1.5`, the point at `τ = 1e-2` still misses the target by more than the
+    /// tolerance of the last weight, which the path's end meets.
+    #[test]
+    fn only_the_last_weight_of_a_path_is_solved_to_the_runs_tolerances() {
+        let settings = Settings::search(PATIENCE[1], true);
+        let mid = settings.at_weight(1e-2, false);
+        assert_eq!(
+            (mid.tol_defect, mid.tol_kkt),
+            (BARRIER_KAPPA * 1e-2, BARRIER_KAPPA * 1e-2)
+        );
+        assert_eq!(settings.at_weight(1e-2, true), settings);
+        let p = Problem::new(&Spec {
+            alpha_max: Some(1.5),
+            ..Spec::default()
+        })
+        .unwrap();
+        let grid = Grid::new(&p, 64, Rule::LEFT_POINT).unwrap();
+        let u: Vec<Vector2<f64>> = (0..64)
+            .map(|k| {
+                let phi = core::f64::consts::TAU * k as f64 / 64.0;
+                Vector2::new(-phi.sin(), phi.cos()) * 0.3
+            })
+            .collect();
+        let u = shrink_into(u, &Vector2::zeros(), 1.5, grid.h());
+        let start = Point::new(&grid, u, Vector5::zeros()).unwrap();
+        let mut defects = Vec::new();
+        let mut watch = |_: usize, q: &Point| {
+            defects.push(grid.terminal.defect(&q.states).amax());
+            false
+        };
+        let taus = [1e-2, 1e-6];
+        let w = walk_watched(&grid, 1.5, &taus, start, &settings, &|| (), &mut watch).unwrap();
+        assert!(w.run.converged(), "{:?}", w.run.status);
+        assert_eq!(defects.len(), 2);
+        assert!(
+            defects[0] > TOL_DEFECT && defects[0] <= BARRIER_KAPPA * 1e-2,
+            "{defects:?}"
+        );
+        assert!(defects[1] <= TOL_DEFECT, "{defects:?}");
+    }
 
     #[test]
     fn clipping_keeps_the_path_inside_and_the_loop_closed() {

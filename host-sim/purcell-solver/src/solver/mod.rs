@@ -86,7 +86,7 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
 /// `α_max = 0.95` on the paper's target with the search of main 5289f99: the four minima of
 /// the 64-step grid missed the target by 1.4–1.6 % of the displacement prolonged to the next
 /// grid and none refined, nor the five of 128 steps; on 256 steps it solved; on 32 steps no
-/// start converges, the best 3.5e-8 from the target, and 64 steps solve). A solve that
+/// start converges, the best 3.0e-4 from the target, and 64 steps solve). A solve that
 /// succeeds on the first grid is unchanged, and so is one whose refinements met the defect
 /// and stalled in stationarity (tiny targets: a finer coarse grid does not change their fine
 /// Newton).
