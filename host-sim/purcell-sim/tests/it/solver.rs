@@ -390,7 +390,8 @@ fn a_candidate_that_fails_to_refine_is_reported() {
 /// Newton (`solve --from`) from `r = 2.0` through 2.05, and from `r = 2.2` through 2.12, was
 /// 1.1049915; IPOPT found 1.0853472 from one of 4 starts, a coarse minimum at 1.0829 that the
 /// search reaches since its limited starts have 300 Newton iterations a barrier weight and
-/// run the whole budget (issue 33); the reference is IPOPT's.
+/// run the whole budget (issue 33); the reference is IPOPT's (the solver now returns 1.0827969,
+/// since each barrier weight but a path's last is solved to `10·τ`).
 /// Within 1.0 rad at `r = 2` the coarse search's only minimum stalled at the first barrier
 /// weight on the 1 024-step grid, 0.1 % below its coarse cost; from larger weights it
 /// converges.

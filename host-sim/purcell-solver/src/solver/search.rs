@@ -36,7 +36,13 @@
 //! slowly (their defect falls from about 0.5 to 0.03 of the target over 200–300 iterations
 //! before Newton's fast phase; over the whole family of `α_max = 1.2`, target (0, 0, −0.5),
 //! 14 starts converge with 100, 219 with 300, and with 100 or 200 the solve returned
-//! 3.0872855 instead of 2.8620559). After the starts, the distinct minima of the same problem
+//! 3.0872855 instead of 2.8620559). Each loop runs a second path too, its own path from the
+//! central path's far end, `τ = 0.1` ([`settings::CENTRAL_PATHS`], IPOPT's first weight):
+//! from there other basins are reached (`α_max = 1.2`, target (0, 0, −0.5): 2.7226544 from
+//! loop 469, where the own paths' cheapest is 2.8620559 and IPOPT's 2.7437297), and the
+//! union keeps every basin the own paths reach (from `τ = 0.1` alone, `α_max = 1.0` returned
+//! 2.9911419 instead of 2.9734287), at about twice the starts' cost. After the starts, the
+//! distinct minima of the same problem
 //! without the limit (its own search, `free`) are carried into it (`inward`): each scaled
 //! about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both coarse paths; what they reach is
 //! filed as candidates.
@@ -219,25 +225,40 @@ pub fn search(
         let results: Vec<_> = batch
             .par_iter()
             .map(|&(index, start_loop)| {
-                let r = run_start(grid, limit, &settings, start_loop, known, pulse);
+                let own = run_start(grid, limit, &settings, start_loop, known, pulse, Paths::Own);
+                // Under a limit a start loop runs its central path too (see the module docs).
+                let central = (limit.is_some() && start_loop.is_some()).then(|| {
+                    run_start(
+                        grid,
+                        limit,
+                        &settings,
+                        start_loop,
+                        known,
+                        pulse,
+                        Paths::Central,
+                    )
+                });
                 progress.tick();
-                (index, start_loop, r)
+                (index, start_loop, own, central)
             })
             .collect();
-        for (index, start_loop, outcome) in results {
-            let r = match outcome {
-                Outcome::Ran(ran) => {
-                    let (r, trail) = *ran;
-                    out.trails.extend(trail);
-                    r
-                }
-                Outcome::Repeat(j) => {
-                    out.repeats += 1;
-                    out.trails[j].end.clone()
-                }
-            };
-            let pull = limit.is_none().then_some(&settings);
-            out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
+        for (index, start_loop, own, central) in results {
+            out.starts += usize::from(index > 0);
+            for outcome in core::iter::once(own).chain(central) {
+                let r = match outcome {
+                    Outcome::Ran(ran) => {
+                        let (r, trail) = *ran;
+                        out.trails.extend(trail);
+                        r
+                    }
+                    Outcome::Repeat(j) => {
+                        out.repeats += 1;
+                        out.trails[j].end.clone()
+                    }
+                };
+                let pull = limit.is_none().then_some(&settings);
+                out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
+            }
         }
         if out.after_batch(min_starts, limit.is_some(), admissible) {
             break;
@@ -265,10 +286,19 @@ pub fn search(
     out
 }
 
+/// Which barrier path of its loop a start runs under a joint limit (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Paths {
+    /// [`settings::COARSE_PATHS`].
+    Own,
+    /// [`settings::CENTRAL_PATHS`].
+    Central,
+}
+
 /// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
 /// straight path) through Newton on `grid`; with a joint limit `limit`, shrunk into it and
-/// along its barrier path ([`StartLoop::path`]), a repeat once a point of it is one of the
-/// same weight on a path of `known` (see the module docs).
+/// along its barrier path of `paths` ([`StartLoop::path`]), a repeat once a point of it is
+/// one of the same weight on a path of `known` (see the module docs).
 fn run_start(
     grid: &Grid,
     limit: Option<f64>,
@@ -276,6 +306,7 @@ fn run_start(
     start_loop: Option<StartLoop>,
     known: &[Trail],
     pulse: &dyn Fn(),
+    paths: Paths,
 ) -> Outcome {
     // The zero loop (no start loop, a loop problem) runs without the joint limit's barrier
     // (`zero_loop`); a transition's first start is the straight path to its end shape.
@@ -293,7 +324,11 @@ fn run_start(
     };
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
     let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
-    let taus = settings::coarse_path(start_loop.map_or(0, |s| s.path()));
+    let i = start_loop.map_or(0, |s| s.path());
+    let taus = match paths {
+        Paths::Own => settings::coarse_path(i),
+        Paths::Central => settings::CENTRAL_PATHS[i % 2],
+    };
     let (mut points, mut repeat) = (Vec::new(), None);
     let mut watch = |i: usize, p: &Point| {
         repeat = (known.iter()).position(|t| {
@@ -341,7 +376,6 @@ impl Search {
         admissible: &(dyn Fn(f64) -> bool + Sync),
         pulse: &dyn Fn(),
     ) {
-        self.starts += usize::from(index > 0);
         let Ok(run) = r else { return };
         if !run.converged() {
             self.best_residual = self.best_residual.min(run.defect);
@@ -549,11 +583,27 @@ mod tests {
         };
         let all = core::iter::once(None).chain(family.into_iter().map(Some));
         for (index, start_loop) in all.enumerate() {
-            let outcome = run_start(&grid, problem.alpha_max, &settings, start_loop, &[], &|| ());
-            let Outcome::Ran(ran) = outcome else {
-                panic!("start {index}: a repeat of no known path")
-            };
-            walked.absorb(&grid, (index, start_loop), ran.0, None, &admits, &|| ());
+            walked.starts += usize::from(index > 0);
+            let both = [Paths::Own, Paths::Central];
+            for paths in both
+                .into_iter()
+                .take(if start_loop.is_some() { 2 } else { 1 })
+            {
+                let grid = &grid;
+                let outcome = run_start(
+                    grid,
+                    problem.alpha_max,
+                    &settings,
+                    start_loop,
+                    &[],
+                    &|| (),
+                    paths,
+                );
+                let Outcome::Ran(ran) = outcome else {
+                    panic!("start {index}: a repeat of no known path")
+                };
+                walked.absorb(grid, (index, start_loop), ran.0, None, &admits, &|| ());
+            }
         }
         walked.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         assert_eq!(found.candidates.len(), walked.candidates.len());

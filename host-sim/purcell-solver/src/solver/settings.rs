@@ -231,6 +231,13 @@ pub const BARRIER_KAPPA: f64 = 10.0;
 pub fn coarse_path(i: usize) -> &'static [f64] {
     COARSE_PATHS[i % 2]
 }
+/// [`COARSE_PATHS`] from the far end of the central path first, `τ = 1e-1` (IPOPT's first
+/// barrier weight `μ₀`), solved to [`BARRIER_KAPPA`]`·τ` = 1 like every weight but the last: a
+/// start loop's second path under a joint limit ([`super::search`]).
+pub const CENTRAL_PATHS: [&[f64]; 2] = [
+    &[1e-1, 1e-3, 1e-4, 1e-5, 1e-6],
+    &[1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6],
+];
 /// The last weight of the coarse paths: the coarse problem's barrier.
 pub const COARSE_TAU: f64 = 1e-6;
 /// Barrier weights of the fine grid before the active set is fixed.
