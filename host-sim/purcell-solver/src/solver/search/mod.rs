@@ -1,10 +1,10 @@
 //! The global search: many start loops through the direct method on a coarse grid.
 //!
-//! Each start ([`super::starts`]) runs [`direct::newton`] on a grid of `M ≪ N` steps whose
+//! Each start ([`super::starts`]) runs [`direct::newton`](super::direct::newton) on a grid of `M ≪ N` steps whose
 //! rule mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so its
 //! local minima and their costs match the fine problem's to about 1e-3 and cost a hundredth
 //! of a fine solve. Without a
-//! joint limit each start runs with a trust radius ([`settings::TRUST_RADIUS`]), so that it reaches a
+//! joint limit each start runs with a trust radius ([`settings::TRUST_RADIUS`](super::settings::TRUST_RADIUS)), so that it reaches a
 //! minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
 //! into distinct extremals (same shape path, [`grid::same_path`]). A converged point whose motion the
 //! coarse grid does not resolve ([`Grid::resolves`]) is dropped.
@@ -15,7 +15,7 @@
 //! or not by where it put that loop). It lies next to minima past the overlap, which many
 //! starts reach: each distinct one that matters to the stopping rule (no dearer than the
 //! cheapest admissible minimum so far) is pulled inside (`pull`), its shape path shrunk into
-//! [`PULL`]`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
+//! [`PULL`](super::settings::PULL)`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
 //! minima the other missed), then released to Newton with the trust radius; an admissible
 //! minimum it reaches counts as a hit, and so does every later hit of the minimum it was
 //! pulled from (those starts reach it too).
@@ -37,19 +37,20 @@
 //! before Newton's fast phase; over the whole family of `α_max = 1.2`, target (0, 0, −0.5),
 //! 14 starts converge with 100, 219 with 300, and with 100 or 200 the solve returned
 //! 3.0872855 instead of 2.8620559). Each loop runs a second path too, its own path from the
-//! central path's far end, `τ = 0.1` ([`settings::CENTRAL_PATHS`], IPOPT's first weight):
+//! central path's far end, `τ = 0.1` ([`settings::CENTRAL_PATHS`](super::settings::CENTRAL_PATHS), IPOPT's first weight):
 //! from there other basins are reached (`α_max = 1.2`, target (0, 0, −0.5): 2.7226544 from
 //! loop 469, where the own paths' cheapest is 2.8620559 and IPOPT's 2.7437297), and the
 //! union keeps every basin the own paths reach (from `τ = 0.1` alone, `α_max = 1.0` returned
 //! 2.9911419 instead of 2.9734287), at about twice the starts' cost. After the starts, the
 //! distinct minima of the same problem
 //! without the limit (its own search, `free`) are carried into it (`inward`): each scaled
-//! about `ᾱ` and clipped to [`SHRINK`]`·α_max`, along both coarse paths; what they reach is
+//! about `ᾱ` and clipped to [`SHRINK`](super::settings::SHRINK)`·α_max`, along both coarse paths; what they reach is
 //! filed as candidates.
 //!
 //! **Repeats.** Most starts under a limit meet another's barrier path: at `α_max = 1.5` the
 //! 512 starts reach 86 distinct minima. After each weight a start's point is compared with
-//! the points the starts of earlier batches reached at that weight of the same path; once
+//! the points the starts of earlier batches reached at that weight on a path with the same
+//! weights from there on (a central path meets the own paths from `τ = 1e-2` or `1e-3`); once
 //! one is the same ([`grid::same_path`]), the walk stops there and the start is filed as
 //! the earlier start's run ([`Search::repeats`]), saving its path's later weights (a quarter
 //! of the search's Newton iterations at 1.5). The earlier batches only, so that what is a
@@ -72,20 +73,20 @@
 //! number of minima, `w(n−1)/(n−w−2)` for `w` distinct minima, is reported beside it
 //! ([`Search::expected_minima`]).
 
-use super::constraints::joint_limit::Limits;
-use super::direct::{self, Run};
-use super::grid::{self, Grid, Point};
-use super::homotopy;
+mod runs;
+
+use super::direct::Run;
+use super::grid::{self, Grid};
 use super::progress::Progress;
 use super::settings::{
-    self, BATCH, COARSE_ALPHA_ERROR, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, PATIENCE, PULL,
-    SHRINK, Settings, UNSEEN,
+    BATCH, COARSE_ALPHA_ERROR, COARSE_PATHS, CONFIRMATIONS, HOPELESS_BATCHES, PATIENCE, Settings,
+    UNSEEN,
 };
 use super::starts::{self, StartLoop};
-use crate::problem::OVERLAP;
 use nalgebra::{Vector2, Vector5};
 use purcell_core::Error;
 use rayon::prelude::*;
+use runs::{Inward, Outcome, Trail};
 
 /// A distinct local minimum of the coarse problem.
 #[derive(Clone, Debug)]
@@ -136,23 +137,6 @@ pub struct Search {
     trails: Vec<Trail>,
 }
 
-/// A start's barrier path under a joint limit: its weights, the point each converged to, in
-/// turn, and its run at the last weight tried.
-#[derive(Clone, Debug)]
-struct Trail {
-    taus: &'static [f64],
-    points: Vec<Controls>,
-    end: Result<Run, Error>,
-}
-
-/// What a start came to: its own run (and under a joint limit its barrier path), or, under a
-/// limit, the end of an earlier start's path (its index in [`Search::trails`]) that its own
-/// path met.
-enum Outcome {
-    Ran(Box<(Result<Run, Error>, Option<Trail>)>),
-    Repeat(usize),
-}
-
 /// A coarse minimum's controls.
 type Controls = Vec<Vector2<f64>>;
 
@@ -186,7 +170,7 @@ impl Search {
 /// Runs at least `starts.start()` (at most `starts.end()`) start loops and the zero loop on `grid`;
 /// `admissible` decides from the largest `|α_i|` whether an extremal counts for the stopping
 /// rule; `progress` ticks once per finished start and pulses before each Newton iteration. With a joint limit `limit`, the starts
-/// are shrunk into it and run through the barrier path ([`homotopy`]): the candidates
+/// are shrunk into it and run through the barrier path ([`homotopy`](super::homotopy)): the candidates
 /// are then minima of the barrier problem at its last weight; `free`, the distinct minima of
 /// the same problem without the limit (a search of its own), are carried into it first
 /// along both coarse paths (`inward`; ignored without a limit).
@@ -221,41 +205,18 @@ pub fn search(
     // The zero loop rides with the first batch of start loops.
     let (first, rest) = all.split_at((1 + BATCH).min(all.len()));
     for batch in core::iter::once(first).chain(rest.chunks(BATCH)) {
-        let known = &out.trails;
         let results: Vec<_> = batch
             .par_iter()
             .map(|&(index, start_loop)| {
-                let own = run_start(grid, limit, &settings, start_loop, known, pulse, Paths::Own);
-                // Under a limit a start loop runs its central path too (see the module docs).
-                let central = (limit.is_some() && start_loop.is_some()).then(|| {
-                    run_start(
-                        grid,
-                        limit,
-                        &settings,
-                        start_loop,
-                        known,
-                        pulse,
-                        Paths::Central,
-                    )
-                });
+                let r = runs::run_loop(grid, limit, &settings, start_loop, &out.trails, pulse);
                 progress.tick();
-                (index, start_loop, own, central)
+                (index, start_loop, r)
             })
             .collect();
-        for (index, start_loop, own, central) in results {
+        for (index, start_loop, (own, central)) in results {
             out.starts += usize::from(index > 0);
             for outcome in core::iter::once(own).chain(central) {
-                let r = match outcome {
-                    Outcome::Ran(ran) => {
-                        let (r, trail) = *ran;
-                        out.trails.extend(trail);
-                        r
-                    }
-                    Outcome::Repeat(j) => {
-                        out.repeats += 1;
-                        out.trails[j].end.clone()
-                    }
-                };
+                let r = out.outcome(outcome);
                 let pull = limit.is_none().then_some(&settings);
                 out.absorb(grid, (index, start_loop), r, pull, admissible, pulse);
             }
@@ -267,6 +228,39 @@ pub fn search(
     // With a limit, the free minima carried into it, each both ways along both coarse
     // paths, after the starts (see the module docs).
     if let Some(a) = limit {
+        out.carry_in(grid, a, free, &settings, admissible, pulse);
+    }
+    out
+}
+
+impl Search {
+    /// The run a start's `outcome` stands for: its own (its barrier path kept among the
+    /// trails), or the end of the earlier path it repeats.
+    fn outcome(&mut self, outcome: Outcome) -> Result<Run, Error> {
+        match outcome {
+            Outcome::Ran(ran) => {
+                let (r, trail) = *ran;
+                self.trails.extend(trail);
+                r
+            }
+            Outcome::Repeat(j) => {
+                self.repeats += 1;
+                self.trails[j].end.clone()
+            }
+        }
+    }
+
+    /// Files the `free` minima carried into the limit `alpha_max`, each both ways along both
+    /// coarse paths (see the module docs).
+    fn carry_in(
+        &mut self,
+        grid: &Grid,
+        alpha_max: f64,
+        free: &[Candidate],
+        settings: &Settings,
+        admissible: &(dyn Fn(f64) -> bool + Sync),
+        pulse: &(dyn Fn() + Sync),
+    ) {
         let ways = [Inward::Shrink, Inward::Clip];
         let all: Vec<(&Candidate, Inward, &[f64])> = (free.iter())
             .flat_map(|c| {
@@ -276,97 +270,18 @@ pub fn search(
             .collect();
         let results: Vec<_> = all
             .par_iter()
-            .map(|&(c, way, taus)| inward(grid, a, c, way, taus, &settings, pulse))
+            .map(|&(c, way, taus)| runs::inward(grid, alpha_max, c, way, taus, settings, pulse))
             .collect();
         for r in results {
-            out.absorb(grid, (0, None), r, None, admissible, pulse);
+            self.absorb(grid, (0, None), r, None, admissible, pulse);
         }
-        out.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        self.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     }
-    out
-}
 
-/// Which barrier path of its loop a start runs under a joint limit (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Paths {
-    /// [`settings::COARSE_PATHS`].
-    Own,
-    /// [`settings::CENTRAL_PATHS`].
-    Central,
-}
-
-/// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
-/// straight path) through Newton on `grid`; with a joint limit `limit`, shrunk into it and
-/// along its barrier path of `paths` ([`StartLoop::path`]), a repeat once a point of it is
-/// one of the same weight on a path of `known` (see the module docs).
-fn run_start(
-    grid: &Grid,
-    limit: Option<f64>,
-    settings: &Settings,
-    start_loop: Option<StartLoop>,
-    known: &[Trail],
-    pulse: &dyn Fn(),
-    paths: Paths,
-) -> Outcome {
-    // The zero loop (no start loop, a loop problem) runs without the joint limit's barrier
-    // (`zero_loop`); a transition's first start is the straight path to its end shape.
-    let u = match start_loop {
-        Some(s) => s.controls(grid),
-        None if starts::drift(grid).is_none() => {
-            return Outcome::Ran(Box::new((zero_loop(grid, settings, pulse), None)));
-        }
-        None => starts::straight(grid),
-    };
-    let Some(a) = limit else {
-        let r = Point::new(grid, u, Vector5::zeros())
-            .and_then(|p| direct::newton_pulsed(grid, p, settings, pulse));
-        return Outcome::Ran(Box::new((r, None)));
-    };
-    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
-    let i = start_loop.map_or(0, |s| s.path());
-    let taus = match paths {
-        Paths::Own => settings::coarse_path(i),
-        Paths::Central => settings::CENTRAL_PATHS[i % 2],
-    };
-    let (mut points, mut repeat) = (Vec::new(), None);
-    let mut watch = |i: usize, p: &Point| {
-        repeat = (known.iter()).position(|t| {
-            t.taus == taus
-                && t.points
-                    .get(i)
-                    .is_some_and(|q| grid::same_path(q, &p.u, grid.h()))
-        });
-        points.push(p.u.clone());
-        repeat.is_some()
-    };
-    let end = Point::new(grid, u, Vector5::zeros()).and_then(|p| {
-        homotopy::walk_watched(grid, a, taus, p, settings, pulse, &mut watch).map(|w| w.run)
-    });
-    match repeat {
-        Some(j) => Outcome::Repeat(j),
-        None => Outcome::Ran(Box::new((end.clone(), Some(Trail { taus, points, end })))),
-    }
-}
-
-/// The zero loop through Newton on `grid` without the joint limit's barrier: its states stay
-/// at `ᾱ`, inside any limit, and when the target is the start it is the exact global minimum
-/// (`J = 0`), which the barrier's gradient at a bent `ᾱ` would push it off; for any other
-/// target its Newton step is singular and it stops at once.
-fn zero_loop(grid: &Grid, settings: &Settings, pulse: &dyn Fn()) -> Result<Run, Error> {
-    let free = Grid {
-        limits: Limits::None,
-        ..grid.clone()
-    };
-    let p = Point::new(&free, vec![Vector2::zeros(); free.steps], Vector5::zeros())?;
-    direct::newton_pulsed(&free, p, settings, pulse)
-}
-
-impl Search {
-    /// Counts start `index` (loop `start_loop`) and files its run `r` ([`Search::file`]);
+    /// Files the run `r` of start `index` (loop `start_loop`; counted by the caller) ([`Search::file`]);
     /// the defect of one that did not converge. With `pull` (the starts' settings; no joint
     /// limit), a new candidate that `admissible` refuses and that matters is pulled inside
-    /// ([`pull`]) and an admissible minimum it reaches filed as well (see the module docs).
+    /// ([`runs::pull`]) and an admissible minimum it reaches filed as well (see the module docs).
     fn absorb(
         &mut self,
         grid: &Grid,
@@ -393,7 +308,7 @@ impl Search {
             return;
         };
         for path in COARSE_PATHS {
-            let Some(inside) = self::pull(grid, &from, path, settings, pulse) else {
+            let Some(inside) = runs::pull(grid, &from, path, settings, pulse) else {
                 continue;
             };
             if admissible(grid::max_abs_alpha(&inside.point.states)) {
@@ -489,62 +404,6 @@ impl Search {
     }
 }
 
-/// How [`inward`] brings a shape path within the limit.
-#[derive(Clone, Copy, Debug)]
-enum Inward {
-    /// Scaled about `ᾱ` ([`homotopy::shrink_into`]).
-    Shrink,
-    /// Clipped to [`SHRINK`]` · α_max` ([`homotopy::clip_into`]).
-    Clip,
-}
-
-/// A minimum `c` of the problem without the joint limit carried into the limit `alpha_max`
-/// (see the module docs): its shape path shrunk into it ([`homotopy::shrink_into`]), then the
-/// barrier path `taus` by `settings`.
-fn inward(
-    grid: &Grid,
-    alpha_max: f64,
-    c: &Candidate,
-    way: Inward,
-    taus: &[f64],
-    settings: &Settings,
-    pulse: &dyn Fn(),
-) -> Result<Run, Error> {
-    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let u = match way {
-        Inward::Shrink => homotopy::shrink_into(c.u.clone(), &alpha0, alpha_max, grid.h()),
-        Inward::Clip => homotopy::clip_into(&c.u, &alpha0, SHRINK * alpha_max, grid.h()),
-    };
-    let p = Point::new(grid, u, c.nu)?;
-    homotopy::walk(grid, alpha_max, taus, p, settings, pulse).map(|w| w.run)
-}
-
-/// A coarse minimum `from` past the links' overlap pulled inside (see the module docs): its
-/// shape path shrunk into `PULL·π`, the barrier path `taus` there, then
-/// Newton without the barrier by `settings` (the starts', with the trust radius); the
-/// converged run, if any.
-fn pull(
-    grid: &Grid,
-    from: &Point,
-    taus: &[f64],
-    settings: &Settings,
-    pulse: &dyn Fn(),
-) -> Option<Run> {
-    let wall = PULL * OVERLAP;
-    let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let u = homotopy::shrink_into(from.u.clone(), &alpha0, wall, grid.h());
-    let barrier = Settings::search(settings.max_iterations, true);
-    let start = Point::new(grid, u, from.nu).ok()?;
-    let held = homotopy::walk(grid, wall, taus, start, &barrier, pulse)
-        .ok()?
-        .run;
-    if !held.converged() {
-        return None;
-    }
-    let free = direct::newton_pulsed(grid, held.point, settings, pulse).ok()?;
-    free.converged().then_some(free)
-}
-
 fn cheapest_admissible<'a>(
     candidates: &'a [Candidate],
     admissible: &(dyn Fn(f64) -> bool + Sync),
@@ -584,25 +443,13 @@ mod tests {
         let all = core::iter::once(None).chain(family.into_iter().map(Some));
         for (index, start_loop) in all.enumerate() {
             walked.starts += usize::from(index > 0);
-            let both = [Paths::Own, Paths::Central];
-            for paths in both
-                .into_iter()
-                .take(if start_loop.is_some() { 2 } else { 1 })
-            {
-                let grid = &grid;
-                let outcome = run_start(
-                    grid,
-                    problem.alpha_max,
-                    &settings,
-                    start_loop,
-                    &[],
-                    &|| (),
-                    paths,
-                );
+            let (own, central) =
+                runs::run_loop(&grid, problem.alpha_max, &settings, start_loop, &[], &|| ());
+            for outcome in core::iter::once(own).chain(central) {
                 let Outcome::Ran(ran) = outcome else {
                     panic!("start {index}: a repeat of no known path")
                 };
-                walked.absorb(grid, (index, start_loop), ran.0, None, &admits, &|| ());
+                walked.absorb(&grid, (index, start_loop), ran.0, None, &admits, &|| ());
             }
         }
         walked.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
