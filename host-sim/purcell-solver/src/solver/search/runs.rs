@@ -30,7 +30,7 @@ pub(super) enum Outcome {
     Repeat(usize),
 }
 
-/// Which barrier path of its loop a start runs under a joint limit (see the module docs).
+/// Which barrier path of its loop a start runs under a joint limit (see [`super`]'s docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Paths {
     /// [`settings::COARSE_PATHS`].
@@ -42,7 +42,7 @@ pub(super) enum Paths {
 /// The start loop `start_loop` (`None`: the zero loop, [`zero_loop`], or a transition's
 /// straight path) through Newton on `grid`; with a joint limit `limit`, shrunk into it and
 /// along its barrier path of `paths` ([`StartLoop::path`]), a repeat once a point of it is
-/// one of the same weight on a path of `known` (see the module docs).
+/// one of the same weight on a path of `known` (see [`super`]'s docs).
 pub(super) fn run_start(
     grid: &Grid,
     limit: Option<f64>,
@@ -79,9 +79,9 @@ pub(super) fn run_start(
         let rest = &taus[i..];
         repeat = (known.iter()).position(|t| {
             let j = t.taus.len().checked_sub(rest.len());
-            j.is_some_and(|j| t.taus[j..] == *rest)
-                && (t.points.get(j.unwrap_or(0)))
-                    .is_some_and(|q| grid::same_path(q, &p.u, grid.h()))
+            j.filter(|&j| t.taus[j..] == *rest)
+                .and_then(|j| t.points.get(j))
+                .is_some_and(|q| grid::same_path(q, &p.u, grid.h()))
         });
         points.push(p.u.clone());
         repeat.is_some()
@@ -133,7 +133,7 @@ pub(super) enum Inward {
 }
 
 /// A minimum `c` of the problem without the joint limit carried into the limit `alpha_max`
-/// (see the module docs): its shape path shrunk into it ([`homotopy::shrink_into`]), then the
+/// (see [`super`]'s docs): its shape path shrunk into it ([`homotopy::shrink_into`]), then the
 /// barrier path `taus` by `settings`.
 pub(super) fn inward(
     grid: &Grid,
@@ -153,7 +153,7 @@ pub(super) fn inward(
     homotopy::walk(grid, alpha_max, taus, p, settings, pulse).map(|w| w.run)
 }
 
-/// A coarse minimum `from` past the links' overlap pulled inside (see the module docs): its
+/// A coarse minimum `from` past the links' overlap pulled inside (see [`super`]'s docs): its
 /// shape path shrunk into `PULL·π`, the barrier path `taus` there, then
 /// Newton without the barrier by `settings` (the starts', with the trust radius); the
 /// converged run, if any.
