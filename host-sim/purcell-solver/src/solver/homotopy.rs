@@ -83,10 +83,10 @@ pub struct Walk {
 
 /// Newton on `grid` with the barrier at each weight of `taus` in turn, each from the last
 /// (`pulse` before each Newton iteration; each weight but the last to
-/// [`BARRIER_KAPPA`](super::settings::BARRIER_KAPPA) times itself, [`Settings::at_weight`]), up to the last weight or the first that did not
-/// converge, keeping the run at the last weight that converged when a later one stalls (as
-/// Newton can at the smallest weights, where the barrier's Hessian `τ/d²` is largest and
-/// the line search stops on rounding).
+/// [`super::settings::BARRIER_KAPPA`] times itself, [`Settings::at_weight`]), up to the last
+/// weight or the first that did not converge, keeping the run at the last weight that
+/// converged when a later one stalls (as Newton can at the smallest weights, where the
+/// barrier's Hessian `τ/d²` is largest and the line search stops on rounding).
 pub fn walk(
     grid: &Grid,
     alpha_max: f64,

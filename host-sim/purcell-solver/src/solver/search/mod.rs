@@ -1,11 +1,10 @@
 //! The global search: many start loops through the direct method on a coarse grid.
 //!
-//! Each start ([`super::starts`]) runs [`direct::newton`](super::direct::newton) on a grid of `M ≪ N` steps whose
-//! rule mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so its
-//! local minima and their costs match the fine problem's to about 1e-3 and cost a hundredth
-//! of a fine solve. Without a
-//! joint limit each start runs with a trust radius ([`settings::TRUST_RADIUS`](super::settings::TRUST_RADIUS)), so that it reaches a
-//! minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
+//! Each start ([`super::starts`]) runs [`super::direct::newton`] on a grid of `M ≪ N` steps
+//! whose rule mimics the fine problem's discretisation ([`super::stage::Rule::matching`]), so
+//! its local minima and their costs match the fine problem's to about 1e-3 and cost a
+//! hundredth of a fine solve. Without a joint limit each start runs with a trust radius
+//! ([`super::settings::TRUST_RADIUS`]), so that it reaches a minimum near its own loop. Starts run in batches (in parallel); converged points are grouped
 //! into distinct extremals (same shape path, [`grid::same_path`]). A converged point whose motion the
 //! coarse grid does not resolve ([`Grid::resolves`]) is dropped.
 //!
@@ -15,8 +14,8 @@
 //! or not by where it put that loop). It lies next to minima past the overlap, which many
 //! starts reach: each distinct one that matters to the stopping rule (no dearer than the
 //! cheapest admissible minimum so far) is pulled inside (`pull`), its shape path shrunk into
-//! [`PULL`](super::settings::PULL)`·π` and carried along both barrier paths there ([`COARSE_PATHS`]: each found
-//! minima the other missed), then released to Newton with the trust radius; an admissible
+//! [`super::settings::PULL`]`·π` and carried along both barrier paths there
+//! ([`COARSE_PATHS`]: each found minima the other missed), then released to Newton with the trust radius; an admissible
 //! minimum it reaches counts as a hit, and so does every later hit of the minimum it was
 //! pulled from (those starts reach it too).
 //!
@@ -37,15 +36,15 @@
 //! before Newton's fast phase; over the whole family of `α_max = 1.2`, target (0, 0, −0.5),
 //! 14 starts converge with 100, 219 with 300, and with 100 or 200 the solve returned
 //! 3.0872855 instead of 2.8620559). Each loop runs a second path too, its own path from the
-//! central path's far end, `τ = 0.1` ([`settings::CENTRAL_PATHS`](super::settings::CENTRAL_PATHS), IPOPT's first weight):
-//! from there other basins are reached (`α_max = 1.2`, target (0, 0, −0.5): 2.7226544 from
-//! loop 469, where the own paths' cheapest is 2.8620559 and IPOPT's 2.7437297), and the
-//! union keeps every basin the own paths reach (from `τ = 0.1` alone, `α_max = 1.0` returned
-//! 2.9911419 instead of 2.9734287), at about twice the starts' cost. After the starts, the
-//! distinct minima of the same problem
-//! without the limit (its own search, `free`) are carried into it (`inward`): each scaled
-//! about `ᾱ` and clipped to [`SHRINK`](super::settings::SHRINK)`·α_max`, along both coarse paths; what they reach is
-//! filed as candidates.
+//! central path's far end, `τ = 0.1` ([`super::settings::CENTRAL_PATHS`], IPOPT's first
+//! weight): from there other basins are reached (`α_max = 1.2`, target (0, 0, −0.5):
+//! 2.7226544 from loop 469, where the own paths' cheapest is 2.8620559 and IPOPT's
+//! 2.7437297), and the union keeps every basin the own paths reach (from `τ = 0.1` alone,
+//! `α_max = 1.0` returned 2.9911419 instead of 2.9734287), at about twice the starts' cost.
+//! After the starts, the distinct minima of the same problem without the limit (its own
+//! search, `free`) are carried into it (`inward`): each scaled about `ᾱ` and clipped to
+//! [`super::settings::SHRINK`]`·α_max`, along both coarse paths; what they reach is filed as
+//! candidates.
 //!
 //! **Repeats.** Most starts under a limit meet another's barrier path: at `α_max = 1.5` the
 //! 512 starts reach 86 distinct minima. After each weight a start's point is compared with
@@ -278,8 +277,8 @@ impl Search {
         self.candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     }
 
-    /// Files the run `r` of start `index` (loop `start_loop`; counted by the caller) ([`Search::file`]);
-    /// the defect of one that did not converge. With `pull` (the starts' settings; no joint
+    /// Files the run `r` of start `index` (loop `start_loop`; the caller counts the starts)
+    /// ([`Search::file`]); the defect of one that did not converge. With `pull` (the starts' settings; no joint
     /// limit), a new candidate that `admissible` refuses and that matters is pulled inside
     /// ([`runs::pull`]) and an admissible minimum it reaches filed as well (see the module docs).
     fn absorb(

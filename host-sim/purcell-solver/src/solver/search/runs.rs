@@ -23,8 +23,8 @@ pub(super) struct Trail {
 }
 
 /// What a start came to: its own run (and under a joint limit its barrier path), or, under a
-/// limit, the end of an earlier start's path (its index in [`Search::trails`](super::Search::trails)) that its own
-/// path met.
+/// limit, the end of an earlier start's path (its index in
+/// [`Search::trails`](super::Search::trails)) that its own path met.
 pub(super) enum Outcome {
     Ran(Box<(Result<Run, Error>, Option<Trail>)>),
     Repeat(usize),
