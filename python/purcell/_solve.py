@@ -57,9 +57,9 @@ def solve(
         (MODEL.md §11). The report gives the returned gait's cost under both
         (``report["costs"]``).
     starts : int or None, default None
-        Budget of start loops of the global search, 1 to 4096 (None: 1024, 512 with
-        ``alpha_max``; without ``alpha_max`` it may stop sooner: its stopping rule; with one
-        the whole budget runs).
+        Budget of start loops of the global search, 1 to 4096 (None: 1024, 160 with
+        ``alpha_max``, the 96 rim loops riding the limit first; without ``alpha_max`` it may
+        stop sooner: its stopping rule; with one the whole budget runs).
     seed : int, default 0
         Orders the starts (with ``alpha_max`` every seed runs seed 0's order, so the seed
         does not change the gait).

@@ -71,7 +71,7 @@ def sweep(
     horizon, step, alpha0, alpha_end, links, drag, ratio, alpha_max, cost
         The problem, as in `solve` (seconds, radians, metres).
     starts : int or None, default None
-        Budget of each target's global search, 1 to 4096 (None: 1024, 512 with
+        Budget of each target's global search, 1 to 4096 (None: 1024, 160 with
         ``alpha_max``).
     progress : callable or None, default None
         Called as ``progress(done, total, phase)`` every 0.1 s with the command line's count

@@ -15,7 +15,7 @@ use std::time::Instant;
 /// `sweep`'s search flags.
 #[derive(Debug, Args)]
 pub struct SearchArgs {
-    /// Budget of start loops of each global search (see `solve --help`) [default: 1024, 512
+    /// Budget of start loops of each global search (see `solve --help`) [default: 1024, 160
     /// with --alpha-max].
     #[arg(long)]
     pub starts: Option<usize>,

@@ -247,7 +247,7 @@ pub const FINE_TAUS: [f64; 4] = [1e-6, 1e-7, 1e-8, 1e-9];
 pub const RESCUE_TAUS: [f64; 2] = [1e-4, 1e-5];
 /// Newton iterations per barrier weight; the second for a path that ran out of the first (as
 /// one pinned to a tight limit can). In the search, the first for a start without a joint
-/// limit, the second for every start under one ([`super::search`]: on the coarse grid of
+/// limit and for a rim loop, the second for every other start under one ([`super::search`]: on the coarse grid of
 /// `α_max = 1.2`, target (0, 0, −0.5), the starts that converge take up to 299 iterations at
 /// their first weight; 14 of 936 converge within 100, 136 within 200, 219 within 300).
 pub const PATIENCE: [usize; 2] = [100, 300];
@@ -330,8 +330,16 @@ pub const TRUST_RADIUS: f64 = 0.3;
 /// against 0.8043649) and 1024 make seeds 0–7 agree (issue 33).
 pub const FREE_STARTS: usize = 1024;
 /// The default budget of a search under a joint limit, which runs all of it (every seed runs
-/// seed 0's order, [`super::search`]): 4–15 s a solve already.
-pub const LIMITED_STARTS: usize = 512;
+/// seed 0's order, [`super::search`]): the 96 rim loops of a loop problem
+/// ([`super::starts::rims`]) and 64 of the family. On 33 limited problems (`α_max` 0.9–3.1
+/// on the paper's target, turning, lateral and short targets, a bent start, drag ratio 2.1)
+/// every cost is that of the 512 loops of the family without rims, at 0.48 of the CPU time
+/// (issue 33, fourteenth session).
+pub const LIMITED_STARTS: usize = 160;
+/// Most turns of the rim loops under a joint limit ([`super::starts::rims`]): the paper's
+/// target at `α_max = 0.9` (16 arcs) is reached only from rims of 6 turns; `0.95`, `1.0`
+/// and `1.05` from 4–6.
+pub const RIM_TURNS: u32 = 6;
 /// Starts per batch.
 pub const BATCH: usize = 32;
 /// How many starts must reach the cheapest admissible extremal before the search stops.

@@ -304,13 +304,14 @@ mod tests {
     use super::*;
     use crate::problem::Spec;
     use crate::solver::search_coarse;
+    use crate::solver::settings::LIMITED_STARTS;
 
     /// The paper's target within 0.95 rad: the coarse minima whose path misses the target by
-    /// more than [`FAR_MISS`] on the next grid come last. After a search of 64 starts no
-    /// other candidate settles a gait and every one of them is carried (and stalls; after 128,
-    /// each start along two barrier paths, one settles 3.6528312); after the default search
-    /// one does (3.5985213, as before) and they are reported unrefined with that miss as their
-    /// defect, not carried. About 25 s.
+    /// more than [`FAR_MISS`] on the next grid come last. After a search of 16 starts (the
+    /// one-turn rim loops) no other candidate settles a gait and every one of them is carried
+    /// (and stalls); after the default search one does (3.5985213, as before) and those
+    /// within the margin of its cost are reported unrefined with that miss as their defect,
+    /// not carried. About 10 s.
     #[test]
     fn far_misses_come_last_and_are_carried_only_when_nothing_settles() {
         let problem = Problem::new(&Spec {
@@ -327,14 +328,14 @@ mod tests {
             let refined = refine_candidates(&problem, &found.candidates, &options, 0.0, &|| {});
             (found.candidates, refined)
         };
-        let (few, refined) = refine(64);
+        let (few, refined) = refine(16);
         let far = passes(&problem, &few)[3].len();
-        assert!(far >= 5, "{far}");
+        assert!(far >= 3, "{far}");
         let Err(SolveError::NotRefined { found, .. }) = refined else {
             panic!("{refined:?}")
         };
         assert!(found >= far, "{found} of {far}");
-        let (all, refined) = refine(512);
+        let (all, refined) = refine(LIMITED_STARTS);
         let [_, deferred, _, far] = passes(&problem, &all);
         assert!(far.iter().all(|(_, m)| *m > FAR_MISS));
         assert!(
@@ -345,7 +346,11 @@ mod tests {
         let (best, extremals, unrefined) = refined.unwrap();
         let cost = extremals[best].cost;
         assert!((cost - 3.5985213).abs() <= 1e-7, "{cost}");
-        for (c, m) in far {
+        // Those within the refinement's margin of the settled cost are reported.
+        let reported =
+            (far.iter()).filter(|(c, _)| c.cost <= cost * (1.0 + LIMITED_COARSE_COST_ERROR));
+        assert!(reported.clone().count() >= 3, "{}", reported.count());
+        for &(c, m) in reported {
             let u = (unrefined.iter())
                 .find(|u| u.minimum.cost == c.cost && u.minimum.hits == c.hits)
                 .unwrap_or_else(|| panic!("{} not reported", c.cost));

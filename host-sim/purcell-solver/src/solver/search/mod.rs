@@ -25,13 +25,17 @@
 //! loop runs its own barrier path ([`StartLoop::path`]), so the pairs are the same for every
 //! seed, and what a start reaches does not depend on its place. The search is made
 //! seed-independent by construction: every seed runs the loops in one order (seed 0's), and
-//! the search runs its whole budget (with the default budget, the first 512 loops of that
-//! order; `--starts 936` runs the whole family) — neither the stopping rule nor the hopeless
+//! the search runs its whole budget (with the default budget, for a loop problem, the 96 rim
+//! loops and the first 64 loops of the family, [`super::settings::LIMITED_STARTS`]; `--starts
+//! 1032` runs them all) — neither the stopping rule nor the hopeless
 //! rule ends it, since either let seeds stop at different minima (issue 33: at `α_max = 1.2`,
 //! target (0, 0, −0.5), the cheapest gait 2.8620559 comes from start 357; seed 7 gave up after
 //! 96 starts without a candidate; at `α_max = 1.0`, seed 4 found 2.9734287, the others
-//! 3.1658241). Only the zero gait (`J = 0`) ends it early. Each start has the second of
-//! [`PATIENCE`] (300) Newton iterations per barrier weight: the starts under a limit converge
+//! 3.1658241). Only the zero gait (`J = 0`) ends it early. Each start but the rim loops has
+//! the second of [`PATIENCE`] (300) Newton iterations per barrier weight (a rim loop the
+//! first, 100: with 300 the rims of 4–6 turns took 16 of the 24 CPU-s of `α_max = 1.1`,
+//! target (0, 0, 0.3), for the same answers on nine limited problems; with 50, 0.9 and
+//! 1.2 / (0, 0, −0.5) came out dearer): the starts under a limit converge
 //! slowly (their defect falls from about 0.5 to 0.03 of the target over 200–300 iterations
 //! before Newton's fast phase; over the whole family of `α_max = 1.2`, target (0, 0, −0.5),
 //! 14 starts converge with 100, 219 with 300, and with 100 or 200 the solve returned
@@ -139,6 +143,18 @@ pub struct Search {
 /// A coarse minimum's controls.
 type Controls = Vec<Vector2<f64>>;
 
+/// The Newton settings of start `start_loop` (`None`: the zero loop) under the joint limit
+/// `limit`: [`PATIENCE`]'s first number of iterations (per barrier weight under a limit)
+/// without a limit and for a rim loop, its second for the other starts under a limit (see
+/// the module docs).
+fn start_settings(limit: Option<f64>, start_loop: Option<StartLoop>) -> Settings {
+    let rim = start_loop.is_some_and(|s| s.is_rim());
+    Settings::search(
+        PATIENCE[usize::from(limit.is_some() && !rim)],
+        limit.is_some(),
+    )
+}
+
 impl Search {
     /// Boender and Rinnooy Kan's posterior estimate of the number of distinct minima,
     /// `w(n−1)/(n−w−2)` (`∞` while `n ≤ w + 2`).
@@ -187,16 +203,14 @@ pub fn search(
     let size = starts::reference_size(grid);
     // Under a joint limit, one order for every seed (see the module docs).
     let order = if limit.is_some() { 0 } else { seed };
-    let family = starts::of_grid(grid, size, order, max_starts, limit.is_none());
+    let family = starts::of_grid(grid, size, order, max_starts, limit);
     // The zero loop first: the solution when the target is the start (J = 0); for any other
     // target its Newton step is singular and it stops at once. For a transition, the straight
     // shape path in its place ([`starts::straight`]).
     let all: Vec<(usize, Option<StartLoop>)> = core::iter::once((0, None))
         .chain(family.iter().enumerate().map(|(i, s)| (i + 1, Some(*s))))
         .collect();
-    // Newton iterations per start (per barrier weight with a limit, [`PATIENCE`]).
-    let patience = PATIENCE[usize::from(limit.is_some())];
-    let settings = Settings::search(patience, limit.is_some());
+    let settings = start_settings(limit, None);
     let mut out = Search {
         best_residual: f64::INFINITY,
         ..Search::default()
@@ -207,6 +221,7 @@ pub fn search(
         let results: Vec<_> = batch
             .par_iter()
             .map(|&(index, start_loop)| {
+                let settings = start_settings(limit, start_loop);
                 let r = runs::run_loop(grid, limit, &settings, start_loop, &out.trails, pulse);
                 progress.tick();
                 (index, start_loop, r)
@@ -433,8 +448,7 @@ mod tests {
         let found = search(&grid, n..=n, 0, problem.alpha_max, &admits, &[], &|| {});
         assert!(found.repeats >= n / 4, "{}", found.repeats);
         let size = starts::reference_size(&grid);
-        let family = starts::of_grid(&grid, size, 0, n, false);
-        let settings = Settings::search(PATIENCE[1], true);
+        let family = starts::of_grid(&grid, size, 0, n, problem.alpha_max);
         let mut walked = Search {
             best_residual: f64::INFINITY,
             ..Search::default()
@@ -442,6 +456,7 @@ mod tests {
         let all = core::iter::once(None).chain(family.into_iter().map(Some));
         for (index, start_loop) in all.enumerate() {
             walked.starts += usize::from(index > 0);
+            let settings = start_settings(problem.alpha_max, start_loop);
             let (own, central) =
                 runs::run_loop(&grid, problem.alpha_max, &settings, start_loop, &[], &|| ());
             for outcome in core::iter::once(own).chain(central) {

@@ -66,8 +66,13 @@ pub(super) fn run_start(
             .and_then(|p| direct::newton_pulsed(grid, p, settings, pulse));
         return Outcome::Ran(Box::new((r, None)));
     };
+    // A rim loop is within the limit as it is built ([`starts::rims`]).
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let u = homotopy::shrink_into(u, &alpha0, a, grid.h());
+    let u = if start_loop.is_some_and(|s| s.is_rim()) {
+        u
+    } else {
+        homotopy::shrink_into(u, &alpha0, a, grid.h())
+    };
     let i = start_loop.map_or(0, |s| s.path());
     let taus = match paths {
         Paths::Own => settings::coarse_path(i),
