@@ -112,11 +112,15 @@ pub struct StartLoop {
 impl StartLoop {
     /// `α(τ) − ᾱ` at `τ = t/T ∈ [0, 1]`.
     pub fn offset(&self, tau: f64) -> Vector2<f64> {
+        let two_pi_n = 2.0 * core::f64::consts::PI * f64::from(self.turns);
+        if let Shape::Rim { centre } = self.shape {
+            return self.rim_offset(Vector2::from(centre), tau, two_pi_n);
+        }
         let (s, c) = self.psi.sin_cos();
         let rot = |p: f64, q: f64| Vector2::new(c * p - s * q, s * p + c * q);
-        let two_pi_n = 2.0 * core::f64::consts::PI * f64::from(self.turns);
         let e = |phi: f64| {
             let (p, q) = match self.shape {
+                // A rim loop returned above.
                 Shape::Ellipse | Shape::Lollipop { .. } | Shape::Rim { .. } => {
                     (phi.cos(), self.aspect * phi.sin())
                 }
@@ -124,9 +128,6 @@ impl StartLoop {
             };
             rot(p, q) * self.size
         };
-        if let Shape::Rim { centre } = self.shape {
-            return self.rim_offset(Vector2::from(centre), tau, two_pi_n);
-        }
         if let Shape::Lollipop { reach } = self.shape {
             // Stalk along ψ to the circle's nearest point, then around it (centre one radius
             // further), then back; the times are in proportion to the lengths.
@@ -199,8 +200,7 @@ impl StartLoop {
 /// docs), between 0.01 and 1.6 rad. Distances weigh a turn of the body by the middle link's
 /// length.
 pub fn reference_size(grid: &Grid) -> f64 {
-    let size_of = |s: &StageState, t: &StageState| moved(grid, s, t);
-    let want = size_of(&grid.terminal.target, &grid.start);
+    let want = moved(grid, &grid.terminal.target, &grid.start);
     let mut best = (f64::INFINITY, 0.5);
     let mut s = 0.01;
     while s <= 1.6 {
@@ -215,7 +215,7 @@ pub fn reference_size(grid: &Grid) -> f64 {
         if let Ok(states) = grid.rollout(&circle.controls(grid))
             && let Some(end) = states.last()
         {
-            let got = size_of(end, &grid.start);
+            let got = moved(grid, end, &grid.start);
             // Floored so that the logarithm stays finite for a zero target.
             let miss = (got.max(TINY) / want.max(TINY)).ln().abs();
             if miss < best.0 {
