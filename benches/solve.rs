@@ -22,7 +22,7 @@ fn bench(c: &mut Criterion) {
     let run_search = || {
         search::search(
             &coarse,
-            options.min_starts..=options.budget(&p),
+            options.starts(&p),
             options.seed,
             None,
             &admissible,

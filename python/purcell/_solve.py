@@ -58,8 +58,8 @@ def solve(
         (``report["costs"]``).
     starts : int or None, default None
         Budget of start loops of the global search, 1 to 4096 (None: 1024, 160 with
-        ``alpha_max``, the 96 rim loops riding the limit first; without ``alpha_max`` it may
-        stop sooner: its stopping rule; with one the whole budget runs).
+        ``alpha_max``, the 96 rim loops riding the limit first); the search may stop sooner,
+        by its stopping rule (after at least 128 starts, 64 with ``alpha_max``).
     seed : int, default 0
         Orders the starts (with ``alpha_max`` every seed runs seed 0's order, so the seed
         does not change the gait).

@@ -12,7 +12,7 @@ import purcell
 SMALL = {"horizon": 10.0, "step": 0.05}
 CASES = [
     (("-0.1:0.1:3", "0:0.2:3", "0"), SMALL, []),
-    # Under a joint limit each search runs its whole budget: 128 starts, not 160.
+    # Under a joint limit a budget of 128 starts (not 160) keeps the searches short.
     (
         ("0.05:0.15:2", "0.05", "0:0.2:2"),
         dict(SMALL, alpha_max=1.5, starts=128),

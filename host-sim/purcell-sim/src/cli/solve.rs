@@ -24,10 +24,10 @@ use std::time::Instant;
 pub struct SearchArgs {
     /// Budget of start loops of the global search (run in batches of 32, in parallel; 1 to
     /// 4096; the family has 1 128 loops, 936 with --alpha-max and 96 rim loops riding the
-    /// limit first, a larger budget runs them all). With --alpha-max the whole budget runs,
-    /// each loop along two barrier paths;
-    /// without, the search stops earlier once its stopping rule is met: at least 128 starts
-    /// run, an estimated chance below 0.5 % that another start reaches a minimum not seen yet
+    /// limit first, a larger budget runs them all; with --alpha-max each loop runs along two
+    /// barrier paths, in one order for every seed). The search stops earlier once its
+    /// stopping rule is met: at least 128 starts run (64 with --alpha-max), an estimated
+    /// chance below 0.5 % that another start reaches a minimum not seen yet
     /// that is no dearer than the cheapest admissible one (Good-Turing: the share of starts
     /// that alone reached such a minimum), and that extremal reached from 3 starts. A search that spends its budget first says so
     /// on stderr and returns the cheapest gait it found [default: 1024, 160 with

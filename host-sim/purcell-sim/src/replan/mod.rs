@@ -66,7 +66,7 @@ impl Default for Rule {
             moved: 0.001,
             options: SolveOptions {
                 starts: Some(128),
-                min_starts: 64,
+                min_starts: Some(64),
                 ..SolveOptions::default()
             },
         }

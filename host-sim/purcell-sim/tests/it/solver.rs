@@ -46,7 +46,7 @@ fn public_solves() -> &'static [PublicSolves] {
         let runs: Vec<(usize, u64)> = (problems.iter().enumerate())
             .flat_map(|(i, (sp, _))| {
                 // Under a joint limit every seed runs seed 0's starts (purcell-solver's
-                // `limited::every_seed_runs_one_order_and_its_whole_budget`): one solve.
+                // `limited::every_seed_runs_one_order`): one solve.
                 let seeds = if sp.expect.is_some() || sp.spec.alpha_max.is_some() {
                     0..1
                 } else {
@@ -215,7 +215,7 @@ fn every_seed_reaches_the_same_cost() {
 /// candidates of the search: on the paper's target within 2.2 rad the solve returns the gait
 /// on two arcs, J = 0.8021628, certified (before, three seeds of four returned the interior
 /// extremal 0.8183904). One seed (3): under a joint limit every seed runs seed 0's starts
-/// (purcell-solver's `limited::every_seed_runs_one_order_and_its_whole_budget`).
+/// (purcell-solver's `limited::every_seed_runs_one_order`).
 #[test]
 fn the_free_minima_carried_into_the_limit_reach_the_gait_on_two_arcs() {
     let p = Problem::new(&Spec {

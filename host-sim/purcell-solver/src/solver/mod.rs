@@ -158,7 +158,7 @@ pub fn search_coarse(
     // Each search its own budget: under a limit the free one has the budget of the problem
     // without the limit (its stopping rule usually ends it first; with the limited budget of
     // 160 seed 3 of `--alpha-max 2.2` carried in too few of its minima to reach 0.8021628).
-    let starts = options.min_starts..=options.budget(problem);
+    let starts = options.starts(problem);
     // With a joint limit, the minima of the problem without it, carried into the limit.
     let free = match problem.alpha_max {
         None => Vec::new(),
@@ -169,7 +169,7 @@ pub fn search_coarse(
             };
             let found = search::search(
                 &grid_of(&free)?,
-                options.min_starts..=options.budget(&free),
+                options.starts(&free),
                 options.seed,
                 None,
                 &|a| free.admits(a),

@@ -27,8 +27,9 @@ pub struct SolveOptions {
     /// earlier once its stopping rule is met, [`super::search`]); `None`: the problem's default
     /// ([`SolveOptions::budget`]).
     pub starts: Option<usize>,
-    /// Fewest start loops of the global search (unless `starts` is smaller).
-    pub min_starts: usize,
+    /// Fewest start loops of the global search before its stopping rule may end it (unless
+    /// `starts` is smaller); `None`: the problem's default ([`SolveOptions::starts`]).
+    pub min_starts: Option<usize>,
     /// Orders the start loops.
     pub seed: u64,
     /// Steps of the coarse grid of the global search.
@@ -41,7 +42,7 @@ impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
             starts: None,
-            min_starts: 128,
+            min_starts: None,
             seed: 0,
             coarse_steps: 64,
             refine: 6,
@@ -57,6 +58,17 @@ impl SolveOptions {
             None => FREE_STARTS,
             Some(_) => LIMITED_STARTS,
         })
+    }
+
+    /// The search's fewest to most starts for `problem`: `min_starts` if given, else
+    /// [`FREE_MIN_STARTS`] without a joint limit and [`LIMITED_MIN_STARTS`] with one, to
+    /// [`SolveOptions::budget`].
+    pub fn starts(&self, problem: &Problem) -> core::ops::RangeInclusive<usize> {
+        let fewest = self.min_starts.unwrap_or(match problem.alpha_max {
+            None => FREE_MIN_STARTS,
+            Some(_) => LIMITED_MIN_STARTS,
+        });
+        fewest..=self.budget(problem)
     }
 }
 
@@ -329,13 +341,20 @@ pub const TRUST_RADIUS: f64 = 0.3;
 /// not, 512 left seed 6 of `--ratio 2.5 --target 0,-0.15,0.2` at a dearer minimum (0.8175969
 /// against 0.8043649) and 1024 make seeds 0–7 agree (issue 33).
 pub const FREE_STARTS: usize = 1024;
-/// The default budget of a search under a joint limit, which runs all of it (every seed runs
-/// seed 0's order, [`super::search`]): the 96 rim loops of a loop problem
-/// ([`super::starts::rims`]) and 64 of the family. On 33 limited problems (`α_max` 0.9–3.1
-/// on the paper's target, turning, lateral and short targets, a bent start, drag ratio 2.1)
-/// every cost is that of the 512 loops of the family without rims, at 0.48 of the CPU time
-/// (issue 33, fourteenth session).
+/// The default budget of a search under a joint limit (every seed runs seed 0's order,
+/// [`super::search`]): the 96 rim loops of a loop problem ([`super::starts::rims`]) and 64 of
+/// the family. On 33 limited problems (`α_max` 0.9–3.1 on the paper's target, turning,
+/// lateral and short targets, a bent start, drag ratio 2.1) every cost is that of the 512
+/// loops of the family without rims, at 0.48 of the CPU time (issue 33, fourteenth session).
 pub const LIMITED_STARTS: usize = 160;
+/// The fewest starts of a search without a joint limit before its stopping rule may end it
+/// ([`SolveOptions::starts`]).
+pub const FREE_MIN_STARTS: usize = 128;
+/// The fewest starts of a search under a joint limit before its stopping rule may end it
+/// ([`SolveOptions::starts`]): the rim loops of 1–4 turns. On 41 limited problems every cost
+/// is that of the whole budget's (so with 32), and where the rule is met (the looser limits)
+/// the solve takes 0.6–0.7 of the time (issue 33, fifteenth session).
+pub const LIMITED_MIN_STARTS: usize = 64;
 /// Most turns of the rim loops under a joint limit ([`super::starts::rims`]): the paper's
 /// target at `α_max = 0.9` (16 arcs) is reached only from rims of 6 turns; `0.95`, `1.0`
 /// and `1.05` from 4–6.
@@ -348,7 +367,8 @@ pub const CONFIRMATIONS: usize = 3;
 /// dearer than the cheapest admissible one, for the search to stop.
 pub const UNSEEN: f64 = 0.005;
 /// Batches without any extremal after which a search without a joint limit gives up (one
-/// under a limit runs its whole budget, [`super::search`]).
+/// under a limit then runs its whole budget: the family's loops come after the 96 rims,
+/// [`super::search`]).
 pub const HOPELESS_BATCHES: usize = 3;
 /// Two control sequences run the same shape path when their shapes agree to this (radians)
 /// at every node.

@@ -31,7 +31,7 @@ fn dissipated(p: &Problem, controls: &[Vector2<f64>]) -> f64 {
 fn solved(p: &Problem) -> Extremal {
     let options = SolveOptions {
         starts: Some(64),
-        min_starts: 32,
+        min_starts: Some(32),
         ..SolveOptions::default()
     };
     let s = solve(p, &options, &|| {}).expect("the problem solves");

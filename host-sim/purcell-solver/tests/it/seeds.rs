@@ -50,7 +50,7 @@ fn the_first_block_reaches_the_diagonal_basin_at_ratio_3() {
         let options = SolveOptions {
             seed,
             starts: Some(40),
-            min_starts: 40,
+            min_starts: Some(40),
             ..SolveOptions::default()
         };
         let found = search_coarse(&problem, &options, &|| {}).unwrap();

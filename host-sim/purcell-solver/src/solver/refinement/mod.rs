@@ -299,7 +299,7 @@ mod tests {
         .unwrap();
         let options = SolveOptions {
             starts: Some(32),
-            min_starts: 32,
+            min_starts: Some(32),
             ..SolveOptions::default()
         };
         let found = search_coarse(&problem, &options, &|| ()).unwrap();
