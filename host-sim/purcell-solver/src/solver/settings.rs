@@ -386,10 +386,12 @@ pub const OVERLAP_MARGIN: f64 = 0.1;
 
 // The refinement ([`super::refine_candidates`]).
 
-/// Relative margin by which an extremal on the intermediate grid of a refinement must cost
-/// more than the settled cheapest one to be dropped there: that grid's cost is within 3.2e-5
-/// of the problem's own (measured over 60 extremals of 14 problems, with and without joint
-/// limits; the coarse grid's is within 8e-3, hence [`COARSE_COST_ERROR`]).
+/// Relative margin by which an extremal on an intermediate grid of a refinement must cost
+/// more than the settled cheapest one on the same grid to be dropped there: the 1 024-step
+/// grid's cost is within 3.2e-5 of the problem's own (measured over 60 extremals of 14
+/// problems, with and without joint limits; the coarse grid's is within 8e-3, hence
+/// [`COARSE_COST_ERROR`]); the 256-step grid's of a joint limit's 3e-3 (the same extremal at
+/// `α_max = 1.1`, target (0, 0, 0.3)), hence the settled one's own cost there.
 pub const PRUNE: f64 = 1e-3;
 /// Relative margin for the coarse grid's error in `J`: an admissible candidate dearer than
 /// the settled cheapest by more is not refined.
@@ -412,6 +414,9 @@ pub const UNRESOLVED: f64 = 0.012;
 /// missed by more than 5 % (8.2–20 %, 44 of them, 0.3–1.2 s of Newton each) stalled on the
 /// next grid.
 pub const FAR_MISS: f64 = 0.05;
+/// Under a joint limit the refinement's grids are at most 4 times finer each up to this many
+/// steps (64, 256, 1 024), then at most 16 times (to the problem's), [`super::refinement`].
+pub const GRADUAL_STEPS: usize = 1024;
 /// When no minimum of the search refines ([`super::SolveError::NotRefined`]), the search runs
 /// again on grids twice as fine, up to this many times the options' coarse steps
 /// ([`super::solve`]): 64, 128, 256 by default.

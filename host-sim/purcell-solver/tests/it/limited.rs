@@ -36,7 +36,8 @@ fn the_zero_target_from_a_bent_start_is_the_zero_gait() {
 /// 1 s of Newton each, most of the solve). All dearer on the coarse grid than the resolved
 /// minimum that settles the cheapest gait, they are skipped and reported as unrefined; the
 /// gait is the public problem's, and the cheapest skipped minimum, refined all the same,
-/// stalls.
+/// reaches a dearer gait (1.2311147, through the 256-step grid; through grids 16 times finer
+/// it stalled).
 #[test]
 fn unresolved_coarse_minima_are_skipped_not_lost() {
     let problem = Problem::new(&Spec {
@@ -62,11 +63,15 @@ fn unresolved_coarse_minima_are_skipped_not_lost() {
     let c = (found.candidates.iter())
         .find(|c| c.cost == cheapest)
         .unwrap();
-    let refined = refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| ());
-    assert!(
-        matches!(refined, Err(Stop::Defect(_) | Stop::Stationarity { .. })),
-        "{refined:?}"
-    );
+    // Refined all the same, it stalls or reaches a gait no cheaper: skipping it lost nothing.
+    match refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| ()) {
+        Err(Stop::Defect(_) | Stop::Stationarity { .. }) => {}
+        Ok((grid, run)) => {
+            let refined = grid.cost(&run.point.u, &run.point.states);
+            assert!(refined >= cost, "{refined} below {cost}");
+        }
+        Err(stop) => panic!("{stop:?}"),
+    }
 }
 
 /// Under a joint limit every seed runs the loops in one order (module docs of

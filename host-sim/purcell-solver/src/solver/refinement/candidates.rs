@@ -35,7 +35,8 @@ use nalgebra::Vector2;
 /// that misses by more than [`FAR_MISS`] comes last of all, and is tried only if nothing
 /// else settled an admissible extremal (at `α_max = 0.95` 31 such stalled, 25 s of Newton,
 /// before the one that settles). A candidate that costs more than the settled one on an
-/// intermediate grid stops there ([`PRUNE`]). Each extremal is kept with its candidate's
+/// intermediate grid (its cost on that grid, from its own refinement) stops there
+/// ([`PRUNE`]). Each extremal is kept with its candidate's
 /// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
 /// the same extremal; most meet on the first finer grid and stop there, [`Stop::Repeat`]),
@@ -57,13 +58,7 @@ pub fn refine_candidates(
 ) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
     let mut extremals: Vec<(Extremal, f64)> = Vec::new();
     let mut unrefined: Vec<Unrefined> = Vec::new();
-    // A joint limit's coarse minima are further from the problem's (arcs on 64 steps), and
-    // many refine to the same extremal.
-    let coarse_error = if problem.alpha_max.is_some() {
-        LIMITED_COARSE_COST_ERROR
-    } else {
-        COARSE_COST_ERROR
-    };
+    let coarse_error = coarse_error(problem);
     // Candidates tried, and those of them not counted: repeats and prunes (see above).
     let (mut tried, mut uncounted) = (0, 0);
     let mut skipped = Vec::new();
@@ -71,6 +66,8 @@ pub fn refine_candidates(
     let mut trails = Vec::new();
     // The smallest stationarity of the refinements that stalled in it.
     let mut stalled = None;
+    // The cost of the settled extremal on each intermediate grid of its refinement.
+    let mut settled_on: Vec<(usize, f64)> = Vec::new();
     for (pass, list) in passes(problem, candidates).into_iter().enumerate() {
         // Before the unresolved candidates: the settled cost, and the coarse cost of the
         // cheapest resolved candidate that settled an admissible extremal.
@@ -93,13 +90,17 @@ pub fn refine_candidates(
             }
             tried += 1;
             let pulse = || progress.pulse();
-            let bound = settled * (1.0 + PRUNE);
-            let refined = carry(problem, &c.u, &c.nu, bound, &trails, &pulse);
+            let bound = |steps| prune_bound(&settled_on, settled, steps);
+            let refined = carry(problem, &c.u, &c.nu, &bound, &trails, &pulse);
             progress.tick();
-            let (fine, run) = match refined {
+            let (fine, run, on) = match refined {
                 Ok((fine, run, trail)) => {
-                    trails.extend(trail);
-                    (fine, run)
+                    trails.extend(trail.iter().map(|(u, _)| u.clone()));
+                    (
+                        fine,
+                        run,
+                        trail.iter().map(|(u, c)| (u.len(), *c)).collect(),
+                    )
                 }
                 Err(Stop::Dearer | Stop::Repeat) => {
                     uncounted += 1;
@@ -111,6 +112,9 @@ pub fn refine_candidates(
                 }
             };
             let x = extremal(problem, &fine, &run);
+            if x.admissible && x.cost < settled {
+                settled_on = on;
+            }
             uncounted += usize::from(!file(&mut extremals, x, c, problem.h));
         }
     }
@@ -122,6 +126,25 @@ pub fn refine_candidates(
         tried,
         (best_residual, stalled),
     )
+}
+
+/// The coarse grid's relative error in `J` for `problem`: a joint limit's coarse minima are
+/// further from the problem's (arcs on 64 steps), and many refine to the same extremal.
+fn coarse_error(problem: &Problem) -> f64 {
+    if problem.alpha_max.is_some() {
+        LIMITED_COARSE_COST_ERROR
+    } else {
+        COARSE_COST_ERROR
+    }
+}
+
+/// The bound on an intermediate grid of `steps` steps above which a refinement stops there
+/// ([`super::Stop::Dearer`]): like with like, the settled extremal's cost on that grid (`on`,
+/// from its own refinement; its fine cost `settled` on a grid it did not pass), plus
+/// [`PRUNE`].
+fn prune_bound(on: &[(usize, f64)], settled: f64, steps: usize) -> f64 {
+    let at = on.iter().find(|(n, _)| *n == steps);
+    at.map_or(settled, |(_, cost)| *cost) * (1.0 + PRUNE)
 }
 
 /// Files `x`, refined from candidate `c`, unless `extremals` hold its path (controls at step
