@@ -87,9 +87,11 @@ pub fn refine(
 /// the intermediate one. There the grids are at most 4 times finer each up to
 /// [`GRADUAL_STEPS`] (64, 256, 1 024 steps, then the problem's): Newton from a prolonged
 /// path converges in fewer iterations, most of them on the cheaper grids (at that target
-/// 14.8 → 8.6 CPU-s); a candidate that stalls on the way is carried again through grids 16
-/// times finer, as without a limit (at `α_max = 0.9` the cheapest, 4.1403062, stalls on
-/// 1 024 steps from 256 and is carried from 64).
+/// 14.8 → 8.6 CPU-s); a candidate that stalls on one of them is carried again through grids
+/// 16 times finer, as without a limit (at `α_max = 0.9` the cheapest, 4.1403062, stalls on
+/// 1 024 steps from 256 and is carried from 64), one that stalls on the problem's grid is
+/// not (at `α_max = 0.95`, target (0, 0, 0.2), six stalled in the active-set rounds there;
+/// carried again, they took 10 of the solve's 33 CPU-s).
 fn carry(
     problem: &Problem,
     u: &[Vector2<f64>],
@@ -99,30 +101,25 @@ fn carry(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
     let gradual = problem.alpha_max.is_some() && 4 * u.len() <= GRADUAL_STEPS;
-    let carried = carry_through(problem, (u, nu), bound, known, gradual, pulse);
-    match carried {
-        Err(Stop::Defect(_) | Stop::Stationarity { .. }) if gradual => {
-            carry_through(problem, (u, nu), bound, known, false, pulse)
-        }
-        _ => carried,
-    }
+    carry_through(problem, (u, nu), bound, known, gradual, pulse)
 }
 
 /// The paths of a refinement's intermediate grids, each with its cost there ([`carry`]).
 type Trail = Vec<(Controls, f64)>;
 
-/// [`carry`] through grids 4 times finer up to [`GRADUAL_STEPS`] (`gradual`), or 16 times.
+/// [`carry`] through grids 4 times finer up to [`GRADUAL_STEPS`] (`gradual`; from `origin`
+/// again 16 times finer if Newton stalls on one of them), or 16 times.
 fn carry_through(
     problem: &Problem,
-    (u, nu): (&[Vector2<f64>], &Vector5<f64>),
+    origin: (&[Vector2<f64>], &Vector5<f64>),
     bound: &dyn Fn(usize) -> f64,
     known: &[Controls],
     gradual: bool,
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
     let mut trail = Vec::new();
-    let mut u = u.to_vec();
-    let mut nu = *nu;
+    let mut u = origin.0.to_vec();
+    let mut nu = *origin.1;
     // The index in FINE_TAUS of the weight at which the next grid's barrier path starts.
     let mut from = 0;
     // The zero control keeps every state at `ᾱ`, inside the limit: no arc to find, and the
@@ -158,6 +155,9 @@ fn carry_through(
             }
         };
         if !run.converged() {
+            if gradual && !last {
+                return carry_through(problem, origin, bound, known, false, pulse);
+            }
             return Err(stalled(&run, tol_defect));
         }
         if last {
