@@ -451,6 +451,22 @@ mod tests {
     use crate::problem::Problem;
     use crate::solver::stage::Rule;
 
+    /// Asserts that start loop `s` on `grid` closes (its controls sum to zero); its largest
+    /// `|α_i|` from `alpha0` over `samples + 1` points of its offset.
+    pub(super) fn closed_reach(
+        s: &StartLoop,
+        grid: &Grid,
+        alpha0: &Vector2<f64>,
+        samples: u32,
+    ) -> f64 {
+        let u = s.controls(grid);
+        let closure: Vector2<f64> = u.iter().sum::<Vector2<f64>>() * grid.h();
+        assert!(closure.amax() < 1e-12, "{s:?}");
+        (0..=samples)
+            .map(|j| (alpha0 + s.offset(f64::from(j) / f64::from(samples))).amax())
+            .fold(0.0, f64::max)
+    }
+
     #[test]
     fn every_start_is_a_closed_loop_through_alpha0() {
         let p = Problem::paper();
@@ -476,12 +492,7 @@ mod tests {
             assert_eq!(loops.len(), 192);
             let mut widest = 0.0f64;
             for s in &loops {
-                let u = s.controls(&grid);
-                let closure: Vector2<f64> = u.iter().sum::<Vector2<f64>>() * grid.h();
-                assert!(closure.amax() < 1e-12, "{s:?}");
-                let reach = (0..=256)
-                    .map(|j| (alpha0 + s.offset(f64::from(j) / 256.0)).amax())
-                    .fold(0.0, f64::max);
+                let reach = closed_reach(s, &grid, &alpha0, 256);
                 assert!(reach <= BOX * (1.0 + 1e-3), "{s:?}: {reach}");
                 widest = widest.max(reach);
             }

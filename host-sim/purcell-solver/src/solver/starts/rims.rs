@@ -64,6 +64,7 @@ fn rim(grid: &Grid, alpha_max: f64, turns: u32, k: u32, way: f64) -> StartLoop {
 #[cfg(test)]
 mod tests {
     use super::super::of_grid;
+    use super::super::tests::closed_reach;
     use super::*;
     use crate::problem::Problem;
     use crate::solver::stage::Rule;
@@ -88,12 +89,7 @@ mod tests {
             let bound = SHRINK * alpha_max;
             for s in &loops {
                 assert!(s.is_rim() && s.offset(0.0) == Vector2::zeros(), "{s:?}");
-                let u = s.controls(&grid);
-                let closure: Vector2<f64> = u.iter().sum::<Vector2<f64>>() * grid.h();
-                assert!(closure.amax() < 1e-12, "{s:?}");
-                let reach = (0..=1024)
-                    .map(|j| (start + s.offset(f64::from(j) / 1024.0)).amax())
-                    .fold(0.0, f64::max);
+                let reach = closed_reach(s, &grid, &start, 1024);
                 assert!(reach <= bound * (1.0 + 1e-12), "{s:?}: {reach}");
                 assert!(reach >= 0.99 * bound, "{s:?}: {reach}");
             }
