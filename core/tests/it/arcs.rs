@@ -335,11 +335,18 @@ fn jumped_costate(
                 .u[i],
         )
     };
-    // u_i is about ξ̃_i − (Aᵀζ)_i: start with that slope, then secant steps.
+    // u_i is about ξ̃_i − (Aᵀζ)_i: start with that slope, then secant steps, keeping the
+    // iterate with the least |u_i| (near the root a secant through two rounding-level values
+    // may jump far off it).
     let a = xi[i];
     let fa = ui(a)?;
     let (mut a, mut fa, mut b) = (a, fa, a - fa);
     let mut fb = ui(b)?;
+    let mut best = if fb.abs() < fa.abs() {
+        (b, fb)
+    } else {
+        (a, fa)
+    };
     for _ in 0..8 {
         if fb == fa {
             break;
@@ -347,8 +354,11 @@ fn jumped_costate(
         let c = b - fb * (b - a) / (fb - fa);
         (a, fa, b) = (b, fb, c);
         fb = ui(b)?;
+        if fb.abs() < best.1.abs() {
+            best = (b, fb);
+        }
     }
-    Some(with(b))
+    Some(with(best.0))
 }
 
 proptest! {
