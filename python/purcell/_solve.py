@@ -61,8 +61,8 @@ def solve(
         ``alpha_max``, the 96 rim loops riding the limit first); the search may stop sooner,
         by its stopping rule (after at least 128 starts, 64 with ``alpha_max``).
     seed : int, default 0
-        Orders the starts (with ``alpha_max`` every seed runs seed 0's order, so the seed
-        does not change the gait).
+        Orders the starts after the first 128, which are seed 0's for every seed (with
+        ``alpha_max`` every seed runs seed 0's order, so the seed does not change the gait).
     checkpoint_every : int or None, default None
         Costate checkpoint spacing in steps in the costate file (None: 100; 0: none).
     warm : Solution, str, os.PathLike or None, default None

@@ -34,9 +34,9 @@ pub struct SearchArgs {
     /// --alpha-max].
     #[arg(long)]
     pub starts: Option<usize>,
-    /// Orders the start loops (any value gives a diverse family; 0 is the default order).
-    /// With --alpha-max every seed runs the same starts (seed 0's order), so the seed does not
-    /// change the gait.
+    /// Orders the start loops after the first 128, which are seed 0's for every seed (any value
+    /// gives a diverse family; 0 is the default order). With --alpha-max every seed runs the
+    /// same starts (seed 0's order), so the seed does not change the gait.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
 }

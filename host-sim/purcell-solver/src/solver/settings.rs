@@ -30,7 +30,8 @@ pub struct SolveOptions {
     /// Fewest start loops of the global search before its stopping rule may end it (unless
     /// `starts` is smaller); `None`: the problem's default ([`SolveOptions::starts`]).
     pub min_starts: Option<usize>,
-    /// Orders the start loops.
+    /// Orders the start loops after the first `min_starts` (seed 0's for every seed; under a
+    /// joint limit every seed runs seed 0's order).
     pub seed: u64,
     /// Steps of the coarse grid of the global search.
     pub coarse_steps: usize,

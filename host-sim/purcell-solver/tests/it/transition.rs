@@ -31,7 +31,7 @@ fn every_start_of_a_transition_runs_from_the_start_to_the_end_shape() {
     let moved = |u: &[Vector2<f64>]| u.iter().sum::<Vector2<f64>>() * grid.h();
     let want = p.alpha_end - p.alpha0;
     assert!((moved(&starts::straight(&grid)) - want).amax() < 1e-14);
-    let family = starts::of_grid(&grid, 0.5, 0, 200, None);
+    let family = starts::of_grid(&grid, 0.5, 0, 0, 200, None);
     assert_eq!(family.len(), 200);
     for s in &family {
         assert!((moved(&s.controls(&grid)) - want).amax() < 1e-12, "{s:?}");
@@ -45,7 +45,7 @@ fn every_start_of_a_transition_runs_from_the_start_to_the_end_shape() {
     let grid = Grid::new(&looped, 64, Rule::LEFT_POINT).unwrap();
     assert!(looped.is_loop() && looped.stored_end().is_none());
     assert_eq!(
-        starts::of_grid(&grid, 0.5, 0, 200, None),
+        starts::of_grid(&grid, 0.5, 0, 0, 200, None),
         starts::family(0.5, &looped.alpha0, 0, 200, true)
     );
     assert!(

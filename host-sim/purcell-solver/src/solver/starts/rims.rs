@@ -93,10 +93,10 @@ mod tests {
                 assert!(reach <= bound * (1.0 + 1e-12), "{s:?}: {reach}");
                 assert!(reach >= 0.99 * bound, "{s:?}: {reach}");
             }
-            let limited = of_grid(&grid, 0.5, 3, 100, Some(alpha_max));
+            let limited = of_grid(&grid, 0.5, 3, 0, 100, Some(alpha_max));
             assert_eq!(limited[..loops.len()], loops[..]);
             assert!(
-                !of_grid(&grid, 0.5, 3, 100, None)
+                !of_grid(&grid, 0.5, 3, 0, 100, None)
                     .iter()
                     .any(StartLoop::is_rim)
             );
