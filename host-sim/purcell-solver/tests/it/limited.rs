@@ -30,8 +30,9 @@ fn the_zero_target_from_a_bent_start_is_the_zero_gait() {
     }
 }
 
-/// At `α_max = 1.5` (the public problem `joint-limit-1.5`) thirteen coarse minima of the
-/// barrier problem end 6–7 % of the displacement asked for off the target once prolonged to
+/// At `α_max = 1.5` (the public problem `joint-limit-1.5`) eight coarse minima of the
+/// barrier problem (thirteen while the free minima were carried in along both coarse paths)
+/// end 6–7 % of the displacement asked for off the target once prolonged to
 /// the next grid: minima of the coarse grid's error, whose barrier path there stalls (about
 /// 1 s of Newton each, most of the solve). All dearer on the coarse grid than the resolved
 /// minimum that settles the cheapest gait, they are skipped and reported as unrefined; the
@@ -54,7 +55,7 @@ fn unresolved_coarse_minima_are_skipped_not_lost() {
     let skipped: Vec<_> = (evidence.unrefined.iter())
         .filter(|u| u.defect > limit)
         .collect();
-    assert!(skipped.len() >= 10, "{}", skipped.len());
+    assert!(skipped.len() >= 5, "{}", skipped.len());
     let cheapest = skipped
         .iter()
         .map(|u| u.minimum.cost)
