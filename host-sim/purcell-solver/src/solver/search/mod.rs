@@ -51,7 +51,7 @@
 //! search, `free`) are carried into it (`inward`): each scaled about `ᾱ` and clipped to
 //! [`super::settings::SHRINK`]`·α_max`, along the first coarse path ([`COARSE_PATHS`],
 //! from `τ = 1e-3`); what they reach is filed as candidates. (Along both, as the pulls go, the
-//! 53 limited problems of docs/MEASUREMENTS.md cost the same, seeds 0 and 1, and the carried
+//! 53 limited problems of docs/MEASUREMENTS.md cost the same, seeds 0–3, and the carried
 //! minima a tenth of a limited solve more: `α_max = 1.5` 2.4 → 2.1 CPU-s.)
 //!
 //! **Repeats.** Most starts under a limit meet another's barrier path: at `α_max = 1.5` the
