@@ -131,12 +131,12 @@ fn carry_through(
         pulse();
         let inf = |_| Stop::Defect(f64::INFINITY);
         let n = u.len();
-        let next = if gradual && 4 * n <= GRADUAL_STEPS {
-            gradual_grid(problem, n)
+        let ratio = if gradual && 4 * n <= GRADUAL_STEPS {
+            4
         } else {
-            finer_grid(problem, n)
+            16
         };
-        let (grid, last) = next.map_err(inf)?;
+        let (grid, last) = finer_by(problem, n, ratio).map_err(inf)?;
         let start = Point::new(&grid, grid::prolong(&u, grid.steps), nu).map_err(inf)?;
         let (run, tol_defect) = match barrier {
             None => {
@@ -272,12 +272,8 @@ pub fn finer_grid(problem: &Problem, n: usize) -> Result<(Grid, bool), purcell_c
     finer_by(problem, n, 16)
 }
 
-/// [`finer_grid`] at most 4 times finer (the joint limit's first grids, [`carry`]).
-fn gradual_grid(problem: &Problem, n: usize) -> Result<(Grid, bool), purcell_core::Error> {
-    finer_by(problem, n, 4)
-}
-
-/// The grid at most `ratio` times finer than `n` steps, or the problem's own (`true`).
+/// The grid at most `ratio` times finer than `n` steps (16: [`finer_grid`]; 4: the joint
+/// limit's first grids, [`carry`]), or the problem's own (`true`).
 fn finer_by(
     problem: &Problem,
     n: usize,
