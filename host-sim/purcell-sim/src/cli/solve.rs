@@ -66,9 +66,10 @@ pub struct SolveArgs {
     /// flags take degrees with their own deg suffix, e.g. --alpha-max 85deg).
     #[arg(long)]
     pub degrees: bool,
-    /// Start from a stored extremal (a costate file for a nearby target, start shape, horizon
-    /// or swimmer: e.g. the same gait for another drag ratio) instead of the global search; if
-    /// Newton does not reach an admissible extremal from it, the global search runs.
+    /// Start from a stored extremal (a costate file for a nearby target, start shape, horizon,
+    /// time step or swimmer: e.g. the same gait for another drag ratio) instead of the global
+    /// search; if Newton does not reach an admissible extremal from it, the global search
+    /// runs.
     #[arg(long, value_name = "COSTATE_JSON")]
     pub from: Option<PathBuf>,
     /// The output directory.

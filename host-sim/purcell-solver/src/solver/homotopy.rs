@@ -8,7 +8,8 @@
 //!    stops at the fraction to the boundary ([`Settings::fraction_to_boundary`]). The search
 //!    does without the fraction rule: its plain steps, pinning states to the limit, reach the
 //!    cheapest basin at `α_max = 1.5` from 15 of 160 starts, the rule's from none.
-//! 2. **Active set.** The stretches within [`NEAR`] of the limit become arcs ([`arcs_of`]);
+//! 2. **Active set.** The stretches within [`NEAR`] of the limit become arcs ([`arcs_of`];
+//!    within [`LOOSE_NEAR`] if the rounds from those fail);
 //!    the problem with the limit imposed exactly on them ([`Limits::Arcs`]: controls fixed
 //!    inside an arc, the entry control set by the state) is solved by Newton
 //!    ([`polish`]), which returns the multipliers `η_k` of the limit with it (the jumps of
@@ -21,7 +22,9 @@
 use super::constraints::joint_limit::{Limits, arcs_of, merged};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
-use super::settings::{ETA_ROUNDING, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings};
+use super::settings::{
+    ETA_ROUNDING, LOOSE_NEAR, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings,
+};
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
 
@@ -182,7 +185,17 @@ pub enum PolishError {
 
 /// The constrained extremal near `start` on `grid`: active-set rounds of Newton with the
 /// limit imposed on the arcs (see the module docs), the first arcs the stretches of `start`
-/// within [`NEAR`] of the limit. Returns the grid (with its final arcs) and the run.
+/// within [`NEAR`] of the limit; if Newton does not converge from them or the rounds do not
+/// settle, once more from the stretches within [`LOOSE_NEAR`]` · α_max` (the first failure is
+/// returned if that fails too). Returns the grid (with its final arcs) and the run.
+///
+/// At a barrier weight `τ` a state on an arc rests `τ/η_k` from the limit, and towards an
+/// arc's ends `η_k` falls to 0: the states there may lie beyond [`NEAR`], and Newton with
+/// arcs that short can fail to converge at all, so that no round follows to lengthen them.
+/// Seen with `--step 0.05 --alpha-max 1 --links 1,0.93,0.93 --target 0.144,0.023,-0.44` from
+/// the gait of `--step 0.1` (`solve --from`): the barrier path on the problem's 2 000 steps
+/// converged (J 8.626016), the rounds from [`NEAR`] stopped with defect 2.2e-3 after 30
+/// iterations, and from [`LOOSE_NEAR`] they settle 16 arcs in two rounds, 8.6260113.
 pub fn polish(
     grid: &Grid,
     alpha_max: f64,
@@ -190,7 +203,29 @@ pub fn polish(
     settings: &Settings,
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), PolishError> {
-    let mut arcs = arcs_of(&start.states, alpha_max, NEAR);
+    rounds(grid, alpha_max, start, NEAR, settings, pulse).or_else(|first| {
+        rounds(
+            grid,
+            alpha_max,
+            start,
+            LOOSE_NEAR * alpha_max,
+            settings,
+            pulse,
+        )
+        .map_err(|_| first)
+    })
+}
+
+/// [`polish`]'s active-set rounds from the stretches of `start` within `near` of the limit.
+fn rounds(
+    grid: &Grid,
+    alpha_max: f64,
+    start: &Point,
+    near: f64,
+    settings: &Settings,
+    pulse: &dyn Fn(),
+) -> Result<(Grid, Run), PolishError> {
+    let mut arcs = arcs_of(&start.states, alpha_max, near);
     let mut point = start.clone();
     for _ in 0..ROUNDS {
         let mut g = grid.clone();

@@ -273,6 +273,9 @@ pub const SHRINK: f64 = 0.95;
 pub const WARM_INSIDE: f64 = 1e-3;
 /// A state this close to the limit (radians) at the end of the barrier path is on an arc.
 pub const NEAR: f64 = 1e-6;
+/// Where the active-set rounds from the states within [`NEAR`] fail, they run once more from
+/// those within this share of `α_max` ([`super::homotopy::polish`]).
+pub const LOOSE_NEAR: f64 = 1e-5;
 /// In the active-set rounds, a state off the arcs beyond the limit by more than this share
 /// of `α_max` violates it (less is rounding).
 pub const PAST_LIMIT: f64 = 1e-12;

@@ -2,6 +2,7 @@
 //! whatever the seed, and which of its minima the refinement skips.
 
 use purcell_solver::problem::{Problem, Spec};
+use purcell_solver::solver::continuation::{Warm, continue_to};
 use purcell_solver::solver::settings::{LIMITED_MIN_STARTS, NEAR_TARGET, UNRESOLVED};
 use purcell_solver::solver::{SolveOptions, Stop, refine, search_coarse, solve};
 
@@ -188,4 +189,31 @@ fn a_tight_limit_whose_coarse_grid_is_too_coarse_is_searched_on_finer_grids() {
     assert!((best.cost - 3.5985213).abs() <= 1e-6, "{}", best.cost);
     assert!(best.admissible && best.cost > 2.9734287);
     assert!(best.local_min && !best.arcs.is_empty());
+}
+
+/// A gait on many arcs of a tight limit carried to a finer time step (`solve --from`): links
+/// 1, 0.93, 0.93 to (0.144, 0.023, −0.44) within 1 rad, from its gait of `--step 0.1` (16
+/// arcs) to `--step 0.05`. The medium grid's route stalls there (and the global search of
+/// `--step 0.05` returns 14.7280354); the refinement straight from the gait reaches
+/// 8.6260113, its active-set rounds settling from the stretches within `LOOSE_NEAR` of the
+/// limit (from those within `NEAR` Newton does not converge). About 5 s.
+#[test]
+fn a_tight_limits_gait_carries_to_a_finer_time_step() {
+    let spec = |step| Spec {
+        target: [0.144, 0.023, -0.44],
+        links: [1.0, 0.93, 0.93],
+        alpha_max: Some(1.0),
+        step,
+        ..Spec::default()
+    };
+    let coarse = Problem::new(&spec(0.1)).unwrap();
+    let s = solve(&coarse, &SolveOptions::default(), &|| {}).unwrap();
+    let x = &s.extremals[s.best];
+    assert!((x.cost - 7.8450051).abs() <= 1e-6, "{}", x.cost);
+    let warm = Warm::from_trajectory(&x.trajectory, &x.mu, coarse.horizon()).unwrap();
+    let fine = Problem::new(&spec(0.05)).unwrap();
+    let y = continue_to(&fine, &warm).unwrap();
+    assert!(y.admissible && y.local_min, "{y:?}");
+    assert_eq!(y.arcs.len(), 16);
+    assert!((y.cost - 8.6260113).abs() <= 1e-6, "{}", y.cost);
 }

@@ -1,5 +1,6 @@
 //! Warm starts: a known extremal (`solve --from`) carried to a new problem by Newton and
-//! natural-parameter continuation.
+//! natural-parameter continuation in the target (`through_medium`); under a joint limit,
+//! where that fails, by the refinement straight from the gait (`straight_in`).
 
 use crate::problem::Problem;
 use crate::solver::constraints::joint_limit::Limits;
@@ -9,7 +10,9 @@ use crate::solver::grid::{self, Grid, Point};
 use crate::solver::homotopy;
 use crate::solver::progress::Progress;
 use crate::solver::refinement::{extremal, refine};
-use crate::solver::settings::{self, MIN_WALK_STEP, Settings, SolveOptions, WARM_INSIDE};
+use crate::solver::settings::{
+    self, FINE_TAUS, MIN_WALK_STEP, Settings, SolveOptions, WARM_INSIDE,
+};
 use crate::solver::solution::{Extremal, Solution, SolveError, Trajectory};
 use crate::solver::stage::{Rule, StageState};
 use nalgebra::{Vector2, Vector3, Vector5};
@@ -90,7 +93,22 @@ fn continue_to_pulsed(
             return Ok(extremal(problem, &fine, &run));
         }
     }
-    // Natural-parameter continuation in the target on a medium grid.
+    let medium = through_medium(problem, warm, pulse);
+    match (problem.alpha_max, medium) {
+        (Some(alpha_max), Err(e)) => straight_in(problem, warm, alpha_max, pulse).map_err(|_| e),
+        (_, reached) => reached,
+    }
+}
+
+/// Natural-parameter continuation in the target on a medium grid (with a joint limit, from
+/// the warm gait pulled within it, [`within_limit`]), then the refinement to the problem's
+/// grid.
+fn through_medium(
+    problem: &Problem,
+    warm: &Warm,
+    pulse: &dyn Fn(),
+) -> Result<Extremal, SolveError> {
+    let horizon = problem.horizon();
     let steps = (problem.steps as usize).min(1024);
     let mut medium = Grid::mimic(problem, steps).map_err(|_| unreachable(f64::INFINITY))?;
     let mut point = warm
@@ -106,6 +124,34 @@ fn continue_to_pulsed(
     }
     let point = walk(problem, warm.target, &medium, point, &settings, pulse)?;
     let (fine, run) = refine(problem, &point.u, &point.nu, f64::INFINITY, pulse)
+        .map_err(|stop| unreachable(stop.defect()))?;
+    Ok(extremal(problem, &fine, &run))
+}
+
+/// With a joint limit `alpha_max`, where [`through_medium`] fails: the warm gait's own
+/// controls clipped to within the share `τ₀ =` [`FINE_TAUS`]`[0]` of the limit and carried by
+/// the refinement straight to the problem's grid, its barrier path from `τ₀` and active set
+/// there ([`refine`]). Another time step or horizon changes a gait on many arcs of a tight
+/// limit more than the medium grid's barrier at its last weight follows: `--alpha-max 1
+/// --links 1,0.93,0.93 --target 0.144,0.023,-0.44` from its gait of `--step 0.1` (7.8450051,
+/// 16 arcs) to `--step 0.05`: the medium route stalls, this one reaches 8.6260113 in 12
+/// Newton iterations at the last weight (the global search there returns 14.7280354). The
+/// barrier's minimiser at `τ` rests about `τ/η` from the limit on an arc: clipped to within
+/// 1e-4 … 1e-7 of it, the path converges; to within [`WARM_INSIDE`] (1e-3) its first
+/// weight stalls (300 iterations, stationarity 4e-4), the on-arc states too far out.
+fn straight_in(
+    problem: &Problem,
+    warm: &Warm,
+    alpha_max: f64,
+    pulse: &dyn Fn(),
+) -> Result<Extremal, SolveError> {
+    let horizon = problem.horizon();
+    let scale = warm.horizon / horizon;
+    let u: Vec<Vector2<f64>> = warm.u.iter().map(|v| v * scale).collect();
+    let h = horizon / u.len() as f64;
+    let bound = (1.0 - FINE_TAUS[0]) * alpha_max;
+    let u = homotopy::clip_into(&u, &problem.alpha0, bound, h);
+    let (fine, run) = refine(problem, &u, &(warm.nu * scale), f64::INFINITY, pulse)
         .map_err(|stop| unreachable(stop.defect()))?;
     Ok(extremal(problem, &fine, &run))
 }
