@@ -195,7 +195,8 @@ pub enum PolishError {
 /// Seen with `--step 0.05 --alpha-max 1 --links 1,0.93,0.93 --target 0.144,0.023,-0.44` from
 /// the gait of `--step 0.1` (`solve --from`): the barrier path on the problem's 2 000 steps
 /// converged (J 8.626016), the rounds from [`NEAR`] stopped with defect 2.2e-3 after 30
-/// iterations, and from [`LOOSE_NEAR`] they settle 16 arcs in two rounds, 8.6260113.
+/// iterations, and from [`LOOSE_NEAR`] they settle 16 arcs in one round (two Newton
+/// iterations), 8.6260113.
 pub fn polish(
     grid: &Grid,
     alpha_max: f64,
