@@ -38,7 +38,8 @@ use super::grid::{Grid, Point};
 use super::linearisation::Linearisation;
 use super::riccati::Factor;
 use super::settings::{
-    DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, ROUNDING_KKT, ROUNDING_STEP, Settings,
+    DELTA_DECAY, DELTA_GROWTH, DELTA_MAX, DELTA_MIN, FRACTION_TO_BOUNDARY, ROUNDING_KKT,
+    ROUNDING_STEP, Settings,
 };
 use super::stage::StageState;
 use nalgebra::{Vector2, Vector5};
@@ -152,7 +153,10 @@ fn iterate(
     loop {
         pulse();
         let c = grid.terminal.defect(&pt.states);
-        let lz = Linearisation::new(grid, &pt.states, &pt.u, &pt.nu)?;
+        if settings.primal_dual && pt.z.len() != pt.states.len() {
+            pt.z = grid.limits.duals(&pt.states);
+        }
+        let lz = Linearisation::new(grid, (&pt.states, &pt.u), &pt.nu, &pt.z)?;
         let maps = grid.limits.control_maps(grid.steps);
         let maps = maps.as_deref();
         let stalled =
@@ -207,9 +211,13 @@ fn iterate(
             search.t,
             amax(&du)
         );
-        let Some(p) = search.point else {
+        let Some(mut p) = search.point else {
             return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
+        if settings.primal_dual {
+            let states = (&pt.states[..], &p.states[..]);
+            p.z = (grid.limits).dual_step(h, states, &du, &pt.z, FRACTION_TO_BOUNDARY);
+        }
         at_rounding =
             settings.rounding_stall && delta == 0.0 && amax(&du) <= ROUNDING_STEP * amax(&pt.u);
         pt = p;

@@ -4,7 +4,7 @@
 //! and its slope, how a path moves between grids ([`prolong`], [`Grid::resampled`],
 //! [`Grid::resolves`]), and when two paths are the same ([`same_path`]).
 
-use super::constraints::joint_limit::Limits;
+use super::constraints::joint_limit::{Duals, Limits};
 use super::constraints::terminal::Terminal;
 use super::cost::{Costs, StageCost};
 use super::settings::SAME_PATH;
@@ -177,13 +177,21 @@ pub struct Point {
     pub states: Vec<StageState>,
     /// `ν`.
     pub nu: Vector5<f64>,
+    /// The bound multipliers of a primal–dual barrier step ([`Limits::duals`]); empty until
+    /// the first such step.
+    pub z: Vec<Duals>,
 }
 
 impl Point {
     /// The controls `u` with multiplier `nu` on `grid`; `Err` if the rollout fails.
     pub fn new(grid: &Grid, u: Vec<Vector2<f64>>, nu: Vector5<f64>) -> Result<Self, Error> {
         let states = grid.rollout(&u)?;
-        Ok(Point { u, states, nu })
+        Ok(Point {
+            u,
+            states,
+            nu,
+            z: Vec::new(),
+        })
     }
 }
 

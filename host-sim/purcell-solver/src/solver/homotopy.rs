@@ -137,7 +137,11 @@ fn walk_on(
     let first = reached.as_ref().map_or(0, |(i, _)| i + 1);
     for (i, &tau) in taus.iter().enumerate().skip(first) {
         let g = barrier_grid(grid, alpha_max, tau);
-        let p = Point::new(&g, point.u.clone(), point.nu)?;
+        // The bound multipliers of a primal–dual path go on to the next weight, as IPOPT's do.
+        let p = Point {
+            z: point.z.clone(),
+            ..Point::new(&g, point.u.clone(), point.nu)?
+        };
         let at = settings.at_weight(tau, i + 1 == taus.len());
         let run = direct::newton_pulsed(&g, p, &at, pulse)?;
         if !run.converged() {
@@ -296,26 +300,21 @@ fn rounds(
 /// converge. The second path's runs up to the weight where the first stalled are the
 /// first's (they converged within fewer iterations), so it goes on from there: that weight's
 /// run resumed ([`direct::resume`], the same iterates as a run started with the second
-/// patience), then the smaller weights.
+/// patience), then the smaller weights. Each step primal–dual if `primal_dual`
+/// ([`Settings::primal_dual`]).
 pub fn patient_barrier_path(
     grid: &Grid,
-    alpha_max: f64,
-    taus: &[f64],
+    (alpha_max, taus): (f64, &[f64]),
     start: Point,
+    primal_dual: bool,
     pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
-    let first = walk(
-        grid,
-        alpha_max,
-        taus,
-        start,
-        &Settings::barrier(PATIENCE[0]),
-        pulse,
-    )?;
+    let settings = |patience| Settings::barrier(patience).with_primal_dual(primal_dual);
+    let first = walk(grid, alpha_max, taus, start, &settings(PATIENCE[0]), pulse)?;
     if first.run.converged() {
         return Ok(first);
     }
-    let patient = Settings::barrier(PATIENCE[1]);
+    let patient = settings(PATIENCE[1]);
     let stalled = first.reached.as_ref().map_or(0, |(i, _)| i + 1);
     let g = barrier_grid(grid, alpha_max, taus[stalled]);
     let at = patient.at_weight(taus[stalled], stalled + 1 == taus.len());

@@ -5,6 +5,7 @@
 //! the controls tied by arcs), the Lagrangian's gradient `∇_{u_k}L = ∇_uℓ + B_kᵀλ_{k+1}`, the
 //! stationarity residual and the least-squares multiplier.
 
+use super::constraints::joint_limit::Duals;
 use super::cost::StageCost;
 use super::grid::Grid;
 use super::stage::{Linearised, StageState};
@@ -33,12 +34,15 @@ pub struct Linearisation {
 impl Linearisation {
     /// Stage derivatives along a rollout for the terminal multiplier `nu` (see [`Linearised`]),
     /// with the cost's and the barrier's gradients in the costates and their Hessians in the
-    /// stages'.
+    /// stages' (the barrier's primal–dual Hessian if bound multipliers `z` are given, one per
+    /// state, [`Limits::barrier_derivatives`]).
+    ///
+    /// [`Limits::barrier_derivatives`]: super::constraints::joint_limit::Limits::barrier_derivatives
     pub fn new(
         grid: &Grid,
-        states: &[StageState],
-        u: &[Vector2<f64>],
+        (states, u): (&[StageState], &[Vector2<f64>]),
         nu: &Vector5<f64>,
+        z: &[Duals],
     ) -> Result<Linearisation, Error> {
         let n = u.len();
         let h = grid.h();
@@ -91,7 +95,8 @@ impl Linearisation {
             psi = l.a.transpose() * psi;
             add_cost(grid, (&states[k], &u[k]), &mut l, &mut lambda[k], &mut beta);
             if k > 0
-                && let Some((dphi, ddphi)) = grid.limits.barrier_derivatives(h, &states[k])
+                && let Some((dphi, ddphi)) =
+                    grid.limits.barrier_derivatives(h, &states[k], z.get(k))
             {
                 for i in 0..2 {
                     lambda[k][i] += dphi[i];

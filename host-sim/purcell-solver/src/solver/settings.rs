@@ -86,6 +86,13 @@ pub struct Settings {
     /// ([`FRACTION_TO_BOUNDARY`]) rather than at the full step, so that no state comes
     /// closer to the limit than 1 % of its distance in one step (IPOPT's rule).
     pub fraction_to_boundary: bool,
+    /// With a barrier, IPOPT's primal–dual step: the bound multipliers `z` carried as iterates
+    /// and the barrier's Hessian `Σ = z/d` in place of the primal `τ/d²`
+    /// ([`Limits::dual_step`]); the refinement's second try of a candidate whose primal path
+    /// stalled ([`super::refinement`]).
+    ///
+    /// [`Limits::dual_step`]: super::constraints::joint_limit::Limits::dual_step
+    pub primal_dual: bool,
     /// Largest change of any shape `α_{k,i}` in one iteration, radians (`f64::INFINITY`:
     /// none); see [`super::direct`].
     pub trust_radius: f64,
@@ -114,6 +121,7 @@ impl Settings {
             tol_defect: TOL_DEFECT,
             tol_kkt: TOL_KKT,
             fraction_to_boundary: false,
+            primal_dual: false,
             trust_radius: f64::INFINITY,
             second_order: true,
             rounding_stall: false,
@@ -164,6 +172,14 @@ impl Settings {
             fraction_to_boundary: true,
             rounding_stall: true,
             ..Settings::first_order(patience)
+        }
+    }
+
+    /// These settings with the primal–dual step ([`Settings::primal_dual`]) or without.
+    pub fn with_primal_dual(self, primal_dual: bool) -> Self {
+        Settings {
+            primal_dual,
+            ..self
         }
     }
 
@@ -285,8 +301,13 @@ pub const ETA_ROUNDING: f64 = 1e-9;
 /// The KKT certificate takes a state with `|α_i| ≥ α_max (1 − ON_LIMIT)` as on the limit.
 pub const ON_LIMIT: f64 = 1e-12;
 /// IPOPT's fraction to the boundary: a step keeps this share of each state's distance from
-/// the limit ([`Settings::fraction_to_boundary`]).
+/// the limit ([`Settings::fraction_to_boundary`]); also the share of the bound multipliers
+/// a primal–dual step keeps ([`Settings::primal_dual`]).
 pub const FRACTION_TO_BOUNDARY: f64 = 0.99;
+/// IPOPT's `κ_Σ`: after each primal–dual step the bound multipliers are kept within
+/// `[τ/(κ_Σ d), κ_Σ τ/d]` ([`Settings::primal_dual`]), so that `Σ = z/d` stays within a
+/// factor `κ_Σ` of the primal `τ/d²`.
+pub const KAPPA_SIGMA: f64 = 1e10;
 /// A line-search trial that takes a state past the limit by more than this (radians, more
 /// than rounding) is skipped without a rollout.
 pub const WALL_SLACK: f64 = 1e-12;

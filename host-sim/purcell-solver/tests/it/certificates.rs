@@ -184,7 +184,7 @@ fn local_min_is_false_on_a_saddle() {
     let mut pt = Point::new(&grid, twice, Vector5::zeros()).unwrap();
     for _ in 0..30 {
         let c = grid.terminal.defect(&pt.states);
-        let lz = Linearisation::new(&grid, &pt.states, &pt.u, &pt.nu).unwrap();
+        let lz = Linearisation::new(&grid, (&pt.states, &pt.u), &pt.nu, &pt.z).unwrap();
         if c.amax() <= 1e-15 && lz.kkt <= 1e-12 {
             break;
         }

@@ -4,6 +4,7 @@
 //! a path ([`arcs_of`], [`merged`]), and how the arcs tie a stage's controls ([`ControlMap`]).
 //! How the solver moves between these is [`crate::solver::homotopy`].
 
+use crate::solver::settings::KAPPA_SIGMA;
 use crate::solver::stage::StageState;
 use nalgebra::Vector2;
 use purcell_core::Arc;
@@ -49,6 +50,20 @@ pub enum Limits {
         /// The arcs, in any order, disjoint per joint.
         arcs: Vec<Arc>,
     },
+}
+
+/// The bound multipliers of one inner state, `(z⁺_1, z⁻_1, z⁺_2, z⁻_2)`: of the bounds
+/// `d^±_i = α_max ∓ α_i ≥ 0` ([`Limits::duals`]).
+pub type Duals = [f64; 4];
+
+/// The distances `(d⁺_1, d⁻_1, d⁺_2, d⁻_2)` of a state from the limits, `d^±_i = α_max ∓ α_i`.
+fn distances(alpha_max: f64, s: &StageState) -> Duals {
+    [
+        alpha_max - s[0],
+        alpha_max + s[0],
+        alpha_max - s[1],
+        alpha_max + s[1],
+    ]
 }
 
 /// `(φ, φ′, φ″)` of the barrier `φ(α) = −ln(A − α) − ln(A + α)`.
@@ -113,21 +128,91 @@ impl Limits {
     }
 
     /// The barrier's gradient and the diagonal of its Hessian at an inner state `s`,
-    /// `h·τ·φ′(α_i)` and `h·τ·φ″(α_i)`; `None` without a barrier.
+    /// `h·τ·φ′(α_i)` and `h·τ·φ″(α_i)`, or with bound multipliers `z` the primal–dual
+    /// `h·(z⁺_i/d⁺_i + z⁻_i/d⁻_i)` (`d^± = α_max ∓ α_i`; the two agree on the central path
+    /// `z = τ/d`); `None` without a barrier.
     pub fn barrier_derivatives(
         &self,
         h: f64,
         s: &StageState,
+        z: Option<&Duals>,
     ) -> Option<(Vector2<f64>, Vector2<f64>)> {
         let Limits::Barrier { alpha_max, tau } = *self else {
             return None;
         };
         let (_, g0, d0) = barrier(alpha_max, s[0]);
         let (_, g1, d1) = barrier(alpha_max, s[1]);
-        Some((
-            Vector2::new(h * tau * g0, h * tau * g1),
-            Vector2::new(h * tau * d0, h * tau * d1),
-        ))
+        let hessian = match z {
+            None => Vector2::new(h * tau * d0, h * tau * d1),
+            Some(z) => Vector2::from_fn(|i, _| {
+                let (p, m) = (alpha_max - s[i], alpha_max + s[i]);
+                h * (z[2 * i] / p + z[2 * i + 1] / m)
+            }),
+        };
+        Some((Vector2::new(h * tau * g0, h * tau * g1), hessian))
+    }
+
+    /// The bound multipliers on the central path, `z = τ/d` at each inner state (zero at the
+    /// ends, which the limit does not bind); empty without a barrier.
+    pub fn duals(&self, states: &[StageState]) -> Vec<Duals> {
+        let Limits::Barrier { alpha_max, tau } = *self else {
+            return Vec::new();
+        };
+        let n = states.len().saturating_sub(1);
+        (states.iter().enumerate())
+            .map(|(k, s)| {
+                if k == 0 || k == n {
+                    return [0.0; 4];
+                }
+                distances(alpha_max, s).map(|d| tau / d)
+            })
+            .collect()
+    }
+
+    /// The bound multipliers `z` at `states` moved along the Newton step `du` (IPOPT's
+    /// primal–dual step, MODEL.md §9): `δz = τ/d − z − (z/d)·δd` with
+    /// `δd^± = ∓δα_k = ∓h Σ_{j<k} δu_j`, the longest step `t ≤ 1` that keeps each `z` a share
+    /// `1 − fraction` of itself, then each kept within `[τ/(κ_Σ d), κ_Σ τ/d]` at the states
+    /// `next` the line search accepted ([`KAPPA_SIGMA`]). Empty without a barrier.
+    pub fn dual_step(
+        &self,
+        h: f64,
+        (states, next): (&[StageState], &[StageState]),
+        du: &[Vector2<f64>],
+        z: &[Duals],
+        fraction: f64,
+    ) -> Vec<Duals> {
+        let Limits::Barrier { alpha_max, tau } = *self else {
+            return Vec::new();
+        };
+        let n = states.len().saturating_sub(1);
+        let mut dz = vec![[0.0; 4]; n + 1];
+        let mut da = Vector2::zeros();
+        let mut t = 1.0f64;
+        for k in 1..n {
+            da += du[k - 1] * h;
+            let d = distances(alpha_max, &states[k]);
+            let dd = [-da.x, da.x, -da.y, da.y];
+            for j in 0..4 {
+                let step = tau / d[j] - z[k][j] - z[k][j] / d[j] * dd[j];
+                if step < 0.0 {
+                    t = t.min(-fraction * z[k][j] / step);
+                }
+                dz[k][j] = step;
+            }
+        }
+        (0..=n)
+            .map(|k| {
+                if k == 0 || k == n {
+                    return [0.0; 4];
+                }
+                let d = distances(alpha_max, &next[k]);
+                core::array::from_fn(|j| {
+                    let lo = tau / (KAPPA_SIGMA * d[j]);
+                    (z[k][j] + t * dz[k][j]).clamp(lo, KAPPA_SIGMA * tau / d[j])
+                })
+            })
+            .collect()
     }
 
     /// The largest `t ≤ 1` for which the step `t·du` on a grid of step `h` keeps every state
@@ -260,6 +345,70 @@ pub fn merged(mut arcs: Vec<Arc>) -> Vec<Arc> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The primal–dual barrier's pieces ([`Limits::dual_step`]): on the central path
+    /// `z = τ/d` its Hessian is the primal one; a step whose multipliers stay clear of the
+    /// fraction to the boundary and the `κ_Σ` bounds meets the linearised complementarity
+    /// `(z + δz)·d + z·δd = τ` at every inner state; and the multipliers of a step that
+    /// would overshoot keep `1 − fraction` of themselves.
+    #[test]
+    fn the_dual_step_linearises_complementarity() {
+        let (alpha_max, tau, h) = (1.2, 1e-3, 0.5);
+        let limits = Limits::Barrier { alpha_max, tau };
+        let states: Vec<StageState> = (0..6)
+            .map(|k| {
+                let t = k as f64;
+                StageState::new((0.9 * t).sin(), (0.7 * t).cos() - 0.2, 0.0, 0.0, 0.0)
+            })
+            .collect();
+        let central = limits.duals(&states);
+        for (s, z) in states.iter().zip(&central).skip(1).take(4) {
+            let (_, primal) = limits.barrier_derivatives(h, s, None).unwrap();
+            let (_, dual) = limits.barrier_derivatives(h, s, Some(z)).unwrap();
+            assert!(
+                (primal - dual).amax() <= 1e-12 * primal.amax(),
+                "{primal} {dual}"
+            );
+        }
+        // Off the central path, a small step.
+        let z: Vec<Duals> = (central.iter().enumerate())
+            .map(|(k, z)| z.map(|v| v * (1.0 + 0.1 * (k as f64).sin())))
+            .collect();
+        let du: Vec<Vector2<f64>> = (0..5)
+            .map(|k| Vector2::new(1e-3 * (k as f64 - 2.0), -2e-3 * k as f64))
+            .collect();
+        let next = |du: &[Vector2<f64>]| -> Vec<StageState> {
+            let mut a = Vector2::zeros();
+            let mut out = states.clone();
+            for (k, s) in out.iter_mut().enumerate().skip(1) {
+                a += du[k - 1] * h;
+                s[0] += a.x;
+                s[1] += a.y;
+            }
+            out
+        };
+        let moved = next(&du);
+        let stepped = limits.dual_step(h, (&states, &moved), &du, &z, 0.99);
+        for k in 1..5 {
+            let (d, d1) = (
+                distances(alpha_max, &states[k]),
+                distances(alpha_max, &moved[k]),
+            );
+            for j in 0..4 {
+                let lin = stepped[k][j] * d[j] + z[k][j] * (d1[j] - d[j]);
+                assert!((lin - tau).abs() <= 1e-9 * tau, "{k} {j}: {lin}");
+            }
+        }
+        assert_eq!((stepped[0], stepped[5]), ([0.0; 4], [0.0; 4]));
+        // A step towards the limit that would drive some z negative stops at the fraction.
+        let big: Vec<Vector2<f64>> = du.iter().map(|d| d * 400.0).collect();
+        let stepped = limits.dual_step(h, (&states, &states), &big, &z, 0.99);
+        let kept = (1..5)
+            .flat_map(|k| (0..4).map(move |j| (k, j)))
+            .map(|(k, j)| stepped[k][j] / z[k][j])
+            .fold(f64::INFINITY, f64::min);
+        assert!((kept - 0.01).abs() <= 1e-9, "{kept}");
+    }
 
     #[test]
     fn touching_or_overlapping_arcs_of_one_joint_and_side_merge() {

@@ -64,7 +64,9 @@ impl Stop {
 /// [`FINE_TAUS`] and the others only its last weight ([`homotopy::patient_barrier_path`]; if a
 /// smaller weight stalls, the path goes on from the last weight reached; if the first stalls
 /// near the start, the path runs again from larger weights), and on the problem's grid the
-/// active-set rounds impose the limit on its arcs ([`homotopy::polish`]). Gives up with
+/// active-set rounds impose the limit on its arcs ([`homotopy::polish`]); if that stalls on
+/// some grid, the whole way once more with primal–dual barrier steps
+/// ([`Settings::primal_dual`]; the first stop is returned if that stalls too). Gives up with
 /// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 /// `pulse` is called on each grid and before each Newton iteration.
 pub fn refine(
@@ -92,6 +94,16 @@ pub fn refine(
 /// 1 024 steps from 256 and is carried from 64), one that stalls on the problem's grid is
 /// not (at `α_max = 0.95`, target (0, 0, 0.2), six stalled in the active-set rounds there;
 /// carried again, they took 10 of the solve's 33 CPU-s).
+///
+/// The primal barrier's Hessian `τ/d²` is right only on the central path: where a state
+/// rests far from its barrier minimiser's distance to the limit, as a prolonged coarse path's
+/// do on a finer grid, Newton's steps overshoot and each is cut at the fraction to the
+/// boundary. The primal–dual step carries the limit's multipliers `z` and takes `z/d`
+/// (MODEL.md §9). Tried first, it found the same costs on 52 of 53 limited problems (3.5 %
+/// less time, every one's bits changed) and took longer at `α_max = 1.2`, target (0, 0, −0.5)
+/// (24 CPU-s against 14); as the second try it leaves every solve whose candidates all
+/// refined as it was, and there carries the coarse minimum whose primal route stalls to
+/// 2.7023994 (2.7226544 without).
 fn carry(
     problem: &Problem,
     u: &[Vector2<f64>],
@@ -101,22 +113,45 @@ fn carry(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
     let gradual = problem.alpha_max.is_some() && 4 * u.len() <= GRADUAL_STEPS;
-    carry_through(problem, (u, nu), bound, known, gradual, pulse)
+    let through = |primal_dual| {
+        let route = Route {
+            gradual,
+            primal_dual,
+        };
+        carry_through(problem, (u, nu), bound, known, route, pulse)
+    };
+    let primal = through(false);
+    match primal {
+        Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
+            through(true).or(primal)
+        }
+        _ => primal,
+    }
+}
+
+/// How [`carry_through`] goes: through grids 4 times finer up to [`GRADUAL_STEPS`]
+/// (`gradual`) or 16 times, with primal or primal–dual barrier steps
+/// ([`Settings::primal_dual`]).
+#[derive(Clone, Copy, Debug)]
+struct Route {
+    gradual: bool,
+    primal_dual: bool,
 }
 
 /// The paths of a refinement's intermediate grids, each with its cost there ([`carry`]).
 type Trail = Vec<(Controls, f64)>;
 
-/// [`carry`] through grids 4 times finer up to [`GRADUAL_STEPS`] (`gradual`; from `origin`
-/// again 16 times finer if Newton stalls on one of them), or 16 times.
+/// [`carry`] along `route`: through grids 4 times finer up to [`GRADUAL_STEPS`] (from
+/// `origin` again 16 times finer if Newton stalls on one of them), or 16 times.
 fn carry_through(
     problem: &Problem,
     origin: (&[Vector2<f64>], &Vector5<f64>),
     bound: &dyn Fn(usize) -> f64,
     known: &[Controls],
-    gradual: bool,
+    route: Route,
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
+    let gradual = route.gradual;
     let mut trail = Vec::new();
     let mut u = origin.0.to_vec();
     let mut nu = *origin.1;
@@ -149,14 +184,19 @@ fn carry_through(
                 (run, settings.tol_defect)
             }
             Some(alpha_max) => {
-                let (reached, run) = barrier_stage(&grid, alpha_max, from, start, pulse)?;
+                let path = (alpha_max, from);
+                let (reached, run) = barrier_stage(&grid, path, start, route.primal_dual, pulse)?;
                 from = reached;
                 (run, Settings::barrier(PATIENCE[0]).tol_defect)
             }
         };
         if !run.converged() {
             if gradual && !last {
-                return carry_through(problem, origin, bound, known, false, pulse);
+                let route = Route {
+                    gradual: false,
+                    ..route
+                };
+                return carry_through(problem, origin, bound, known, route, pulse);
             }
             return Err(stalled(&run, tol_defect));
         }
@@ -213,16 +253,17 @@ fn stalled(run: &Run, tol_defect: f64) -> Stop {
 /// which dropped the cheapest gait). If the first weight stalls near the start (its cost
 /// within [`COARSE_COST_ERROR`] of the start's), the path again from the weights
 /// [`RESCUE_TAUS`] down ([`rescue`]); otherwise, or if that stalls too: the first
-/// weight's run, not converged.
+/// weight's run, not converged. Primal–dual steps if `primal_dual`.
 fn barrier_stage(
     grid: &Grid,
-    alpha_max: f64,
-    from: usize,
+    (alpha_max, from): (f64, usize),
     start: Point,
+    primal_dual: bool,
     pulse: &dyn Fn(),
 ) -> Result<(usize, Run), Stop> {
     let taus = &FINE_TAUS[from..];
-    let walk = homotopy::patient_barrier_path(grid, alpha_max, taus, start.clone(), pulse)
+    let path = (alpha_max, taus);
+    let walk = homotopy::patient_barrier_path(grid, path, start.clone(), primal_dual, pulse)
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
     if walk.run.converged() {
         return Ok((FINE_TAUS.len() - 1, walk.run));
@@ -230,7 +271,7 @@ fn barrier_stage(
     let Some((i, reached)) = walk.reached else {
         let near = grid.cost(&walk.run.point.u, &walk.run.point.states)
             <= grid.cost(&start.u, &start.states) * (1.0 + COARSE_COST_ERROR);
-        if near && let Some(rescued) = rescue(grid, alpha_max, start, pulse) {
+        if near && let Some(rescued) = rescue(grid, alpha_max, start, primal_dual, pulse) {
             return Ok(rescued);
         }
         return Ok((from, walk.run));
@@ -254,10 +295,17 @@ fn barrier_stage(
 /// target: from the coarse extremal, the 1 024-step grid stalled at `τ = 1e-6` with
 /// stationarity 0.4 at a cost 0.1 % below the coarse one, and converged from `τ = 1e-4`).
 /// The index in [`FINE_TAUS`] of the last weight that converged, with its run; `None` if
-/// none of them did.
-fn rescue(grid: &Grid, alpha_max: f64, start: Point, pulse: &dyn Fn()) -> Option<(usize, Run)> {
+/// none of them did. Primal–dual steps if `primal_dual`.
+fn rescue(
+    grid: &Grid,
+    alpha_max: f64,
+    start: Point,
+    primal_dual: bool,
+    pulse: &dyn Fn(),
+) -> Option<(usize, Run)> {
     let taus: Vec<f64> = RESCUE_TAUS.iter().chain(&FINE_TAUS).copied().collect();
-    let walk = homotopy::patient_barrier_path(grid, alpha_max, &taus, start, pulse).ok()?;
+    let path = (alpha_max, &taus[..]);
+    let walk = homotopy::patient_barrier_path(grid, path, start, primal_dual, pulse).ok()?;
     if walk.run.converged() {
         return Some((FINE_TAUS.len() - 1, walk.run));
     }
@@ -371,5 +419,41 @@ mod tests {
                 .is_ok_and(|(_, r)| !grid::same_path(&r.point.u, &run.point.u, grid.h()))
         });
         assert!(again(other.expect("a second extremal")).is_ok());
+    }
+
+    /// A candidate whose primal barrier path stalls is carried by primal–dual steps
+    /// ([`carry`]): within `|α_i| ≤ 1.2` to (0, 0, −0.5), the coarse minimum of J 2.8817545
+    /// stalls on the primal route and reaches 2.7023994 on the primal–dual one, the cheapest
+    /// gait of `purcell-sim solve` there (2.7226544 without the second try).
+    #[test]
+    fn a_candidate_whose_primal_path_stalls_is_carried_by_primal_dual_steps() {
+        let problem = Problem::new(&Spec {
+            target: [0.0, 0.0, -0.5],
+            alpha_max: Some(1.2),
+            ..Spec::default()
+        })
+        .unwrap();
+        let found = search_coarse(&problem, &SolveOptions::default(), &|| ()).unwrap();
+        let c = (found.candidates.iter())
+            .find(|c| (c.cost - 2.8817545).abs() <= 1e-7)
+            .expect("the coarse minimum");
+        let none = |_| f64::INFINITY;
+        let through = |primal_dual| {
+            let route = Route {
+                gradual: true,
+                primal_dual,
+            };
+            carry_through(&problem, (&c.u, &c.nu), &none, &[], route, &|| ())
+        };
+        let primal = through(false).err();
+        assert!(
+            matches!(primal, Some(Stop::Defect(_) | Stop::Stationarity { .. })),
+            "{primal:?}"
+        );
+        let (grid, run, _) = through(true).unwrap();
+        let cost = grid.cost(&run.point.u, &run.point.states);
+        assert!((cost - 2.7023994).abs() <= 1e-7, "{cost}");
+        let (grid, run) = refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| ()).unwrap();
+        assert_eq!(grid.cost(&run.point.u, &run.point.states), cost);
     }
 }
