@@ -176,6 +176,9 @@ pub struct SolveReport {
     pub best: CertifiedReport,
     /// Every extremal, cheapest first.
     pub extremals: Vec<ExtremalReport>,
+    /// `m` if the gait was refined from its `m`-th part's gait flown `m` times (the search
+    /// found none; [`purcell_solver::solver::periodic`]).
+    pub flown: Option<usize>,
     /// [`REPORT_FORMAT`].
     pub format: &'static str,
     /// The problem.
@@ -185,7 +188,8 @@ pub struct SolveReport {
     pub replays: Vec<replay::ReplayReport>,
     /// The index of `best` in `extremals`.
     pub returned: usize,
-    /// The global search's evidence (`None` after a warm start).
+    /// The global search's evidence (`None` after a warm start, and for a gait flown `m`
+    /// times).
     pub search: Option<EvidenceReport>,
     /// Seconds the solve took.
     pub solve_seconds: f64,
@@ -338,6 +342,7 @@ impl SolveReport {
         SolveReport {
             best: CertifiedReport::new(&solution.extremals[solution.best]),
             extremals: solution.extremals.iter().map(ExtremalReport::new).collect(),
+            flown: solution.flown,
             format: REPORT_FORMAT,
             problem: ProblemReport {
                 common: SweepProblemReport {

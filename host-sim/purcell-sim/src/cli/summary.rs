@@ -77,9 +77,12 @@ pub(super) fn solve(
     let _ = writeln!(
         s,
         "search     {}",
-        match &r.search {
-            None => "none (from --from's extremal)".to_string(),
-            Some(e) => format!(
+        match (&r.search, r.flown) {
+            (None, Some(m)) => format!(
+                "no start led to a gait; this one is refined from a gait to the target's order-{m} root in 1/{m} of the steps, flown {m} times"
+            ),
+            (None, None) => "none (from --from's extremal)".to_string(),
+            (Some(e), _) => format!(
                 "{} of {} starts, {} distinct minima, stopping rule {} (unseen {:.3})",
                 e.starts,
                 e.budget,

@@ -91,6 +91,7 @@ fn reports_keep_the_files_key_order() {
     let report = SolveReport {
         best: certified,
         extremals: vec![extremal],
+        flown: None,
         format: REPORT_FORMAT,
         problem: ProblemReport {
             common: SweepProblemReport {

@@ -33,7 +33,7 @@
 //! `RUST_LOG=purcell_solver::solver::direct=debug`.
 
 use super::constraints::joint_limit::ControlMap;
-use super::filter::{Filter, Step};
+use super::filter::{Filter, Search, Step};
 use super::grid::{Grid, Point};
 use super::linearisation::Linearisation;
 use super::riccati::Factor;
@@ -200,17 +200,8 @@ fn iterate(
             nu,
         };
         let search = filter.search(grid, &step, &c, correction, settings);
-        log::debug!(
-            "sqp {iterations}: J {:.6} |c| {:.2e} kkt {:.2e} δ {delta:.1e} inertia {}+{} |ν_qp| {:.2e} t {:.1e} |du| {:.2e}",
-            search.phi,
-            c.amax(),
-            lz.kkt,
-            factor.negative_h,
-            factor.negative_m,
-            nu_qp.amax(),
-            search.t,
-            amax(&du)
-        );
+        let at = (&lz, &factor, delta);
+        trace_iteration(iterations, at, (&c, &nu_qp, &du), &search);
         let Some(mut p) = search.point else {
             return Ok(finish(grid, pt, lz, iterations, Status::Stalled));
         };
@@ -285,6 +276,28 @@ fn convex_factor(
 /// The largest `|u_{k,i}|` of `u`.
 fn amax(u: &[Vector2<f64>]) -> f64 {
     u.iter().map(|v| v.amax()).fold(0.0, f64::max)
+}
+
+/// Logs one iteration at `debug` level: the objective, defect and stationarity where it
+/// started, `δ` and the inertia of its factorisation, the QP's multiplier, the step length
+/// the line search ended at and the step's largest control change.
+fn trace_iteration(
+    iterations: usize,
+    (lz, factor, delta): (&Linearisation, &Factor, f64),
+    (c, nu_qp, du): (&Vector5<f64>, &Vector5<f64>, &[Vector2<f64>]),
+    search: &Search,
+) {
+    log::debug!(
+        "sqp {iterations}: J {:.6} |c| {:.2e} kkt {:.2e} δ {delta:.1e} inertia {}+{} |ν_qp| {:.2e} t {:.1e} |du| {:.2e}",
+        search.phi,
+        c.amax(),
+        lz.kkt,
+        factor.negative_h,
+        factor.negative_m,
+        nu_qp.amax(),
+        search.t,
+        amax(du)
+    );
 }
 
 /// Logs at `trace` level how far the step's linearised end `δs_N` misses `−c`.

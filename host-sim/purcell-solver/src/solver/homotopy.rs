@@ -296,17 +296,17 @@ fn rounds(
 /// The refinement's barrier path on one grid: [`walk`] through `taus` with
 /// [`Settings::barrier`] (every step stopped at the fraction to the boundary: from a
 /// prolonged coarse solution, unguarded steps pin states to the limit and Newton stalls
-/// there), the first of [`PATIENCE`] iterations per weight, then the second if that does not
-/// converge. The second path's runs up to the weight where the first stalled are the
+/// there), the first of [`PATIENCE`] iterations per weight, then a second patience if that
+/// does not converge. The second path's runs up to the weight where the first stalled are the
 /// first's (they converged within fewer iterations), so it goes on from there: that weight's
 /// run resumed ([`direct::resume`], the same iterates as a run started with the second
-/// patience), then the smaller weights. Each step primal–dual if `primal_dual`
-/// ([`Settings::primal_dual`]).
+/// patience), then the smaller weights. `steps`: whether each step is primal–dual
+/// ([`Settings::primal_dual`]), and the second patience (usually `PATIENCE[1]`).
 pub fn patient_barrier_path(
     grid: &Grid,
     (alpha_max, taus): (f64, &[f64]),
     start: Point,
-    primal_dual: bool,
+    (primal_dual, patience): (bool, usize),
     pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
     let settings = |patience| Settings::barrier(patience).with_primal_dual(primal_dual);
@@ -314,7 +314,7 @@ pub fn patient_barrier_path(
     if first.run.converged() {
         return Ok(first);
     }
-    let patient = settings(PATIENCE[1]);
+    let patient = settings(patience);
     let stalled = first.reached.as_ref().map_or(0, |(i, _)| i + 1);
     let g = barrier_grid(grid, alpha_max, taus[stalled]);
     let at = patient.at_weight(taus[stalled], stalled + 1 == taus.len());

@@ -19,7 +19,9 @@
 //!    check by the inertia of the last factorisation. With a joint limit ([`homotopy`]), the
 //!    search and the refinement run an interior-point path and the refinement ends with the
 //!    limit imposed exactly on the arcs where it is active. If no candidate refines, steps 2
-//!    and 3 run again on a finer coarse grid ([`settings::FINER_COARSE`]);
+//!    and 3 run again on a finer coarse grid ([`settings::FINER_COARSE`]); if still none
+//!    under a joint limit, [`periodic`]: the problem for the `m`-th root of the target in
+//!    `N/m` steps solved by steps 1–3, its gait flown `m` times and refined;
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
 //! 5. [`certificate`]: independent checks (the core's law reproduces the controls, the
 //!    controls reach the target through the core's kinematics, KKT by reverse mode);
@@ -38,6 +40,7 @@ pub mod filter;
 pub mod grid;
 pub mod homotopy;
 pub mod linearisation;
+pub mod periodic;
 pub mod progress;
 pub mod refinement;
 pub mod riccati;
@@ -89,8 +92,26 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
 /// start converges, the best 3.0e-4 from the target, and 64 steps solve). A solve that
 /// succeeds on the first grid is unchanged, and so is one whose refinements met the defect
 /// and stalled in stationarity (tiny targets: a finer coarse grid does not change their fine
-/// Newton).
+/// Newton). Under a joint limit, where even that finds no gait, the gaits flown `m` times
+/// ([`periodic::solve`]); their failure returns the search's.
 pub fn solve(
+    problem: &Problem,
+    options: &SolveOptions,
+    progress: &dyn Progress,
+) -> Result<Solution, SolveError> {
+    match searched(problem, options, progress) {
+        Err(e @ (SolveError::Unreachable { .. } | SolveError::NotRefined { .. }))
+            if problem.alpha_max.is_some() =>
+        {
+            periodic::solve(problem, progress, &|p| searched(p, options, progress), e)
+        }
+        found => found,
+    }
+}
+
+/// [`solve`] by the search and the refinement alone, on finer coarse grids where the grid is
+/// too coarse (see [`solve`]).
+fn searched(
     problem: &Problem,
     options: &SolveOptions,
     progress: &dyn Progress,
@@ -138,6 +159,7 @@ fn solve_on(
         best,
         extremals,
         search: Some(Evidence::of(&found, budget, unrefined)),
+        flown: None,
     })
 }
 

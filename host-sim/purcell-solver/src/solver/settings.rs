@@ -280,6 +280,14 @@ pub const RESCUE_TAUS: [f64; 2] = [1e-4, 1e-5];
 /// `α_max = 1.2`, target (0, 0, −0.5), the starts that converge take up to 299 iterations at
 /// their first weight; 14 of 936 converge within 100, 136 within 200, 219 within 300).
 pub const PATIENCE: [usize; 2] = [100, 300];
+/// The periods `m` of the gaits flown `m` times that a limited solve tries where its search
+/// finds no gait ([`super::periodic`]), those that divide the problem's steps.
+pub const PERIODS: [usize; 4] = [2, 3, 4, 5];
+/// Iterations per barrier weight, where [`PATIENCE`]`[0]` do not converge, of the refinement
+/// of a gait flown `m` times ([`super::periodic`]): from the tiled loops the problem's grid
+/// walks far (at `α_max = 1`, links 1, 0.93, 0.93, target (0.144, 0.023, −0.44), `m = 2`: J
+/// 6.37 → 6.10, with the inertia corrected at most steps), and 300 iterations stall.
+pub const PERIODIC_PATIENCE: usize = 3000;
 /// Most active-set rounds (from a barrier solution on the same grid, two suffice: arcs
 /// found, then confirmed).
 pub const ROUNDS: usize = 6;

@@ -107,8 +107,13 @@ pub struct Solution {
     pub best: usize,
     /// Every distinct extremal carried to the fine grid, cheapest first.
     pub extremals: Vec<Extremal>,
-    /// What the global search saw (`None` for a solve from a warm start).
+    /// What the global search saw (`None` for a solve from a warm start, and for a gait
+    /// flown `m` times).
     pub search: Option<Evidence>,
+    /// `Some(m)`: no start of the search led to a gait, and the returned one was refined from
+    /// the gait of the target's `m`-th root in `N/m` steps flown `m` times
+    /// ([`super::periodic`]).
+    pub flown: Option<usize>,
 }
 
 /// The global search's evidence for its answer ([`search`]'s stopping rule).

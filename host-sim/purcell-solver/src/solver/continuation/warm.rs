@@ -275,6 +275,7 @@ pub fn solve_from(
                 best: 0,
                 extremals: vec![x],
                 search: None,
+                flown: None,
             }),
             None,
         ),

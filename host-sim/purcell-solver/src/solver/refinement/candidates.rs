@@ -8,7 +8,7 @@ use crate::solver::grid;
 use crate::solver::progress::Progress;
 use crate::solver::search;
 use crate::solver::settings::{
-    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FAR_MISS, LIMITED_COARSE_COST_ERROR, PRUNE,
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FAR_MISS, LIMITED_COARSE_COST_ERROR, PATIENCE, PRUNE,
     SolveOptions, UNRESOLVED,
 };
 use crate::solver::solution::{Extremal, Minimum, SolveError, Unrefined};
@@ -91,7 +91,8 @@ pub fn refine_candidates(
             tried += 1;
             let pulse = || progress.pulse();
             let bound = |steps| prune_bound(&settled_on, settled, steps);
-            let refined = carry(problem, &c.u, &c.nu, &bound, &trails, &pulse);
+            let known = (&trails[..], PATIENCE[1]);
+            let refined = carry(problem, (&c.u, &c.nu), &bound, known, &pulse);
             progress.tick();
             let (fine, run, on) = match refined {
                 Ok((fine, run, trail)) => {

@@ -76,7 +76,22 @@ pub fn refine(
     bound: f64,
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
-    carry(problem, u, nu, &|_| bound, &[], pulse).map(|(grid, run, _)| (grid, run))
+    let patience = PATIENCE[1];
+    carry(problem, (u, nu), &|_| bound, (&[], patience), pulse).map(|(grid, run, _)| (grid, run))
+}
+
+/// [`refine`] without a bound, the barrier paths given `patience` iterations per weight where
+/// [`PATIENCE`]`[0]` do not converge (instead of [`PATIENCE`]`[1]`): for a start far from the
+/// barrier's path on the problem's grid ([`super::periodic`]).
+pub fn refine_patiently(
+    problem: &Problem,
+    u: &[Vector2<f64>],
+    nu: &Vector5<f64>,
+    patience: usize,
+    pulse: &dyn Fn(),
+) -> Result<(Grid, Run), Stop> {
+    let none = |_| f64::INFINITY;
+    carry(problem, (u, nu), &none, (&[], patience), pulse).map(|(grid, run, _)| (grid, run))
 }
 
 /// [`refine`], which also gives up with [`Stop::Repeat`] once an intermediate grid's path is
@@ -106,10 +121,9 @@ pub fn refine(
 /// 2.7023994 (2.7226544 without).
 fn carry(
     problem: &Problem,
-    u: &[Vector2<f64>],
-    nu: &Vector5<f64>,
+    (u, nu): (&[Vector2<f64>], &Vector5<f64>),
     bound: &dyn Fn(usize) -> f64,
-    known: &[Controls],
+    (known, patience): (&[Controls], usize),
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
     let gradual = problem.alpha_max.is_some() && 4 * u.len() <= GRADUAL_STEPS;
@@ -117,6 +131,7 @@ fn carry(
         let route = Route {
             gradual,
             primal_dual,
+            patience,
         };
         carry_through(problem, (u, nu), bound, known, route, pulse)
     };
@@ -131,11 +146,13 @@ fn carry(
 
 /// How [`carry_through`] goes: through grids 4 times finer up to [`GRADUAL_STEPS`]
 /// (`gradual`) or 16 times, with primal or primal–dual barrier steps
-/// ([`Settings::primal_dual`]).
+/// ([`Settings::primal_dual`]), the barrier paths' second patience `patience`
+/// ([`homotopy::patient_barrier_path`]).
 #[derive(Clone, Copy, Debug)]
 struct Route {
     gradual: bool,
     primal_dual: bool,
+    patience: usize,
 }
 
 /// The paths of a refinement's intermediate grids, each with its cost there ([`carry`]).
@@ -151,7 +168,6 @@ fn carry_through(
     route: Route,
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
-    let gradual = route.gradual;
     let mut trail = Vec::new();
     let mut u = origin.0.to_vec();
     let mut nu = *origin.1;
@@ -166,7 +182,7 @@ fn carry_through(
         pulse();
         let inf = |_| Stop::Defect(f64::INFINITY);
         let n = u.len();
-        let ratio = if gradual && 4 * n <= GRADUAL_STEPS {
+        let ratio = if route.gradual && 4 * n <= GRADUAL_STEPS {
             4
         } else {
             16
@@ -185,13 +201,14 @@ fn carry_through(
             }
             Some(alpha_max) => {
                 let path = (alpha_max, from);
-                let (reached, run) = barrier_stage(&grid, path, start, route.primal_dual, pulse)?;
+                let steps = (route.primal_dual, route.patience);
+                let (reached, run) = barrier_stage(&grid, path, start, steps, pulse)?;
                 from = reached;
                 (run, Settings::barrier(PATIENCE[0]).tol_defect)
             }
         };
         if !run.converged() {
-            if gradual && !last {
+            if route.gradual && !last {
                 let route = Route {
                     gradual: false,
                     ..route
@@ -204,15 +221,8 @@ fn carry_through(
             let Some(alpha_max) = problem.alpha_max else {
                 return Ok((grid, run, trail));
             };
-            let fine = Settings::fine(problem, &run.point.u);
-            let polished = homotopy::polish(&grid, alpha_max, &run.point, &fine, pulse);
-            return match polished {
-                Ok((grid, run)) => Ok((grid, run, trail)),
-                Err(PolishError::NotConverged(run)) => Err(stalled(&run, fine.tol_defect)),
-                Err(PolishError::Failed | PolishError::Unsettled) => {
-                    Err(Stop::Defect(f64::INFINITY))
-                }
-            };
+            let (grid, run) = polished(problem, &grid, alpha_max, &run, pulse)?;
+            return Ok((grid, run, trail));
         }
         let cost = grid.cost(&run.point.u, &run.point.states);
         if cost > bound(grid.steps) {
@@ -227,6 +237,23 @@ fn carry_through(
         trail.push((run.point.u.clone(), cost));
         u = run.point.u;
         nu = run.point.nu;
+    }
+}
+
+/// The problem's grid `grid` under the joint limit `alpha_max`: the active-set rounds from
+/// the barrier path's end `run` ([`homotopy::polish`]).
+fn polished(
+    problem: &Problem,
+    grid: &Grid,
+    alpha_max: f64,
+    run: &Run,
+    pulse: &dyn Fn(),
+) -> Result<(Grid, Run), Stop> {
+    let fine = Settings::fine(problem, &run.point.u);
+    match homotopy::polish(grid, alpha_max, &run.point, &fine, pulse) {
+        Ok(done) => Ok(done),
+        Err(PolishError::NotConverged(run)) => Err(stalled(&run, fine.tol_defect)),
+        Err(PolishError::Failed | PolishError::Unsettled) => Err(Stop::Defect(f64::INFINITY)),
     }
 }
 
@@ -253,17 +280,17 @@ fn stalled(run: &Run, tol_defect: f64) -> Stop {
 /// which dropped the cheapest gait). If the first weight stalls near the start (its cost
 /// within [`COARSE_COST_ERROR`] of the start's), the path again from the weights
 /// [`RESCUE_TAUS`] down ([`rescue`]); otherwise, or if that stalls too: the first
-/// weight's run, not converged. Primal–dual steps if `primal_dual`.
+/// weight's run, not converged. `steps` as [`homotopy::patient_barrier_path`]'s.
 fn barrier_stage(
     grid: &Grid,
     (alpha_max, from): (f64, usize),
     start: Point,
-    primal_dual: bool,
+    steps: (bool, usize),
     pulse: &dyn Fn(),
 ) -> Result<(usize, Run), Stop> {
     let taus = &FINE_TAUS[from..];
     let path = (alpha_max, taus);
-    let walk = homotopy::patient_barrier_path(grid, path, start.clone(), primal_dual, pulse)
+    let walk = homotopy::patient_barrier_path(grid, path, start.clone(), steps, pulse)
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
     if walk.run.converged() {
         return Ok((FINE_TAUS.len() - 1, walk.run));
@@ -271,7 +298,7 @@ fn barrier_stage(
     let Some((i, reached)) = walk.reached else {
         let near = grid.cost(&walk.run.point.u, &walk.run.point.states)
             <= grid.cost(&start.u, &start.states) * (1.0 + COARSE_COST_ERROR);
-        if near && let Some(rescued) = rescue(grid, alpha_max, start, primal_dual, pulse) {
+        if near && let Some(rescued) = rescue(grid, alpha_max, start, steps, pulse) {
             return Ok(rescued);
         }
         return Ok((from, walk.run));
@@ -295,17 +322,17 @@ fn barrier_stage(
 /// target: from the coarse extremal, the 1 024-step grid stalled at `τ = 1e-6` with
 /// stationarity 0.4 at a cost 0.1 % below the coarse one, and converged from `τ = 1e-4`).
 /// The index in [`FINE_TAUS`] of the last weight that converged, with its run; `None` if
-/// none of them did. Primal–dual steps if `primal_dual`.
+/// none of them did. `steps` as [`homotopy::patient_barrier_path`]'s.
 fn rescue(
     grid: &Grid,
     alpha_max: f64,
     start: Point,
-    primal_dual: bool,
+    steps: (bool, usize),
     pulse: &dyn Fn(),
 ) -> Option<(usize, Run)> {
     let taus: Vec<f64> = RESCUE_TAUS.iter().chain(&FINE_TAUS).copied().collect();
     let path = (alpha_max, &taus[..]);
-    let walk = homotopy::patient_barrier_path(grid, path, start, primal_dual, pulse).ok()?;
+    let walk = homotopy::patient_barrier_path(grid, path, start, steps, pulse).ok()?;
     if walk.run.converged() {
         return Some((FINE_TAUS.len() - 1, walk.run));
     }
@@ -407,11 +434,15 @@ mod tests {
         let found = search_coarse(&problem, &options, &|| ()).unwrap();
         let c = &found.candidates[0];
         let none = |_| f64::INFINITY;
-        let (grid, run, trail) = carry(&problem, &c.u, &c.nu, &none, &[], &|| ()).unwrap();
+        let patience = PATIENCE[1];
+        let (grid, run, trail) =
+            carry(&problem, (&c.u, &c.nu), &none, (&[], patience), &|| ()).unwrap();
         let trail: Vec<Controls> = trail.into_iter().map(|(u, _)| u).collect();
         assert_eq!(grid.steps, 2000);
         assert_eq!(trail.iter().map(Vec::len).collect::<Vec<_>>(), [1024]);
-        let again = |c: &search::Candidate| carry(&problem, &c.u, &c.nu, &none, &trail, &|| ());
+        let again = |c: &search::Candidate| {
+            carry(&problem, (&c.u, &c.nu), &none, (&trail, patience), &|| ())
+        };
         assert_eq!(again(c).err(), Some(Stop::Repeat));
         // The path of another extremal is no repeat of this one.
         let other = (found.candidates.iter()).find(|o| {
@@ -442,6 +473,7 @@ mod tests {
             let route = Route {
                 gradual: true,
                 primal_dual,
+                patience: PATIENCE[1],
             };
             carry_through(&problem, (&c.u, &c.nu), &none, &[], route, &|| ())
         };
