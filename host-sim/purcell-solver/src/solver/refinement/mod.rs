@@ -66,7 +66,8 @@ impl Stop {
 /// near the start, the path runs again from larger weights), and on the problem's grid the
 /// active-set rounds impose the limit on its arcs ([`homotopy::polish`]); if that stalls on
 /// some grid, the whole way once more with primal–dual barrier steps
-/// ([`Settings::primal_dual`]; the first stop is returned if that stalls too). Gives up with
+/// ([`Settings::primal_dual`]; the first stop is returned if that stalls too).
+/// Gives up with
 /// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 /// `pulse` is called on each grid and before each Newton iteration.
 pub fn refine(
@@ -76,8 +77,10 @@ pub fn refine(
     bound: f64,
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
-    let patience = PATIENCE[1];
-    carry(problem, (u, nu), &|_| bound, (&[], patience), pulse).map(|(grid, run, _)| (grid, run))
+    let bound = |_| bound;
+    either(problem, |steps| {
+        carry(problem, (u, nu), &bound, &[], steps, pulse)
+    })
 }
 
 /// [`refine`] without a bound, the barrier paths given `patience` iterations per weight where
@@ -91,7 +94,29 @@ pub fn refine_patiently(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let none = |_| f64::INFINITY;
-    carry(problem, (u, nu), &none, (&[], patience), pulse).map(|(grid, run, _)| (grid, run))
+    either(problem, |(primal_dual, _)| {
+        carry(problem, (u, nu), &none, &[], (primal_dual, patience), pulse)
+    })
+}
+
+/// [`carry`]'s primal route: primal barrier steps, [`PATIENCE`]`[1]`.
+const PRIMAL: (bool, usize) = (false, PATIENCE[1]);
+
+/// `carry` along the primal route ([`PRIMAL`]), and under a joint limit, if that
+/// stalls on some grid, along the primal–dual one (the first stop is returned if that stalls
+/// too).
+fn either(
+    problem: &Problem,
+    carry: impl Fn((bool, usize)) -> Result<(Grid, Run, Trail), Stop>,
+) -> Result<(Grid, Run), Stop> {
+    let primal = carry(PRIMAL);
+    let carried = match primal {
+        Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
+            carry((true, PATIENCE[1])).or(primal)
+        }
+        _ => primal,
+    };
+    carried.map(|(grid, run, _)| (grid, run))
 }
 
 /// [`refine`], which also gives up with [`Stop::Repeat`] once an intermediate grid's path is
@@ -114,34 +139,27 @@ pub fn refine_patiently(
 /// rests far from its barrier minimiser's distance to the limit, as a prolonged coarse path's
 /// do on a finer grid, Newton's steps overshoot and each is cut at the fraction to the
 /// boundary. The primal–dual step carries the limit's multipliers `z` and takes `z/d`
-/// (MODEL.md §9). Tried first, it found the same costs on 52 of 53 limited problems (3.5 %
-/// less time, every one's bits changed) and took longer at `α_max = 1.2`, target (0, 0, −0.5)
-/// (24 CPU-s against 14); as the second try it leaves every solve whose candidates all
-/// refined as it was, and there carries the coarse minimum whose primal route stalls to
-/// 2.7023994 (2.7226544 without).
+/// (MODEL.md §9): `steps`, whether the barrier steps are primal–dual, with the barrier
+/// paths' second patience ([`homotopy::patient_barrier_path`]). Tried first, it found the
+/// same costs on 52 of 53 limited problems (3.5 % less time, every one's bits changed) and
+/// took longer at `α_max = 1.2`, target (0, 0, −0.5) (24 CPU-s against 14); as the second
+/// try of a candidate whose primal route stalls (after the others, [`refine_candidates`];
+/// [`refine`]), it leaves every solve whose candidates all refined as it was, and there
+/// carries the coarse minimum whose primal route stalls to 2.7023994 (2.7226544 without).
 fn carry(
     problem: &Problem,
     (u, nu): (&[Vector2<f64>], &Vector5<f64>),
     bound: &dyn Fn(usize) -> f64,
-    (known, patience): (&[Controls], usize),
+    known: &[Controls],
+    (primal_dual, patience): (bool, usize),
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
-    let gradual = problem.alpha_max.is_some() && 4 * u.len() <= GRADUAL_STEPS;
-    let through = |primal_dual| {
-        let route = Route {
-            gradual,
-            primal_dual,
-            patience,
-        };
-        carry_through(problem, (u, nu), bound, known, route, pulse)
+    let route = Route {
+        gradual: problem.alpha_max.is_some() && 4 * u.len() <= GRADUAL_STEPS,
+        primal_dual,
+        patience,
     };
-    let primal = through(false);
-    match primal {
-        Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
-            through(true).or(primal)
-        }
-        _ => primal,
-    }
+    carry_through(problem, (u, nu), bound, known, route, pulse)
 }
 
 /// How [`carry_through`] goes: through grids 4 times finer up to [`GRADUAL_STEPS`]
@@ -434,15 +452,13 @@ mod tests {
         let found = search_coarse(&problem, &options, &|| ()).unwrap();
         let c = &found.candidates[0];
         let none = |_| f64::INFINITY;
-        let patience = PATIENCE[1];
-        let (grid, run, trail) =
-            carry(&problem, (&c.u, &c.nu), &none, (&[], patience), &|| ()).unwrap();
+        let steps = (false, PATIENCE[1]);
+        let (grid, run, trail) = carry(&problem, (&c.u, &c.nu), &none, &[], steps, &|| ()).unwrap();
         let trail: Vec<Controls> = trail.into_iter().map(|(u, _)| u).collect();
         assert_eq!(grid.steps, 2000);
         assert_eq!(trail.iter().map(Vec::len).collect::<Vec<_>>(), [1024]);
-        let again = |c: &search::Candidate| {
-            carry(&problem, (&c.u, &c.nu), &none, (&trail, patience), &|| ())
-        };
+        let again =
+            |c: &search::Candidate| carry(&problem, (&c.u, &c.nu), &none, &trail, steps, &|| ());
         assert_eq!(again(c).err(), Some(Stop::Repeat));
         // The path of another extremal is no repeat of this one.
         let other = (found.candidates.iter()).find(|o| {
