@@ -66,8 +66,7 @@ impl Stop {
 /// near the start, the path runs again from larger weights), and on the problem's grid the
 /// active-set rounds impose the limit on its arcs ([`homotopy::polish`]); if that stalls on
 /// some grid, the whole way once more with primal–dual barrier steps
-/// ([`Settings::primal_dual`]; the first stop is returned if that stalls too).
-/// Gives up with
+/// ([`Settings::primal_dual`]; the first stop is returned if that stalls too). Gives up with
 /// [`Stop::Dearer`] once an intermediate grid's cost exceeds `bound` (`f64::INFINITY`: never).
 /// `pulse` is called on each grid and before each Newton iteration.
 pub fn refine(
@@ -78,8 +77,15 @@ pub fn refine(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let bound = |_| bound;
-    either(problem, |steps| {
-        carry(problem, (u, nu), &bound, &[], steps, pulse)
+    either(problem, |primal_dual| {
+        carry(
+            problem,
+            (u, nu),
+            &bound,
+            &[],
+            (primal_dual, PATIENCE[1]),
+            pulse,
+        )
     })
 }
 
@@ -94,25 +100,25 @@ pub fn refine_patiently(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let none = |_| f64::INFINITY;
-    either(problem, |(primal_dual, _)| {
+    either(problem, |primal_dual| {
         carry(problem, (u, nu), &none, &[], (primal_dual, patience), pulse)
     })
 }
 
-/// [`carry`]'s primal route: primal barrier steps, [`PATIENCE`]`[1]`.
+/// [`carry`]'s primal route of a search's candidate: primal barrier steps,
+/// [`PATIENCE`]`[1]` ([`refine_candidates`]).
 const PRIMAL: (bool, usize) = (false, PATIENCE[1]);
 
-/// `carry` along the primal route ([`PRIMAL`]), and under a joint limit, if that
-/// stalls on some grid, along the primal–dual one (the first stop is returned if that stalls
-/// too).
+/// `carry(primal_dual)` with primal barrier steps, and under a joint limit, if that stalls
+/// on some grid, with primal–dual ones (the first stop is returned if that stalls too).
 fn either(
     problem: &Problem,
-    carry: impl Fn((bool, usize)) -> Result<(Grid, Run, Trail), Stop>,
+    carry: impl Fn(bool) -> Result<(Grid, Run, Trail), Stop>,
 ) -> Result<(Grid, Run), Stop> {
-    let primal = carry(PRIMAL);
+    let primal = carry(false);
     let carried = match primal {
         Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
-            carry((true, PATIENCE[1])).or(primal)
+            carry(true).or(primal)
         }
         _ => primal,
     };
