@@ -103,6 +103,9 @@ class Solution(Extremal):
     """Every extremal carried to the problem's grid, cheapest first."""
     report: dict[str, Any]
     """report.json of `purcell-sim solve` as a dict."""
+    flown: int | None
+    """m for a gait flown m times (a tight joint limit where the search led to no gait:
+    the loop to the target's m-th root flown m times, refined); None otherwise."""
     def gait(self) -> bytes:
         """The binary gait file (`purcell-sim export`'s bytes)."""
     def costate(self) -> str:

@@ -240,6 +240,10 @@ pub struct Solution {
     /// `report.json` as a dict.
     #[pyo3(get)]
     report: Py<PyAny>,
+    /// For a gait flown `m` times (under a tight joint limit where the search led to no gait:
+    /// the loop to the target's `m`-th root, flown `m` times and refined), `m`; else `None`.
+    #[pyo3(get)]
+    flown: Option<usize>,
     /// Its costate file, gait file and report, as the command line writes them.
     solved: Solved,
     /// The problem it solves.
@@ -352,6 +356,7 @@ pub(crate) fn build(
             best: solution.best,
             extremals,
             report: report.unbind(),
+            flown: solution.flown,
             solved,
             problem: *problem,
         });

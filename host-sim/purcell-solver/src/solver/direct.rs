@@ -100,6 +100,30 @@ impl Run {
     pub fn local_min(&self) -> bool {
         self.status == Status::LocalMin
     }
+
+    /// Its image under a linear map of the coordinates, `state` on states, the terminal
+    /// multiplier and the costates, `control` on controls and on the costates' jumps (a
+    /// signed permutation, [`super::symmetry`], is its own inverse transpose, so both kinds
+    /// map alike), without the bound multipliers of primal–dual steps and with nothing to
+    /// resume: an extremal's image, not a point to go on from.
+    pub fn image(
+        &self,
+        state: impl Fn(&Vector5<f64>) -> Vector5<f64>,
+        control: impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> Run {
+        Run {
+            point: Point {
+                u: self.point.u.iter().map(&control).collect(),
+                states: self.point.states.iter().map(&state).collect(),
+                nu: state(&self.point.nu),
+                z: Vec::new(),
+            },
+            lambda: self.lambda.iter().map(&state).collect(),
+            jumps: self.jumps.iter().map(&control).collect(),
+            more: None,
+            ..*self
+        }
+    }
 }
 
 /// Newton–SQP from `start` (see the module docs).

@@ -11,8 +11,12 @@
 //! Each acts linearly on shape velocities and on the coordinates `(α, x, y, θ)`, hence on the
 //! multipliers of the direct method too (a signed permutation is its own inverse transpose).
 
+use super::constraints::joint_limit::Limits;
+use super::direct::Run;
+use super::grid::Grid;
 use crate::problem::Problem;
 use nalgebra::{Vector2, Vector3, Vector5};
+use purcell_core::Arc;
 
 /// One symmetry, as signed permutations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +66,38 @@ impl Symmetry {
         let a = self.shape(&Vector2::new(v[0], v[1]));
         let t = self.target(&Vector3::new(v[2], v[3], v[4]));
         Vector5::new(a.x, a.y, t.x, t.y, t.z)
+    }
+
+    /// The image of an arc of the joint limit: the image's joint `i` is `s_i α_{p_i}`, so an
+    /// arc of joint `p_i` at `σ α_max` becomes one of joint `i` at `s_i σ α_max`.
+    pub fn arc(&self, a: &Arc) -> Arc {
+        let ([p0, _], [s0, s1]) = self.shape;
+        let i = if p0 + 1 == usize::from(a.joint) { 0 } else { 1 };
+        let s = [s0, s1][i];
+        Arc::new(i as u8 + 1, s * a.sign, a.first, a.last)
+    }
+
+    /// The image of a run on `grid` of a problem this symmetry maps to itself
+    /// ([`of_problem`]): the run of the image path, on `grid` with the image arcs. The
+    /// discrete kinematics commute with the symmetry exactly (its target map is an
+    /// automorphism of SE(2), its shape map preserves the connection's form), so the image of
+    /// a converged extremal is one, of the same cost, certified again as any other.
+    pub fn run(&self, grid: &Grid, run: &Run) -> (Grid, Run) {
+        let limits = match &grid.limits {
+            Limits::Arcs { alpha_max, arcs } => Limits::Arcs {
+                alpha_max: *alpha_max,
+                arcs: arcs.iter().map(|a| self.arc(a)).collect(),
+            },
+            other => other.clone(),
+        };
+        let image = run.image(|v| self.coordinates(v), |v| self.shape(v));
+        (
+            Grid {
+                limits,
+                ..grid.clone()
+            },
+            image,
+        )
     }
 }
 
@@ -116,5 +152,20 @@ mod tests {
             assert!((e - s.coordinates(&end)).amax() < 1e-13, "{}", s.name);
         }
         assert_eq!(of_swimmer(&p).len(), 3);
+    }
+
+    /// An arc of the joint limit maps to the joint and side its states map to.
+    #[test]
+    fn an_arc_maps_to_the_joint_and_side_of_its_states_image() {
+        let a = Arc::new(1, 1, 10, 20);
+        for s in [REFLECTION, SWAP, BOTH] {
+            let image = s.arc(&a);
+            let on = s.shape(&Vector2::new(1.0, 0.0));
+            let joint = if on.x != 0.0 { 0 } else { 1 };
+            assert_eq!(usize::from(image.joint), joint + 1, "{}", s.name);
+            assert_eq!(f64::from(image.sign), on[joint], "{}", s.name);
+            assert_eq!((image.first, image.last), (10, 20));
+            assert_eq!(s.arc(&image), a, "{}: an involution", s.name);
+        }
     }
 }

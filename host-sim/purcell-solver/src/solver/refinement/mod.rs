@@ -14,7 +14,7 @@ use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::homotopy::{self, PolishError};
 use super::settings::{
-    COARSE_COST_ERROR, FINE_TAUS, GRADUAL_STEPS, PATIENCE, RESCUE_TAUS, Settings,
+    COARSE_COST_ERROR, FINE_TAUS, GRADUAL_STEPS, PATIENCE, QUICK_PATIENCE, RESCUE_TAUS, Settings,
 };
 use super::solution::Extremal;
 use super::{certificate, costate};
@@ -63,7 +63,8 @@ impl Stop {
 /// converging at each. With a joint limit, the first finer grid runs the barrier path
 /// [`FINE_TAUS`] and the others only its last weight ([`homotopy::patient_barrier_path`]; if a
 /// smaller weight stalls, the path goes on from the last weight reached; if the first stalls
-/// near the start, the path runs again from larger weights), and on the problem's grid the
+/// near the start, the path runs again from larger weights, on the intermediate grids after
+/// the first at once), and on the problem's grid the
 /// active-set rounds impose the limit on its arcs ([`homotopy::polish`]); if that stalls on
 /// some grid, the whole way once more with primal–dual barrier steps
 /// ([`Settings::primal_dual`]; the first stop is returned if that stalls too). Gives up with
@@ -226,7 +227,8 @@ fn carry_through(
             Some(alpha_max) => {
                 let path = (alpha_max, from);
                 let steps = (route.primal_dual, route.patience);
-                let (reached, run) = barrier_stage(&grid, path, start, steps, pulse)?;
+                let quick = !trail.is_empty() && !last;
+                let (reached, run) = barrier_stage(&grid, path, start, (steps, quick), pulse)?;
                 from = reached;
                 (run, Settings::barrier(PATIENCE[0]).tol_defect)
             }
@@ -304,15 +306,19 @@ fn stalled(run: &Run, tol_defect: f64) -> Stop {
 /// which dropped the cheapest gait). If the first weight stalls near the start (its cost
 /// within [`COARSE_COST_ERROR`] of the start's), the path again from the weights
 /// [`RESCUE_TAUS`] down ([`rescue`]); otherwise, or if that stalls too: the first
-/// weight's run, not converged. `steps` as [`homotopy::patient_barrier_path`]'s.
+/// weight's run, not converged. `steps` as [`homotopy::patient_barrier_path`]'s; `quick`,
+/// whether the grid is an intermediate one after the first ([`quick_stage`] first).
 fn barrier_stage(
     grid: &Grid,
     (alpha_max, from): (f64, usize),
     start: Point,
-    steps: (bool, usize),
+    (steps, quick): ((bool, usize), bool),
     pulse: &dyn Fn(),
 ) -> Result<(usize, Run), Stop> {
     let taus = &FINE_TAUS[from..];
+    if quick && let Some(done) = quick_stage(grid, (alpha_max, taus), &start, steps, pulse)? {
+        return Ok(done);
+    }
     let path = (alpha_max, taus);
     let walk = homotopy::patient_barrier_path(grid, path, start.clone(), steps, pulse)
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
@@ -337,6 +343,30 @@ fn barrier_stage(
         FINE_TAUS[from + i]
     );
     Ok((from + i, reached))
+}
+
+/// [`barrier_stage`] on an intermediate grid after the first: the path `taus` with
+/// [`QUICK_PATIENCE`] iterations per weight, and if that stalls, at once the path from
+/// [`RESCUE_TAUS`] ([`rescue`]) without first spending the patience on the stalled weight;
+/// `None` if neither converged. A path prolonged from the grid before creeps there at its
+/// small weights (`α_max = 1.1`, target (0, 0, 0.3): on 1 024 steps from 256, 300
+/// iterations at `τ = 1e-9` that do not converge, or at `1e-6`, then the rescue's 90 that
+/// do, 0.30 s of each candidate's 0.33 s there; with this stage 0.07 s, the solve 8.7 → 6.6
+/// CPU-s, its gait bit for bit). A weight that converges does so in 8–13 iterations there.
+fn quick_stage(
+    grid: &Grid,
+    (alpha_max, taus): (f64, &[f64]),
+    start: &Point,
+    steps: (bool, usize),
+    pulse: &dyn Fn(),
+) -> Result<Option<(usize, Run)>, Stop> {
+    let settings = Settings::barrier(QUICK_PATIENCE).with_primal_dual(steps.0);
+    let walk = homotopy::walk(grid, alpha_max, taus, start.clone(), &settings, pulse)
+        .map_err(|_| Stop::Defect(f64::INFINITY))?;
+    if walk.run.converged() {
+        return Ok(Some((FINE_TAUS.len() - 1, walk.run)));
+    }
+    Ok(rescue(grid, alpha_max, start.clone(), steps, pulse).filter(|(_, run)| run.converged()))
 }
 
 /// The barrier path on `grid` from `start` through the larger weights [`RESCUE_TAUS`] and
