@@ -291,6 +291,9 @@ pub const PERIODS: [usize; 4] = [2, 3, 4, 5];
 /// walks far (at `α_max = 1`, links 1, 0.93, 0.93, target (0.144, 0.023, −0.44), `m = 2`: J
 /// 6.37 → 6.10, with the inertia corrected at most steps), and 300 iterations stall.
 pub const PERIODIC_PATIENCE: usize = 3000;
+/// Steps of the grid on which a flown gait is sampled for its refinement's second start
+/// ([`super::periodic`]): the first of the gradual grids ([`GRADUAL_STEPS`] / 4).
+pub const FLOWN_SAMPLE: usize = GRADUAL_STEPS / 4;
 /// Most active-set rounds (from a barrier solution on the same grid, two suffice: arcs
 /// found, then confirmed).
 pub const ROUNDS: usize = 6;
