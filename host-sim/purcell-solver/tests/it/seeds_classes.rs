@@ -48,6 +48,14 @@ fn other_swimmers() {
         ..Spec::default()
     };
     every_seed_agrees("ratio 2.5, turning", turning, 0.1923286);
+    // The random probe of 2026-11-30 (docs/MEASUREMENTS.md), `solve --links 1.0,1.05,0.87
+    // --target -0.054,0.014,0.26`: 0.2335927 for seeds 0–7.
+    let probe = Spec {
+        links: [1.0, 1.05, 0.87],
+        target: [-0.054, 0.014, 0.26],
+        ..Spec::default()
+    };
+    every_seed_agrees("links 1, 1.05, 0.87, turning", probe, 0.2335927);
 }
 
 /// Far and turning targets, a bent start.
@@ -72,6 +80,13 @@ fn far_and_turning_targets() {
         ..Spec::default()
     };
     every_seed_agrees("bent start, far", bent, 0.4315017);
+    // The random probe of 2026-11-30, `solve --target -0.195,-0.034,0.46`: 0.3965402 for
+    // seeds 0–7.
+    let back = Spec {
+        target: [-0.195, -0.034, 0.46],
+        ..Spec::default()
+    };
+    every_seed_agrees("0.2 m back, turning", back, 0.3965402);
 }
 
 /// A joint limit with a bent start and a turning target.
