@@ -184,9 +184,15 @@ mod tests {
             "{:?}",
             x.kkt_residual
         );
+        let alpha_max = problem.alpha_max.unwrap();
         let half = searched(&part(&problem, 2).unwrap()).unwrap();
         let u = flown(&half.extremals[half.best].trajectory.controls, 2);
-        let u = homotopy::clip_into(&u, &problem.alpha0, (1.0 - FINE_TAUS[0]) * 1.0, problem.h);
+        let u = homotopy::clip_into(
+            &u,
+            &problem.alpha0,
+            (1.0 - FINE_TAUS[0]) * alpha_max,
+            problem.h,
+        );
         let [whole, sampled] = &starts(&problem, u).collect::<Vec<_>>()[..] else {
             panic!("two starts")
         };

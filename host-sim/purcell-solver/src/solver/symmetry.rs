@@ -52,6 +52,11 @@ impl Symmetry {
         Vector2::new(f64::from(s0) * a[p0], f64::from(s1) * a[p1])
     }
 
+    /// The image of a control sequence (or shape path), step by step.
+    pub fn controls(&self, u: &[Vector2<f64>]) -> Vec<Vector2<f64>> {
+        u.iter().map(|v| self.shape(v)).collect()
+    }
+
     /// The image of a target.
     pub fn target(&self, t: &Vector3<f64>) -> Vector3<f64> {
         Vector3::new(

@@ -356,7 +356,7 @@ impl Atlas {
 /// The image of a coarse extremal under a symmetry of the swimmer.
 fn image(c: &Candidate, sym: &Symmetry) -> Candidate {
     Candidate {
-        u: c.u.iter().map(|v| sym.shape(v)).collect(),
+        u: sym.controls(&c.u),
         nu: sym.coordinates(&c.nu),
         ..c.clone()
     }

@@ -15,8 +15,6 @@ use crate::solver::settings::{
 };
 use crate::solver::solution::{Extremal, Minimum, SolveError, Unrefined};
 use crate::solver::symmetry;
-use crate::solver::symmetry::Symmetry;
-use nalgebra::Vector2;
 
 /// Carries coarse `candidates` (cheapest first) to the fine grid: the index of the cheapest
 /// admissible fine extremal, every distinct one refined, cheapest first, and the candidates
@@ -166,19 +164,12 @@ fn twins(
     if problem.alpha_max.is_none() {
         return Vec::new();
     }
-    let image =
-        |sym: &Symmetry, u: &Controls| -> Controls { u.iter().map(|v| sym.shape(v)).collect() };
+    let controls = &x.trajectory.controls;
     (symmetry::of_problem(problem).iter())
-        .filter(|sym| {
-            !grid::same_path(
-                &image(sym, &x.trajectory.controls),
-                &x.trajectory.controls,
-                problem.h,
-            )
-        })
+        .filter(|sym| !grid::same_path(&sym.controls(controls), controls, problem.h))
         .map(|sym| {
             let (grid, run) = sym.run(grid, run);
-            let paths = trail.iter().map(|u| image(sym, u)).collect();
+            let paths = trail.iter().map(|u| sym.controls(u)).collect();
             (extremal(problem, &grid, &run), paths)
         })
         .collect()
@@ -395,12 +386,7 @@ fn mark_twins(problem: &Problem, extremals: &mut [Extremal]) {
             if extremals[i].twin_of.is_some() {
                 continue;
             }
-            let image: Vec<Vector2<f64>> = extremals[i]
-                .trajectory
-                .controls
-                .iter()
-                .map(|u| sym.shape(u))
-                .collect();
+            let image = sym.controls(&extremals[i].trajectory.controls);
             extremals[i].twin_of = (0..extremals.len()).find(|&j| {
                 j != i && grid::same_path(&extremals[j].trajectory.controls, &image, problem.h)
             });
@@ -439,10 +425,7 @@ mod tests {
         let [sym] = symmetry::of_problem(&problem)[..] else {
             panic!("one symmetry")
         };
-        let image: Vec<_> = (x.trajectory.controls.iter())
-            .map(|u| sym.shape(u))
-            .collect();
-        let mapped = image == twin.trajectory.controls;
+        let mapped = sym.controls(&x.trajectory.controls) == twin.trajectory.controls;
         let other = (x.trajectory.controls.iter().zip(&twin.trajectory.controls))
             .all(|(u, v)| sym.shape(v) == *u);
         assert!(mapped || other, "one is the other's image, bit for bit");
