@@ -48,11 +48,14 @@
 //! 2.7437297), and the union keeps every basin the own paths reach (from `τ = 0.1` alone,
 //! `α_max = 1.0` returned 2.9911419 instead of 2.9734287), at about twice the starts' cost.
 //! After the starts, the distinct minima of the same problem without the limit (its own
-//! search, `free`) are carried into it (`inward`): each scaled about `ᾱ` and clipped to
+//! search, `free`) are carried into it (`inward`): each clipped to
 //! [`super::settings::SHRINK`]`·α_max`, along the first coarse path ([`COARSE_PATHS`],
 //! from `τ = 1e-3`); what they reach is filed as candidates. (Along both, as the pulls go, the
 //! 53 limited problems of docs/MEASUREMENTS.md cost the same, seeds 0–3, and the carried
-//! minima a tenth of a limited solve more: `α_max = 1.5` 2.4 → 2.1 CPU-s.)
+//! minima a tenth of a limited solve more: `α_max = 1.5` 2.4 → 2.1 CPU-s. Each also scaled
+//! about `ᾱ` into the limit, as they were before: the same 53 costs, at twice the carrying's
+//! time; scaled only, `--ratio 3 --alpha-max 2 --target 0.1,-0.1,0` 0.4451337 against
+//! 0.4368711.)
 //!
 //! **Repeats.** Most starts under a limit meet another's barrier path: at `α_max = 1.5` the
 //! 512 starts reach 86 distinct minima. After each weight a start's point is compared with
@@ -104,7 +107,7 @@ use super::starts::{self, StartLoop};
 use nalgebra::{Vector2, Vector5};
 use purcell_core::Error;
 use rayon::prelude::*;
-use runs::{Inward, Outcome, Trail};
+use runs::{Outcome, Trail};
 
 /// A distinct local minimum of the coarse problem.
 #[derive(Clone, Debug)]
@@ -258,8 +261,8 @@ pub fn search(
             break;
         }
     }
-    // With a limit, the free minima carried into it, each both ways along the first coarse
-    // paths, after the starts (see the module docs).
+    // With a limit, the free minima carried into it along the first coarse path, after the
+    // starts (see the module docs).
     if let Some(a) = limit {
         out.carry_in(grid, a, free, &settings, admissible, pulse);
     }
@@ -283,8 +286,8 @@ impl Search {
         }
     }
 
-    /// Files the `free` minima carried into the limit `alpha_max`, each both ways along the
-    /// first coarse path (see the module docs).
+    /// Files the `free` minima carried into the limit `alpha_max`, each clipped to it and
+    /// along the first coarse path (see the module docs).
     fn carry_in(
         &mut self,
         grid: &Grid,
@@ -294,13 +297,10 @@ impl Search {
         admissible: &(dyn Fn(f64) -> bool + Sync),
         pulse: &(dyn Fn() + Sync),
     ) {
-        let ways = [Inward::Shrink, Inward::Clip];
-        let all: Vec<(&Candidate, Inward)> =
-            (free.iter()).flat_map(|c| ways.map(|w| (c, w))).collect();
         let taus = COARSE_PATHS[0];
-        let results: Vec<_> = all
+        let results: Vec<_> = free
             .par_iter()
-            .map(|&(c, way)| runs::inward(grid, alpha_max, c, way, taus, settings, pulse))
+            .map(|c| runs::inward(grid, alpha_max, c, taus, settings, pulse))
             .collect();
         for r in results {
             self.absorb(grid, (0, None), r, None, admissible, pulse);

@@ -128,32 +128,19 @@ fn zero_loop(grid: &Grid, settings: &Settings, pulse: &dyn Fn()) -> Result<Run, 
     direct::newton_pulsed(&free, p, settings, pulse)
 }
 
-/// How [`inward`] brings a shape path within the limit.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Inward {
-    /// Scaled about `ᾱ` ([`homotopy::shrink_into`]).
-    Shrink,
-    /// Clipped to [`SHRINK`]` · α_max` ([`homotopy::clip_into`]).
-    Clip,
-}
-
 /// A minimum `c` of the problem without the joint limit carried into the limit `alpha_max`
-/// (see [`super`]'s docs): its shape path shrunk into it ([`homotopy::shrink_into`]), then the
-/// barrier path `taus` by `settings`.
+/// (see [`super`]'s docs): its shape path clipped to [`SHRINK`]` · α_max`
+/// ([`homotopy::clip_into`]), then the barrier path `taus` by `settings`.
 pub(super) fn inward(
     grid: &Grid,
     alpha_max: f64,
     c: &Candidate,
-    way: Inward,
     taus: &[f64],
     settings: &Settings,
     pulse: &dyn Fn(),
 ) -> Result<Run, Error> {
     let alpha0 = Vector2::new(grid.start[0], grid.start[1]);
-    let u = match way {
-        Inward::Shrink => homotopy::shrink_into(c.u.clone(), &alpha0, alpha_max, grid.h()),
-        Inward::Clip => homotopy::clip_into(&c.u, &alpha0, SHRINK * alpha_max, grid.h()),
-    };
+    let u = homotopy::clip_into(&c.u, &alpha0, SHRINK * alpha_max, grid.h());
     let p = Point::new(grid, u, c.nu)?;
     homotopy::walk(grid, alpha_max, taus, p, settings, pulse).map(|w| w.run)
 }
