@@ -10,8 +10,8 @@ use crate::solver::grid::Grid;
 use crate::solver::progress::Progress;
 use crate::solver::search;
 use crate::solver::settings::{
-    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FAR_MISS, LIMITED_COARSE_COST_ERROR, PATIENCE, PRUNE,
-    SolveOptions, UNRESOLVED,
+    COARSE_ALPHA_ERROR, COARSE_COST_ERROR, FAR_MISS, FINE_PRUNE, GRADUAL_STEPS,
+    LIMITED_COARSE_COST_ERROR, PATIENCE, PRUNE, SolveOptions, UNRESOLVED,
 };
 use crate::solver::solution::{Extremal, Minimum, SolveError, Unrefined};
 use crate::solver::symmetry;
@@ -249,10 +249,15 @@ fn coarse_error(problem: &Problem) -> f64 {
 /// The bound on an intermediate grid of `steps` steps above which a refinement stops there
 /// ([`super::Stop::Dearer`]): like with like, the settled extremal's cost on that grid (`on`,
 /// from its own refinement; its fine cost `settled` on a grid it did not pass), plus
-/// [`PRUNE`].
+/// [`PRUNE`] ([`FINE_PRUNE`] from [`GRADUAL_STEPS`] steps up).
 fn prune_bound(on: &[(usize, f64)], settled: f64, steps: usize) -> f64 {
     let at = on.iter().find(|(n, _)| *n == steps);
-    at.map_or(settled, |(_, cost)| *cost) * (1.0 + PRUNE)
+    let margin = if steps >= GRADUAL_STEPS {
+        FINE_PRUNE
+    } else {
+        PRUNE
+    };
+    at.map_or(settled, |(_, cost)| *cost) * (1.0 + margin)
 }
 
 /// Files `x`, refined from candidate `c`, unless `extremals` hold its path (controls at step
