@@ -16,8 +16,8 @@
 //!    grids, Newton converging in a few steps at each (a candidate dearer than the settled
 //!    cheapest by [`settings::PRUNE`] ([`settings::FINE_PRUNE`] from 1 024 steps up) on an
 //!    intermediate grid stops there, and so does one whose path there an earlier candidate
-//!    carried on, [`Stop::Repeat`]); second-order
-//!    check by the inertia of the last factorisation. With a joint limit ([`homotopy`]), the
+//!    carried on, [`Stop::Repeat`]); second-order check by the inertia of the last
+//!    factorisation. With a joint limit ([`homotopy`]), the
 //!    search and the refinement run an interior-point path and the refinement ends with the
 //!    limit imposed exactly on the arcs where it is active. If no candidate refines, steps 2
 //!    and 3 run again on a finer coarse grid ([`settings::FINER_COARSE`]); if still none
