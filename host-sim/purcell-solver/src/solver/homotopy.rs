@@ -23,7 +23,7 @@ use super::constraints::joint_limit::{Limits, arcs_of, merged};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
 use super::settings::{
-    ETA_ROUNDING, LOOSE_NEAR, NEAR, PAST_LIMIT, PATIENCE, ROUNDS, SHRINK, Settings,
+    ETA_ROUNDING, LOOSE_NEAR, NEAR, PAST_LIMIT, PATIENCE, QUICK_PATIENCE, ROUNDS, SHRINK, Settings,
 };
 use nalgebra::Vector2;
 use purcell_core::{Arc, Error};
@@ -293,6 +293,18 @@ fn rounds(
     Err(PolishError::Unsettled)
 }
 
+/// The steps of a refinement's barrier path on one grid ([`patient_barrier_path`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Steps {
+    /// Primal steps, each stopped at the fraction to the boundary.
+    Primal,
+    /// Primal–dual steps ([`Settings::primal_dual`]).
+    PrimalDual,
+    /// Primal steps for [`QUICK_PATIENCE`] iterations per weight, then, where those do not
+    /// converge, primal–dual ones with the second patience.
+    PrimalThenDual,
+}
+
 /// The refinement's barrier path on one grid: [`walk`] through `taus` with
 /// [`Settings::barrier`] (every step stopped at the fraction to the boundary: from a
 /// prolonged coarse solution, unguarded steps pin states to the limit and Newton stalls
@@ -300,21 +312,29 @@ fn rounds(
 /// does not converge. The second path's runs up to the weight where the first stalled are the
 /// first's (they converged within fewer iterations), so it goes on from there: that weight's
 /// run resumed ([`direct::resume`], the same iterates as a run started with the second
-/// patience), then the smaller weights. `steps`: whether each step is primal–dual
-/// ([`Settings::primal_dual`]), and the second patience (usually `PATIENCE[1]`).
+/// patience), then the smaller weights. `steps`: which steps ([`Steps`]; with
+/// [`Steps::PrimalThenDual`] the first patience is [`QUICK_PATIENCE`] and the resumed run
+/// takes primal–dual steps), and the second patience (usually `PATIENCE[1]`).
 pub fn patient_barrier_path(
     grid: &Grid,
     (alpha_max, taus): (f64, &[f64]),
     start: Point,
-    (primal_dual, patience): (bool, usize),
+    (steps, patience): (Steps, usize),
     pulse: &dyn Fn(),
 ) -> Result<Walk, Error> {
-    let settings = |patience| Settings::barrier(patience).with_primal_dual(primal_dual);
-    let first = walk(grid, alpha_max, taus, start, &settings(PATIENCE[0]), pulse)?;
+    let settings =
+        |patience, primal_dual| Settings::barrier(patience).with_primal_dual(primal_dual);
+    let first_patience = if steps == Steps::PrimalThenDual {
+        QUICK_PATIENCE
+    } else {
+        PATIENCE[0]
+    };
+    let first_settings = settings(first_patience, steps == Steps::PrimalDual);
+    let first = walk(grid, alpha_max, taus, start, &first_settings, pulse)?;
     if first.run.converged() {
         return Ok(first);
     }
-    let patient = settings(patience);
+    let patient = settings(patience, steps != Steps::Primal);
     let stalled = first.reached.as_ref().map_or(0, |(i, _)| i + 1);
     let g = barrier_grid(grid, alpha_max, taus[stalled]);
     let at = patient.at_weight(taus[stalled], stalled + 1 == taus.len());

@@ -7,6 +7,7 @@ use crate::problem::Problem;
 use crate::solver::direct::Run;
 use crate::solver::grid;
 use crate::solver::grid::Grid;
+use crate::solver::homotopy::Steps;
 use crate::solver::progress::Progress;
 use crate::solver::search;
 use crate::solver::settings::{
@@ -224,7 +225,7 @@ fn primal_dual_retries(
     }
     let pulse = || progress.pulse();
     let none = |_| f64::INFINITY;
-    let steps = (true, PATIENCE[1]);
+    let steps = (Steps::PrimalDual, PATIENCE[1]);
     let mut refined = Vec::new();
     for (c, i) in stalls {
         if let Ok((fine, run, _)) = carry(problem, (&c.u, &c.nu), &none, trails, steps, &pulse) {

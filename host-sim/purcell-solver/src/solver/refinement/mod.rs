@@ -12,7 +12,7 @@ use super::constraints::joint_limit::Limits;
 use super::cost::{Costs, StageCost};
 use super::direct::{self, Run};
 use super::grid::{self, Grid, Point};
-use super::homotopy::{self, PolishError};
+use super::homotopy::{self, PolishError, Steps};
 use super::settings::{
     COARSE_COST_ERROR, FINE_TAUS, GRADUAL_STEPS, PATIENCE, QUICK_PATIENCE, RESCUE_TAUS, Settings,
 };
@@ -79,14 +79,12 @@ pub fn refine(
 ) -> Result<(Grid, Run), Stop> {
     let bound = |_| bound;
     either(problem, |primal_dual| {
-        carry(
-            problem,
-            (u, nu),
-            &bound,
-            &[],
-            (primal_dual, PATIENCE[1]),
-            pulse,
-        )
+        let steps = if primal_dual {
+            Steps::PrimalDual
+        } else {
+            Steps::Primal
+        };
+        carry(problem, (u, nu), &bound, &[], (steps, PATIENCE[1]), pulse)
     })
 }
 
@@ -102,13 +100,19 @@ pub fn refine_patiently(
 ) -> Result<(Grid, Run), Stop> {
     let none = |_| f64::INFINITY;
     either(problem, |primal_dual| {
-        carry(problem, (u, nu), &none, &[], (primal_dual, patience), pulse)
+        let steps = if primal_dual {
+            Steps::PrimalDual
+        } else {
+            Steps::Primal
+        };
+        carry(problem, (u, nu), &none, &[], (steps, patience), pulse)
     })
 }
 
-/// [`carry`]'s primal route of a search's candidate: primal barrier steps,
-/// [`PATIENCE`]`[1]` ([`refine_candidates`]).
-const PRIMAL: (bool, usize) = (false, PATIENCE[1]);
+/// [`carry`]'s first route of a search's candidate ([`refine_candidates`]): primal barrier
+/// steps, on the problem's grid primal–dual ones after [`super::settings::QUICK_PATIENCE`]
+/// ([`Steps::PrimalThenDual`]), [`PATIENCE`]`[1]`.
+const PRIMAL: (Steps, usize) = (Steps::PrimalThenDual, PATIENCE[1]);
 
 /// `carry(primal_dual)` with primal barrier steps, and under a joint limit, if that stalls
 /// on some grid, with primal–dual ones (the first stop is returned if that stalls too).
@@ -146,37 +150,48 @@ fn either(
 /// rests far from its barrier minimiser's distance to the limit, as a prolonged coarse path's
 /// do on a finer grid, Newton's steps overshoot and each is cut at the fraction to the
 /// boundary. The primal–dual step carries the limit's multipliers `z` and takes `z/d`
-/// (MODEL.md §9): `steps`, whether the barrier steps are primal–dual, with the barrier
-/// paths' second patience ([`homotopy::patient_barrier_path`]). Tried first, it found the
+/// (MODEL.md §9): `steps`, which barrier steps ([`Steps`]), with the barrier paths' second
+/// patience ([`homotopy::patient_barrier_path`]). Tried first, it found the
 /// same costs on 52 of 53 limited problems (3.5 % less time, every one's bits changed) and
 /// took longer at `α_max = 1.2`, target (0, 0, −0.5) (24 CPU-s against 14); as the second
 /// try of a candidate whose primal route stalls (after the others, [`refine_candidates`];
 /// [`refine`]), it leaves every solve whose candidates all refined as it was, and there
 /// carries the coarse minimum whose primal route stalls to 2.7023994 (2.7226544 without).
+/// On the problem's grid the first route ([`PRIMAL`]) takes primal–dual steps once
+/// [`super::settings::QUICK_PATIENCE`] primal ones have not converged: there the path
+/// prolonged from 1 024 steps creeps at `τ = 1e-9` (`α_max = 1.1`, target (0, 0, 0.3): 104
+/// primal iterations, 1.2 s of the 5.4 s solve; 20 + 41 this way, 0.7 s); every grid that
+/// converges within 20 is as it was (42 of the 53 limited problems bit for bit, the other 11
+/// the same cost). Not for a flown gait ([`refine_patiently`], a far start): with primal–dual
+/// steps on every route's problem's grid, the flown links 1, 1.5, 0.6 within 1.6 rad came
+/// out dearer (7.3977557 against 7.1386952); nor for a gait continued ([`refine`],
+/// [`super::continuation`]), which is to follow its family: from the gait of links 1, 0.93,
+/// 0.93 to (0.144, 0.023, −0.44) within 1 rad at `--step 0.1` to `--step 0.05` this way
+/// reached 8.6030324, primal steps 8.6260113.
 fn carry(
     problem: &Problem,
     (u, nu): (&[Vector2<f64>], &Vector5<f64>),
     bound: &dyn Fn(usize) -> f64,
     known: &[Controls],
-    (primal_dual, patience): (bool, usize),
+    (steps, patience): (Steps, usize),
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
     let route = Route {
         gradual: problem.alpha_max.is_some() && 4 * u.len() <= GRADUAL_STEPS,
-        primal_dual,
+        steps,
         patience,
     };
     carry_through(problem, (u, nu), bound, known, route, pulse)
 }
 
 /// How [`carry_through`] goes: through grids 4 times finer up to [`GRADUAL_STEPS`]
-/// (`gradual`) or 16 times, with primal or primal–dual barrier steps
-/// ([`Settings::primal_dual`]), the barrier paths' second patience `patience`
+/// (`gradual`) or 16 times, with the barrier `steps` ([`Steps::PrimalThenDual`]: primal on
+/// the intermediate grids), the barrier paths' second patience `patience`
 /// ([`homotopy::patient_barrier_path`]).
 #[derive(Clone, Copy, Debug)]
 struct Route {
     gradual: bool,
-    primal_dual: bool,
+    steps: Steps,
     patience: usize,
 }
 
@@ -226,7 +241,11 @@ fn carry_through(
             }
             Some(alpha_max) => {
                 let path = (alpha_max, from);
-                let steps = (route.primal_dual, route.patience);
+                let steps = match route.steps {
+                    Steps::PrimalThenDual if !last => Steps::Primal,
+                    steps => steps,
+                };
+                let steps = (steps, route.patience);
                 let quick = !trail.is_empty() && !last;
                 let (reached, run) = barrier_stage(&grid, path, start, (steps, quick), pulse)?;
                 from = reached;
@@ -312,7 +331,7 @@ fn barrier_stage(
     grid: &Grid,
     (alpha_max, from): (f64, usize),
     start: Point,
-    (steps, quick): ((bool, usize), bool),
+    (steps, quick): ((Steps, usize), bool),
     pulse: &dyn Fn(),
 ) -> Result<(usize, Run), Stop> {
     let taus = &FINE_TAUS[from..];
@@ -357,10 +376,11 @@ fn quick_stage(
     grid: &Grid,
     (alpha_max, taus): (f64, &[f64]),
     start: &Point,
-    steps: (bool, usize),
+    steps: (Steps, usize),
     pulse: &dyn Fn(),
 ) -> Result<Option<(usize, Run)>, Stop> {
-    let settings = Settings::barrier(QUICK_PATIENCE).with_primal_dual(steps.0);
+    let primal_dual = steps.0 == Steps::PrimalDual;
+    let settings = Settings::barrier(QUICK_PATIENCE).with_primal_dual(primal_dual);
     let walk = homotopy::walk(grid, alpha_max, taus, start.clone(), &settings, pulse)
         .map_err(|_| Stop::Defect(f64::INFINITY))?;
     if walk.run.converged() {
@@ -381,7 +401,7 @@ fn rescue(
     grid: &Grid,
     alpha_max: f64,
     start: Point,
-    steps: (bool, usize),
+    steps: (Steps, usize),
     pulse: &dyn Fn(),
 ) -> Option<(usize, Run)> {
     let taus: Vec<f64> = RESCUE_TAUS.iter().chain(&FINE_TAUS).copied().collect();
@@ -488,7 +508,7 @@ mod tests {
         let found = search_coarse(&problem, &options, &|| ()).unwrap();
         let c = &found.candidates[0];
         let none = |_| f64::INFINITY;
-        let steps = (false, PATIENCE[1]);
+        let steps = (Steps::Primal, PATIENCE[1]);
         let (grid, run, trail) = carry(&problem, (&c.u, &c.nu), &none, &[], steps, &|| ()).unwrap();
         let trail: Vec<Controls> = trail.into_iter().map(|(u, _)| u).collect();
         assert_eq!(grid.steps, 2000);
@@ -524,7 +544,11 @@ mod tests {
         let through = |primal_dual| {
             let route = Route {
                 gradual: true,
-                primal_dual,
+                steps: if primal_dual {
+                    Steps::PrimalDual
+                } else {
+                    Steps::Primal
+                },
                 patience: PATIENCE[1],
             };
             carry_through(&problem, (&c.u, &c.nu), &none, &[], route, &|| ())
