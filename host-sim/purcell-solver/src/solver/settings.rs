@@ -281,7 +281,9 @@ pub const RESCUE_TAUS: [f64; 2] = [1e-4, 1e-5];
 /// their first weight; 14 of 936 converge within 100, 136 within 200, 219 within 300).
 pub const PATIENCE: [usize; 2] = [100, 300];
 /// Iterations per barrier weight on a refinement's intermediate grids after the first
-/// before the path is taken from [`RESCUE_TAUS`] instead ([`super::refinement`]).
+/// before the path is taken from [`RESCUE_TAUS`] instead ([`super::refinement`]); on the
+/// problem's grid, primal ones before a candidate's path goes on with primal–dual ones
+/// ([`super::homotopy::Steps::PrimalThenDual`]).
 pub const QUICK_PATIENCE: usize = 20;
 /// The periods `m` of the gaits flown `m` times that a limited solve tries where its search
 /// finds no gait ([`super::periodic`]), those that divide the problem's steps.
