@@ -176,8 +176,8 @@ pub struct SolveReport {
     pub best: CertifiedReport,
     /// Every extremal, cheapest first.
     pub extremals: Vec<ExtremalReport>,
-    /// `m` if the gait was refined from its `m`-th part's gait flown `m` times (the search
-    /// found none; [`purcell_solver::solver::periodic`]).
+    /// `m` if the gait was refined from its `m`-th part's gait flown `m` times (the search's
+    /// start loops reached no gait within the limit; [`purcell_solver::solver::periodic`]).
     pub flown: Option<usize>,
     /// [`REPORT_FORMAT`].
     pub format: &'static str,

@@ -79,7 +79,7 @@ pub(super) fn solve(
         "search     {}",
         match (&r.search, r.flown) {
             (None, Some(m)) => format!(
-                "no start led to a gait; this one is refined from a gait to the target's order-{m} root in 1/{m} of the steps, flown {m} times"
+                "refined from a gait to the target's order-{m} root in 1/{m} of the steps, flown {m} times (the search's start loops reached no gait within the limit)"
             ),
             (None, None) => "none (from --from's extremal)".to_string(),
             (Some(e), _) => format!(

@@ -54,16 +54,13 @@ pub fn flown(u: &[Vector2<f64>], m: usize) -> Vec<Vector2<f64>> {
 /// that refines is not always the cheapest: `--alpha-max 1.2 --ratio 2.2 --links
 /// 1.0,1.02,0.78 --target 0.210,0.288,0.34` 16.4368808 from `m` = 4, 13.3076662 from 5);
 /// `solve_part` solves a part (the solver's search and refinement, reporting its phases to
-/// `progress`); `failed`, the problem's own search's failure, is returned if none does.
+/// `progress`); `None` if none does.
 pub fn solve(
     problem: &Problem,
     progress: &dyn Progress,
     solve_part: &dyn Fn(&Problem) -> Result<Solution, SolveError>,
-    failed: SolveError,
-) -> Result<Solution, SolveError> {
-    let Some(alpha_max) = problem.alpha_max else {
-        return Err(failed);
-    };
+) -> Option<Solution> {
+    let alpha_max = problem.alpha_max?;
     let mut best: Option<(Extremal, usize)> = None;
     for m in PERIODS {
         let Some(p) = part(problem, m) else {
@@ -88,8 +85,8 @@ pub fn solve(
             best = Some((x, m));
         }
     }
-    let (x, m) = best.ok_or(failed)?;
-    Ok(Solution {
+    let (x, m) = best?;
+    Some(Solution {
         best: 0,
         extremals: vec![x],
         search: None,
@@ -170,10 +167,7 @@ mod tests {
         .unwrap();
         let options = crate::solver::SolveOptions::default();
         let searched = |p: &Problem| super::super::searched(p, &options, &|| ());
-        let failed = SolveError::Unreachable {
-            best_residual: f64::INFINITY,
-        };
-        let s = solve(&problem, &|| (), &searched, failed).unwrap();
+        let s = solve(&problem, &|| (), &searched).unwrap();
         assert_eq!(s.flown, Some(2));
         let x = &s.extremals[s.best];
         assert!((x.cost - 6.0894163).abs() <= 1e-6, "{}", x.cost);

@@ -135,6 +135,9 @@ pub struct Evidence {
     pub satisfied: bool,
     /// The minima the refinement tried and could not carry to the problem's grid.
     pub unrefined: Vec<Unrefined>,
+    /// Distinct minima the start loops reached ([`search::Search::from_starts`]; under a
+    /// joint limit the others are the free minima carried into it).
+    pub from_starts: usize,
 }
 
 /// One distinct minimum of the coarse problem.
@@ -207,6 +210,7 @@ impl Evidence {
             expected_minima: found.expected_minima(),
             satisfied: found.satisfied,
             unrefined,
+            from_starts: found.from_starts,
         }
     }
 }

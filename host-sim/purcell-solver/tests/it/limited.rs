@@ -217,3 +217,27 @@ fn a_tight_limits_gait_carries_to_a_finer_time_step() {
     assert_eq!(y.arcs.len(), 16);
     assert!((y.cost - 8.6260113).abs() <= 1e-6, "{}", y.cost);
 }
+
+/// A lateral target within a limit that asks for six strokes (`--alpha-max 1.9 --ratio 1.7
+/// --target -0.001,-0.242,-0.01`): none of the search's 160 start loops reaches a minimum
+/// within the limit, its one gait is a free minimum carried in (7.8813055, on no arc), and
+/// IPOPT from a circle finds 7.8124168 on the limit (`peers/ipopt-results/probe2.jsonl`); the
+/// gait flown twice is tried too and is the cheaper, 7.7969821 on two arcs. About 10 s.
+#[test]
+fn where_no_start_loop_reaches_the_limit_the_flown_gaits_are_tried_too() {
+    let problem = Problem::new(&Spec {
+        target: [-0.001, -0.242, -0.01],
+        ratio: 1.7,
+        alpha_max: Some(1.9),
+        ..Spec::default()
+    })
+    .unwrap();
+    let s = solve(&problem, &SolveOptions::default(), &|| {}).unwrap();
+    assert_eq!(s.flown, Some(2));
+    let x = &s.extremals[s.best];
+    assert!((x.cost - 7.7969821).abs() <= 1e-6, "{}", x.cost);
+    assert!(x.cost < 7.8124168 && x.admissible && x.local_min);
+    assert_eq!(x.arcs.len(), 2);
+    let found = search_coarse(&problem, &SolveOptions::default(), &|| {}).unwrap();
+    assert!(found.from_starts == 0 && !found.candidates.is_empty());
+}

@@ -195,6 +195,16 @@ struct Route {
     patience: usize,
 }
 
+impl Route {
+    /// The barrier steps on an intermediate grid, or on the problem's grid (`last`).
+    fn steps_on(&self, last: bool) -> Steps {
+        match self.steps {
+            Steps::PrimalThenDual if !last => Steps::Primal,
+            steps => steps,
+        }
+    }
+}
+
 /// The paths of a refinement's intermediate grids, each with its cost there ([`carry`]).
 type Trail = Vec<(Controls, f64)>;
 
@@ -241,11 +251,7 @@ fn carry_through(
             }
             Some(alpha_max) => {
                 let path = (alpha_max, from);
-                let steps = match route.steps {
-                    Steps::PrimalThenDual if !last => Steps::Primal,
-                    steps => steps,
-                };
-                let steps = (steps, route.patience);
+                let steps = (route.steps_on(last), route.patience);
                 let quick = !trail.is_empty() && !last;
                 let (reached, run) = barrier_stage(&grid, path, start, (steps, quick), pulse)?;
                 from = reached;

@@ -149,6 +149,9 @@ pub struct Search {
     /// Whether the stopping rule was met (otherwise the budget ran out first, or nothing was
     /// found).
     pub satisfied: bool,
+    /// Distinct minima the start loops (and the zero loop) reached: under a joint limit,
+    /// before the free minima are carried in.
+    pub from_starts: usize,
     /// Each minimum past the overlap that was pulled inside, with the controls of the
     /// admissible minimum its pull reached (see the module docs).
     pulls: Vec<(Controls, Controls)>,
@@ -261,6 +264,7 @@ pub fn search(
             break;
         }
     }
+    out.from_starts = out.candidates.len();
     // With a limit, the free minima carried into it along the first coarse path, after the
     // starts (see the module docs).
     if let Some(a) = limit {
