@@ -78,12 +78,7 @@ pub fn refine(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let bound = |_| bound;
-    either(problem, |primal_dual| {
-        let steps = if primal_dual {
-            Steps::PrimalDual
-        } else {
-            Steps::Primal
-        };
+    either(problem, |steps| {
         carry(problem, (u, nu), &bound, &[], (steps, PATIENCE[1]), pulse)
     })
 }
@@ -99,12 +94,7 @@ pub fn refine_patiently(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let none = |_| f64::INFINITY;
-    either(problem, |primal_dual| {
-        let steps = if primal_dual {
-            Steps::PrimalDual
-        } else {
-            Steps::Primal
-        };
+    either(problem, |steps| {
         carry(problem, (u, nu), &none, &[], (steps, patience), pulse)
     })
 }
@@ -114,16 +104,16 @@ pub fn refine_patiently(
 /// ([`Steps::PrimalThenDual`]), [`PATIENCE`]`[1]`.
 const PRIMAL: (Steps, usize) = (Steps::PrimalThenDual, PATIENCE[1]);
 
-/// `carry(primal_dual)` with primal barrier steps, and under a joint limit, if that stalls
-/// on some grid, with primal–dual ones (the first stop is returned if that stalls too).
+/// `carry(steps)` with primal barrier steps, and under a joint limit, if that stalls on some
+/// grid, with primal–dual ones (the first stop is returned if that stalls too).
 fn either(
     problem: &Problem,
-    carry: impl Fn(bool) -> Result<(Grid, Run, Trail), Stop>,
+    carry: impl Fn(Steps) -> Result<(Grid, Run, Trail), Stop>,
 ) -> Result<(Grid, Run), Stop> {
-    let primal = carry(false);
+    let primal = carry(Steps::Primal);
     let carried = match primal {
         Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
-            carry(true).or(primal)
+            carry(Steps::PrimalDual).or(primal)
         }
         _ => primal,
     };
@@ -547,24 +537,20 @@ mod tests {
             .find(|c| (c.cost - 2.8817545).abs() <= 1e-7)
             .expect("the coarse minimum");
         let none = |_| f64::INFINITY;
-        let through = |primal_dual| {
+        let through = |steps| {
             let route = Route {
                 gradual: true,
-                steps: if primal_dual {
-                    Steps::PrimalDual
-                } else {
-                    Steps::Primal
-                },
+                steps,
                 patience: PATIENCE[1],
             };
             carry_through(&problem, (&c.u, &c.nu), &none, &[], route, &|| ())
         };
-        let primal = through(false).err();
+        let primal = through(Steps::Primal).err();
         assert!(
             matches!(primal, Some(Stop::Defect(_) | Stop::Stationarity { .. })),
             "{primal:?}"
         );
-        let (grid, run, _) = through(true).unwrap();
+        let (grid, run, _) = through(Steps::PrimalDual).unwrap();
         let cost = grid.cost(&run.point.u, &run.point.states);
         assert!((cost - 2.7023994).abs() <= 1e-7, "{cost}");
         let (grid, run) = refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| ()).unwrap();
