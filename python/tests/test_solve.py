@@ -45,6 +45,7 @@ def test_solve_equals_the_command_line(name, cli, public, tmp_path):
     assert [x.cost for x in s.extremals] == [x["cost"] for x in report["extremals"]]
     assert s.uncertified is None
     assert s.flown is None and report["flown"] is None
+    assert s.recentred is False and report["recentred"] is False
     assert s.costate() == (out / "costate.json").read_text()
     # The trajectory as trajectory.csv has it (k, t, alpha, u with a last row of 0, g, xi,
     # the arc flags).

@@ -186,6 +186,9 @@ pub struct SolveReport {
     /// Terminal errors of the stored costate replayed through the core, as the firmware
     /// flies it (f32 with checkpoints) beside f64.
     pub replays: Vec<replay::ReplayReport>,
+    /// Whether the gait was reached by walking the search's cheapest gait back up the central
+    /// path and down again ([`purcell_solver::solver::recentre`]).
+    pub recentred: bool,
     /// The index of `best` in `extremals`.
     pub returned: usize,
     /// The global search's evidence (`None` after a warm start, and for a gait flown `m`
@@ -343,6 +346,7 @@ impl SolveReport {
             best: CertifiedReport::new(&solution.extremals[solution.best]),
             extremals: solution.extremals.iter().map(ExtremalReport::new).collect(),
             flown: solution.flown,
+            recentred: solution.recentred,
             format: REPORT_FORMAT,
             problem: ProblemReport {
                 common: SweepProblemReport {

@@ -83,12 +83,20 @@ pub(super) fn solve(
             ),
             (None, None) => "none (from --from's extremal)".to_string(),
             (Some(e), _) => format!(
-                "{} of {} starts, {} distinct minima, stopping rule {} (unseen {:.3})",
+                "{} of {} starts, {} distinct minima, stopping rule {} (unseen {:.3}); {}",
                 e.starts,
                 e.budget,
                 e.distinct_minima,
                 if e.rule_met { "met" } else { "not met" },
                 e.unseen_estimate,
+                if r.recentred {
+                    "the gait reached from the cheapest of them walked back up the central \
+                     path and down"
+                        .to_string()
+                } else {
+                    let hits = r.extremals.get(r.returned).map_or(0, |x| x.hits);
+                    format!("the gait reached from {hits} of them")
+                },
             ),
         }
     );

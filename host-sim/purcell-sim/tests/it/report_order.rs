@@ -108,6 +108,7 @@ fn reports_keep_the_files_key_order() {
             steps: 10_000,
             target: [0.1, 0.1, 0.0],
         },
+        recentred: false,
         replays: vec![replay],
         returned: 0,
         search: Some(EvidenceReport {

@@ -255,11 +255,44 @@ pub fn same_path(a: &[Vector2<f64>], b: &[Vector2<f64>], h: f64) -> bool {
         })
 }
 
+/// The largest distance `max_k |α_k − β_k|_∞` between the shape paths of two control
+/// sequences of one grid (step `h`) from the same start shape (∞ if their lengths differ):
+/// the distance [`same_path`] bounds by [`SAME_PATH`].
+pub fn path_distance(a: &[Vector2<f64>], b: &[Vector2<f64>], h: f64) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    let mut d = Vector2::zeros();
+    (a.iter().zip(b)).fold(0.0, |most: f64, (x, y)| {
+        d += (x - y) * h;
+        most.max(d.amax())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::problem::Spec;
     use crate::solver::settings::FRACTION_TO_BOUNDARY;
+
+    /// Two paths are the same exactly when their distance is within [`SAME_PATH`]; the
+    /// distance is that of the shapes, not of the controls.
+    #[test]
+    fn the_same_path_is_one_within_its_distance() {
+        let h = 0.5;
+        let a = vec![Vector2::new(1.0, -2.0); 8];
+        let mut b = a.clone();
+        assert_eq!(path_distance(&a, &b, h), 0.0);
+        // One step's control off by 1e-3 and the next back: the shape 5e-4 off at one node.
+        b[3].x += 1e-3;
+        b[4].x -= 1e-3;
+        assert!((path_distance(&a, &b, h) - 5e-4).abs() < 1e-15);
+        assert!(!same_path(&a, &b, h));
+        b[3].x -= 1e-3 - 1e-6;
+        b[4].x += 1e-3 - 1e-6;
+        assert!(path_distance(&a, &b, h) <= SAME_PATH && same_path(&a, &b, h));
+        assert_eq!(path_distance(&a, &b[1..], h), f64::INFINITY);
+    }
 
     /// `max_step(…, 1, 0)` is where the step's rollout leaves the barrier's domain.
     #[test]

@@ -91,6 +91,7 @@ pub fn solve(
         extremals: vec![x],
         search: None,
         flown: Some(m),
+        recentred: false,
     })
 }
 

@@ -59,9 +59,12 @@ pub struct Extremal {
     pub local_min: bool,
     /// Newton iterations on the fine grid.
     pub iterations: usize,
-    /// Index of the start loop that first reached it in the global search (0: zero loop).
+    /// Index of the start loop that first reached it in the global search (0: the zero loop,
+    /// a minimum without the joint limit carried into it, or none: [`Solution::recentred`]).
     pub start: usize,
-    /// How many starts of the global search reached it.
+    /// How many starts of the global search reached it: those whose coarse minimum the
+    /// refinement carried to it, on the problem's grid or by meeting its path on a finer grid
+    /// ([`super::Stop::Repeat`]); a symmetric twin's count its own.
     pub hits: usize,
     /// For a problem that a symmetry of the swimmer maps to itself ([`super::symmetry`]): the
     /// index in [`Solution::extremals`] of this extremal's image (same cost, another loop),
@@ -114,6 +117,10 @@ pub struct Solution {
     /// the gait of the target's `m`-th root in `N/m` steps flown `m` times
     /// ([`super::periodic`]).
     pub flown: Option<usize>,
+    /// Whether the returned extremal was reached by walking the search's cheapest gait back up
+    /// the central path and down again, and refining where that ended ([`super::recentre`]):
+    /// it was reached from no start ([`Extremal::hits`] 0).
+    pub recentred: bool,
 }
 
 /// The global search's evidence for its answer ([`search`]'s stopping rule).

@@ -241,3 +241,54 @@ fn where_no_start_loop_reaches_the_limit_the_flown_gaits_are_tried_too() {
     let found = search_coarse(&problem, &SolveOptions::default(), &|| {}).unwrap();
     assert!(found.from_starts == 0 && !found.candidates.is_empty());
 }
+
+/// A random probe's turn within 1.5 rad (`--alpha-max 1.5 --target -0.053,-0.226,0.53`,
+/// `peers/probe3.json` p17-5): the search's cheapest gait is 4.1967975 on 10 arcs (one start
+/// of 160, rule not met), and IPOPT from it (its first barrier weight lifting it off its arcs)
+/// converges to 4.1770333 on 7 arcs (`peers/ipopt-results/probe3.jsonl`); walked back up the
+/// central path and down, it reaches IPOPT's gait too, which is returned, certified as
+/// every gait ([`recentre`](purcell_solver::solver::recentre)). About 10 s.
+#[test]
+fn a_limited_answer_walked_back_up_the_central_path_reaches_ipopts_cheaper_gait() {
+    let problem = Problem::new(&Spec {
+        target: [-0.053, -0.226, 0.53],
+        alpha_max: Some(1.5),
+        ..Spec::default()
+    })
+    .unwrap();
+    let s = solve(&problem, &SolveOptions::default(), &|| {}).unwrap();
+    assert!(s.recentred && s.flown.is_none());
+    let x = &s.extremals[s.best];
+    assert!((x.cost - 4.1770333).abs() <= 1e-6, "{}", x.cost);
+    assert!(x.admissible && x.local_min && x.hits == 0);
+    assert_eq!(x.arcs.len(), 7);
+    let searched = s.extremals.iter().find(|y| !std::ptr::eq(*y, x)).unwrap();
+    assert!(
+        (searched.cost - 4.1967975).abs() <= 1e-6,
+        "{}",
+        searched.cost
+    );
+}
+
+/// An extremal's hits are every start whose coarse minimum the refinement carried to it, on
+/// the problem's grid or meeting its path on a finer grid (repeats), twins apart: on the turn
+/// (0, 0, 0.3) within 1.1 rad the coarse grid splits the cheapest gait's basin into many
+/// minima, each reached from one or two starts, and the gait is reached from more starts than
+/// any one of them; no start is counted twice. About 6 s.
+#[test]
+fn an_extremals_hits_count_every_start_that_reached_it() {
+    let problem = Problem::new(&Spec {
+        target: [0.0, 0.0, 0.3],
+        alpha_max: Some(1.1),
+        ..Spec::default()
+    })
+    .unwrap();
+    let s = solve(&problem, &SolveOptions::default(), &|| {}).unwrap();
+    let e = s.search.as_ref().unwrap();
+    let most = e.minima.iter().map(|m| m.hits).max().unwrap();
+    let x = &s.extremals[s.best];
+    assert!(x.hits > most, "{} hits, a minimum {most}", x.hits);
+    let counted: usize = s.extremals.iter().map(|y| y.hits).sum();
+    let reached: usize = e.minima.iter().map(|m| m.hits).sum();
+    assert!(counted <= reached, "{counted} > {reached}");
+}

@@ -276,6 +276,7 @@ pub fn solve_from(
                 extremals: vec![x],
                 search: None,
                 flown: None,
+                recentred: false,
             }),
             None,
         ),

@@ -2,11 +2,10 @@
 //! it settles on: the cheapest admissible fine extremal, the others and the candidates not
 //! refined ([`refine_candidates`]).
 
-use super::{Controls, PRIMAL, Stop, Trail, carry, extremal, finer_grid};
+use super::filed::{Filed, OnGrids};
+use super::{PRIMAL, Stop, carry, extremal, finer_grid};
 use crate::problem::Problem;
-use crate::solver::direct::Run;
 use crate::solver::grid;
-use crate::solver::grid::Grid;
 use crate::solver::homotopy::Steps;
 use crate::solver::progress::Progress;
 use crate::solver::search;
@@ -61,30 +60,26 @@ pub fn refine_candidates(
     best_residual: f64,
     progress: &dyn Progress,
 ) -> Result<(usize, Vec<Extremal>, Vec<Unrefined>), SolveError> {
-    let mut extremals: Vec<(Extremal, f64)> = Vec::new();
+    let mut filed = Filed::default();
     let mut unrefined: Vec<Unrefined> = Vec::new();
     let coarse_error = coarse_error(problem);
     // Candidates tried, those of them not counted (repeats and prunes, see above), and those
     // whose primal route stalled, each with its place in `unrefined`.
     let (mut tried, mut uncounted, mut stalls) = (0, 0, Vec::new());
     let mut skipped = Vec::new();
-    // The intermediate grids' paths of the refinements that reached an extremal.
-    let mut trails = Vec::new();
     // The smallest stationarity of the refinements that stalled in it.
     let mut stalled = None;
     // The cost of the settled extremal on each intermediate grid of its refinement.
-    let mut settled_on: Vec<(usize, f64)> = Vec::new();
-    // The candidates tried whose refinement did not stall, for their twins ([`twin_of`]).
-    let mut carried: Vec<&search::Candidate> = Vec::new();
+    let mut settled_on: OnGrids = Vec::new();
     for (pass, list) in passes(problem, candidates).into_iter().enumerate() {
         // Before the unresolved candidates: the settled cost, and the coarse cost of the
         // cheapest resolved candidate that settled an admissible extremal.
         let before = (
-            admissible(&extremals, |x, _| x.cost),
-            admissible(&extremals, |_, c| c),
+            admissible(&filed.extremals, |x, _| x.cost),
+            admissible(&filed.extremals, |_, c| c),
         );
         for (c, miss) in list {
-            let settled = admissible(&extremals, |x, _| x.cost);
+            let settled = admissible(&filed.extremals, |x, _| x.cost);
             let margin = if pass < 2 { 1.0 + coarse_error } else { 1.0 };
             let later = settled < before.0 || c.cost >= before.1;
             if settled.is_finite() && (pass == 1 && later || pass == 3) {
@@ -97,114 +92,33 @@ pub fn refine_candidates(
                 break;
             }
             tried += 1;
-            if twin_of(problem, c, &carried) {
+            if let Some(leads) = filed.twin_of(problem, c) {
                 uncounted += 1;
+                filed.reached(leads, c);
                 progress.tick();
                 continue;
             }
             let pulse = || progress.pulse();
             let bound = |steps| prune_bound(&settled_on, settled, steps);
-            let refined = carry(problem, (&c.u, &c.nu), &bound, &trails, PRIMAL, &pulse);
+            let route = (&bound, &filed.paths[..], PRIMAL);
+            let refined = carry(problem, (&c.u, &c.nu), route.0, route.1, route.2, &pulse);
             progress.tick();
-            let (fine, run, trail) = match refined {
-                Ok(refined) => refined,
-                Err(Stop::Dearer | Stop::Repeat) => {
-                    uncounted += 1;
-                    carried.push(c);
-                    continue;
+            match filed.carried(problem, c, refined, settled) {
+                Ok((new, on)) => {
+                    settled_on = on.unwrap_or(settled_on);
+                    uncounted += usize::from(!new);
                 }
                 Err(stop) => {
                     unrefined.push(stopped(c, stop, &mut stalled));
                     stalls.push((c, unrefined.len() - 1));
-                    continue;
                 }
-            };
-            carried.push(c);
-            let filed = (&mut extremals, &mut trails);
-            let (new, on) = file_refined(problem, c, (&fine, &run, trail), settled, filed);
-            if let Some(on) = on {
-                settled_on = on;
             }
-            uncounted += usize::from(!new);
         }
     }
-    let filed = (&mut extremals, &mut unrefined);
-    primal_dual_retries(problem, (&stalls, &trails), filed, progress);
+    primal_dual_retries(problem, &stalls, (&mut filed, &mut unrefined), progress);
     unrefined.extend(skipped);
     let evidence = (best_residual, stalled);
-    settle(problem, extremals, unrefined, tried, evidence)
-}
-
-/// Files the extremal that candidate `c` was refined to, `(grid, run)` with the paths and
-/// costs of its refinement's intermediate grids `trail`, with `extremals` (its twins too,
-/// [`twins`]), and their paths with `trails`: whether it was new, and if it is admissible
-/// and cheaper than `settled`, its cost on each intermediate grid.
-fn file_refined(
-    problem: &Problem,
-    c: &search::Candidate,
-    (grid, run, trail): (&Grid, &Run, Trail),
-    settled: f64,
-    (extremals, trails): (&mut Vec<(Extremal, f64)>, &mut Vec<Controls>),
-) -> (bool, Option<Vec<(usize, f64)>>) {
-    let x = extremal(problem, grid, run);
-    let on = (x.admissible && x.cost < settled)
-        .then(|| trail.iter().map(|(u, cost)| (u.len(), *cost)).collect());
-    let paths: Vec<Controls> = trail.into_iter().map(|(u, _)| u).collect();
-    let twins = twins(problem, (grid, run), &x, &paths);
-    trails.extend(paths);
-    let new = file(extremals, x, c, problem.h);
-    for (twin, paths) in twins {
-        file(extremals, twin, c, problem.h);
-        trails.extend(paths);
-    }
-    (new, on)
-}
-
-/// Under a joint limit, the twins of extremal `x`, refined as `(grid, run)`: its images under
-/// the symmetries of `problem` ([`symmetry::of_problem`]) that run another path, each with the
-/// images of the paths `trail` of its refinement's intermediate grids. A candidate of a twin's
-/// basin then stops as a repeat on an intermediate grid instead of being carried to the
-/// problem's grid beside it (`α_max = 1.1`, target (0, 0, 0.3): the front–rear twin of
-/// 1.5448608 cost a second refinement, 1 of the solve's 6.6 CPU-s). The image is exact and
-/// certified as every extremal; without a joint limit the search's twins are refined as they
-/// come (the refinement is a small share of those solves).
-fn twins(
-    problem: &Problem,
-    (grid, run): (&Grid, &Run),
-    x: &Extremal,
-    trail: &[Controls],
-) -> Vec<(Extremal, Vec<Controls>)> {
-    if problem.alpha_max.is_none() {
-        return Vec::new();
-    }
-    let controls = &x.trajectory.controls;
-    (symmetry::of_problem(problem).iter())
-        .filter(|sym| !grid::same_path(&sym.controls(controls), controls, problem.h))
-        .map(|sym| {
-            let (grid, run) = sym.run(grid, run);
-            let paths = trail.iter().map(|u| sym.controls(u)).collect();
-            (extremal(problem, &grid, &run), paths)
-        })
-        .collect()
-}
-
-/// Under a joint limit, whether candidate `c` runs the image of the coarse path of one of
-/// `carried` (candidates whose refinement reached an extremal or stopped as dearer or as a
-/// repeat) under a symmetry of `problem` ([`symmetry::of_problem`]): its refinement would
-/// follow the image of that one's, to the twin of its extremal, filed with it
-/// ([`file_refined`]), or stop where that one stopped (the images of every refinement's
-/// intermediate paths are known), so it is not carried. On a symmetric target the coarse
-/// minima come in such pairs (`α_max = 1.1`, target (0, 0, 0.3): 9 of the 27 candidates
-/// tried are the second of a pair; not carrying them takes 0.7 CPU-s off the solve's 5.5).
-fn twin_of(problem: &Problem, c: &search::Candidate, carried: &[&search::Candidate]) -> bool {
-    if problem.alpha_max.is_none() {
-        return false;
-    }
-    let h = problem.horizon() / c.u.len() as f64;
-    (symmetry::of_problem(problem).iter()).any(|sym| {
-        let image = sym.controls(&c.u);
-        (carried.iter()).any(|d| grid::same_path(&d.u, &image, h))
-    })
+    settle(problem, filed.extremals, unrefined, tried, evidence)
 }
 
 /// The candidates `stalls` whose primal route stalled, each with its place in the unrefined
@@ -213,11 +127,11 @@ fn twin_of(problem: &Problem, c: &search::Candidate, carried: &[&search::Candida
 /// they are without them (tried in place, one carried to a dearer extremal spent the budget
 /// before the candidate of the cheapest: `--alpha-max 1.4 --target -0.005,0.353,0.62`
 /// returned 9.6629928 against 9.2280061): their extremals filed with `extremals` (against
-/// the paths `trails` of the refinements that reached one), and taken off `unrefined`.
+/// the paths of the refinements that reached one), and taken off `unrefined`.
 fn primal_dual_retries(
     problem: &Problem,
-    (stalls, trails): (&[(&search::Candidate, usize)], &[Controls]),
-    (extremals, unrefined): (&mut Vec<(Extremal, f64)>, &mut Vec<Unrefined>),
+    stalls: &[(&search::Candidate, usize)],
+    (filed, unrefined): (&mut Filed, &mut Vec<Unrefined>),
     progress: &dyn Progress,
 ) {
     if problem.alpha_max.is_none() {
@@ -228,8 +142,9 @@ fn primal_dual_retries(
     let steps = (Steps::PrimalDual, PATIENCE[1]);
     let mut refined = Vec::new();
     for (c, i) in stalls {
+        let trails = &filed.paths;
         if let Ok((fine, run, _)) = carry(problem, (&c.u, &c.nu), &none, trails, steps, &pulse) {
-            file(extremals, extremal(problem, &fine, &run), c, problem.h);
+            filed.retried(extremal(problem, &fine, &run), c, problem.h);
             refined.push(*i);
         }
     }
@@ -259,18 +174,6 @@ fn prune_bound(on: &[(usize, f64)], settled: f64, steps: usize) -> f64 {
         PRUNE
     };
     at.map_or(settled, |(_, cost)| *cost) * (1.0 + margin)
-}
-
-/// Files `x`, refined from candidate `c`, unless `extremals` hold its path (controls at step
-/// `h`) already; whether it was new.
-fn file(extremals: &mut Vec<(Extremal, f64)>, x: Extremal, c: &search::Candidate, h: f64) -> bool {
-    let same = |o: &Extremal| grid::same_path(&o.trajectory.controls, &x.trajectory.controls, h);
-    let new = !extremals.iter().any(|(o, _)| same(o));
-    if new {
-        let (start, hits) = (c.start, c.hits);
-        extremals.push((Extremal { start, hits, ..x }, c.cost));
-    }
-    new
 }
 
 /// The least of `f(extremal, its candidate's coarse cost)` over the admissible `extremals`
@@ -435,8 +338,17 @@ fn mark_twins(problem: &Problem, extremals: &mut [Extremal]) {
 mod tests {
     use super::*;
     use crate::problem::Spec;
+    use crate::solver::direct::Run;
+    use crate::solver::grid::Grid;
     use crate::solver::search_coarse;
     use crate::solver::settings::LIMITED_STARTS;
+
+    /// What a refinement has filed once candidate `c` was carried and found dearer.
+    fn dearer<'a>(problem: &Problem, c: &'a search::Candidate) -> Filed<'a> {
+        let mut filed = Filed::default();
+        assert!(filed.carried(problem, c, Err(Stop::Dearer), 1.0).is_ok());
+        filed
+    }
 
     /// A limited extremal's twin under the front–rear swap is filed as its exact image (bit
     /// for bit, so not refined from a candidate of its own), with its arcs' images, and
@@ -492,7 +404,7 @@ mod tests {
         let (c, d) = (all.iter().enumerate())
             .find_map(|(i, d)| {
                 (all[..i].iter())
-                    .find(|c| twin_of(&problem, d, &[c]))
+                    .find(|c| dearer(&problem, c).twin_of(&problem, d).is_some())
                     .map(|c| (c, d))
             })
             .expect("a twin pair");
@@ -517,7 +429,7 @@ mod tests {
             ..spec
         })
         .unwrap();
-        assert!(!twin_of(&free, d, &[c]));
+        assert!(dearer(&free, c).twin_of(&free, d).is_none());
     }
 
     /// The paper's target within 0.95 rad: the coarse minima whose path misses the target by

@@ -6,6 +6,7 @@
 //! and the answer: [`refine_candidates`].
 
 mod candidates;
+mod filed;
 pub use candidates::refine_candidates;
 
 use super::constraints::joint_limit::Limits;
@@ -41,8 +42,9 @@ pub enum Stop {
     /// On an intermediate grid the extremal already cost more than the bound.
     Dearer,
     /// On an intermediate grid the path was one that an earlier refinement of the same
-    /// solve carried on to an extremal ([`refine_candidates`]).
-    Repeat,
+    /// solve carried on to an extremal ([`refine_candidates`]): its index among the known
+    /// paths.
+    Repeat(usize),
 }
 
 impl Stop {
@@ -51,7 +53,7 @@ impl Stop {
     pub fn defect(self) -> f64 {
         match self {
             Stop::Defect(d) | Stop::Stationarity { defect: d, .. } => d,
-            Stop::Dearer | Stop::Repeat => 0.0,
+            Stop::Dearer | Stop::Repeat(_) => 0.0,
         }
     }
 }
@@ -269,11 +271,8 @@ fn carry_through(
         if cost > bound(grid.steps) {
             return Err(Stop::Dearer);
         }
-        if known
-            .iter()
-            .any(|k| grid::same_path(k, &run.point.u, grid.h()))
-        {
-            return Err(Stop::Repeat);
+        if let Some(i) = (known.iter()).position(|k| grid::same_path(k, &run.point.u, grid.h())) {
+            return Err(Stop::Repeat(i));
         }
         trail.push((run.point.u.clone(), cost));
         u = run.point.u;
@@ -511,7 +510,7 @@ mod tests {
         assert_eq!(trail.iter().map(Vec::len).collect::<Vec<_>>(), [1024]);
         let again =
             |c: &search::Candidate| carry(&problem, (&c.u, &c.nu), &none, &trail, steps, &|| ());
-        assert_eq!(again(c).err(), Some(Stop::Repeat));
+        assert!(matches!(again(c).err(), Some(Stop::Repeat(_))));
         // The path of another extremal is no repeat of this one.
         let other = (found.candidates.iter()).find(|o| {
             refine(&problem, &o.u, &o.nu, f64::INFINITY, &|| ())
