@@ -103,7 +103,7 @@ pub fn refine_candidates(
             let route = (&bound, &filed.paths[..], PRIMAL);
             let refined = carry(problem, (&c.u, &c.nu), route.0, route.1, route.2, &pulse);
             progress.tick();
-            match filed.carried(problem, c, refined, settled) {
+            match filed.outcome(problem, c, refined, settled) {
                 Ok((new, on)) => {
                     settled_on = on.unwrap_or(settled_on);
                     uncounted += usize::from(!new);
@@ -346,7 +346,7 @@ mod tests {
     /// What a refinement has filed once candidate `c` was carried and found dearer.
     fn dearer<'a>(problem: &Problem, c: &'a search::Candidate) -> Filed<'a> {
         let mut filed = Filed::default();
-        assert!(filed.carried(problem, c, Err(Stop::Dearer), 1.0).is_ok());
+        assert!(filed.outcome(problem, c, Err(Stop::Dearer), 1.0).is_ok());
         filed
     }
 

@@ -35,7 +35,7 @@ impl<'a> Filed<'a> {
     /// an extremal with its twins ([`Filed::refined`]), a prune, or a repeat, whose starts
     /// are the extremal's it met. Whether a new extremal was found, and, for one admissible
     /// and cheaper than `settled`, its cost on each intermediate grid; a stall as it is.
-    pub(super) fn carried(
+    pub(super) fn outcome(
         &mut self,
         problem: &Problem,
         c: &'a search::Candidate,
