@@ -107,8 +107,8 @@ class Solution(Extremal):
     """m for a gait flown m times (a tight joint limit where the search led to no gait:
     the loop to the target's m-th root flown m times, refined); None otherwise."""
     recentred: bool
-    """Whether the gait (under a joint limit) was reached by walking the search's cheapest
-    gait back up the central path and down again, then refining it."""
+    """Whether the gait (under a joint limit) was reached by walking one of the refinement's
+    admissible gaits back up the central path and down again, then refining it."""
     def gait(self) -> bytes:
         """The binary gait file (`purcell-sim export`'s bytes)."""
     def costate(self) -> str:

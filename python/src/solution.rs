@@ -244,8 +244,8 @@ pub struct Solution {
     /// the loop to the target's `m`-th root, flown `m` times and refined), `m`; else `None`.
     #[pyo3(get)]
     flown: Option<usize>,
-    /// Whether the gait (under a joint limit) was reached by walking the search's cheapest gait
-    /// back up the central path and down again, and refining where that ended.
+    /// Whether the gait (under a joint limit) was reached by walking one of the refinement's
+    /// admissible gaits back up the central path and down again, and refining where that ended.
     #[pyo3(get)]
     recentred: bool,
     /// Its costate file, gait file and report, as the command line writes them.

@@ -90,7 +90,7 @@ pub(super) fn solve(
                 if e.rule_met { "met" } else { "not met" },
                 e.unseen_estimate,
                 if r.recentred {
-                    "the gait reached from the cheapest of them walked back up the central \
+                    "the gait reached from one of their gaits walked back up the central \
                      path and down"
                         .to_string()
                 } else {

@@ -24,8 +24,8 @@
 //!    under a joint limit (or if the search's start loops reached no minimum within it),
 //!    [`periodic`]: the problem for the `m`-th root of the target in `N/m` steps solved by
 //!    steps 1–3, its gait flown `m` times and refined (the cheaper answer returned);
-//!    under a joint limit, the answer of steps 2–3 walked back up the central path and down
-//!    again ([`recentre`]; refined and returned where that reaches a cheaper gait);
+//!    under a joint limit, the admissible gaits of steps 2–3 walked back up the central path
+//!    and down again ([`recentre`]; refined and returned where that reaches a cheaper gait);
 //! 4. [`costate`]: `(μ, ξ^{−1})` and the costate path from the multipliers;
 //! 5. [`certificate`]: independent checks (the core's law reproduces the controls, the
 //!    controls reach the target through the core's kinematics, KKT by reverse mode);
@@ -83,7 +83,7 @@ pub fn coarse_grid(problem: &Problem, options: &SolveOptions) -> Option<Grid> {
 
 /// Solves from many starts (see the module docs); `progress` has the phases `search` (a
 /// tick per start, the zero loop included), `refinement` (a tick per candidate) and under a
-/// joint limit `recentring` ([`recentre`]: the search's answer, not a flown gait).
+/// joint limit `recentring` ([`recentre`]: the refinement's gaits, not a flown gait).
 ///
 /// When the search found minima but the refinement carried none to the problem's grid and
 /// none even met the terminal defect there ([`SolveError::NotRefined`] without a stalled

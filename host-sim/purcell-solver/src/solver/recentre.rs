@@ -1,23 +1,26 @@
-//! A limited answer walked back up the central path and down again (issue 33).
+//! A limited solve's gaits walked back up the central path and down again (issue 33).
 //!
 //! Under a joint limit the search's cheapest gait rests on arcs of the limit found on a
 //! 64-step grid, and a neighbouring basin may hold a cheaper gait that no start loop reached:
 //! IPOPT started from our gait for `--alpha-max 1.5 --target -0.053,-0.226,0.53` (a random
 //! probe, `peers/probe3.json` p17-5) first lifts it off its arcs with its first barrier
 //! weight `μ₀ = 0.1`, and the path down ends on 7 arcs at J = 4.1770333, where we returned
-//! 4.1967975 on 10. [`recentred`] does the same: the answer sampled on [`RECENTRE_STEPS`]
-//! steps, just inside the limit, walked along the barrier path from `τ = 0.1`
+//! 4.1967975 on 10. [`recentred`] does the same from each admissible extremal the refinement
+//! found, the answer and the dearer ones: the extremal sampled on [`RECENTRE_STEPS`] steps,
+//! just inside the limit, walked along the barrier path from `τ = 0.1`
 //! ([`CENTRAL_PATHS`]`[1]`, 0.01–0.1 s). A walk that ends in another basin (farther than
-//! [`RECENTRE_SAME`] from the answer's path) and costs less there than the answer does on the
-//! problem's grid is refined to the problem's grid as a candidate is ([`refine`], given up
-//! once it costs more than the answer on a grid of [`super::settings::GRADUAL_STEPS`] steps
-//! or more, [`FINE_PRUNE`]), and a cheaper admissible extremal it reaches (not the answer's
-//! own path) is returned, certified as every other. On 27 limited problems the walks back
-//! into the answer's basin cost 0.05 % less to 0.6 % more on their 256 steps than the answer
-//! on the problem's grid, and three walks that ended elsewhere (0.33–0.96 rad away) 0.18–0.42
-//! % more (refined without the cost test: none cheaper, one back at the answer after 10 s);
-//! p17-5's walk, 0.45 % less. A
-//! walk that ends in the answer's basin, or dearer, costs only the walk.
+//! [`RECENTRE_SAME`] from the extremal's path) and costs less there than the answer does on
+//! the problem's grid (or than a cheaper extremal already reached) is refined to the
+//! problem's grid as a candidate is ([`refine`], given up once it costs more than that on a
+//! grid of [`super::settings::GRADUAL_STEPS`] steps or more, [`FINE_PRUNE`]), and the cheapest
+//! admissible extremal reached is returned, certified as every other. On 27 limited problems
+//! the walks back into the answer's basin cost 0.05 % less to 0.6 % more on their 256 steps
+//! than the answer on the problem's grid, and three walks that ended elsewhere (0.33–0.96 rad
+//! away) 0.18–0.42 % more (refined without the cost test: none cheaper, one back at the
+//! answer after 10 s); p17-5's walk, 0.45 % less. Not only the answer's: at p17-5 the
+//! refinement now also reaches 4.1912378 (8 arcs), the answer, whose walk stays in its basin,
+//! while the walk of 4.1967975 reaches 4.1770333. A walk that ends in its extremal's basin,
+//! or dearer, costs only the walk.
 
 use super::grid::{self, Grid, Point};
 use super::homotopy;
@@ -29,18 +32,23 @@ use super::solution::{Extremal, Solution};
 use crate::problem::Problem;
 use nalgebra::Vector5;
 
-/// `solution` of `problem` (under a joint limit; otherwise as it is) with the extremal its
-/// answer's recentred walk reaches, if that is admissible and cheaper, returned instead
-/// ([`Solution::recentred`]; see the module docs). `pulse` before each Newton iteration.
+/// `solution` of `problem` (under a joint limit; otherwise as it is) with the cheapest
+/// extremal that the recentred walks of its admissible extremals reach, if that is admissible
+/// and cheaper than its answer, returned instead ([`Solution::recentred`]; see the module
+/// docs). `pulse` before each Newton iteration.
 pub fn recentred(problem: &Problem, mut solution: Solution, pulse: &dyn Fn()) -> Solution {
-    let Some(x) = problem.alpha_max.and_then(|alpha_max| {
-        walked(
-            problem,
-            &solution.extremals[solution.best],
-            alpha_max,
-            pulse,
-        )
-    }) else {
+    let Some(alpha_max) = problem.alpha_max else {
+        return solution;
+    };
+    let mut cheapest: Option<Extremal> = None;
+    for o in solution.extremals.iter().filter(|o| o.admissible) {
+        let bound = cheapest
+            .as_ref()
+            .unwrap_or(&solution.extremals[solution.best])
+            .cost;
+        cheapest = walked(problem, o, bound, alpha_max, pulse).or(cheapest);
+    }
+    let Some(x) = cheapest else {
         return solution;
     };
     // Cheapest first: after every extremal that costs no more, the twins' indices shifted.
@@ -56,27 +64,34 @@ pub fn recentred(problem: &Problem, mut solution: Solution, pulse: &dyn Fn()) ->
     solution
 }
 
-/// The admissible extremal cheaper than the answer `x` that its walk back up the central
-/// path under the limit `alpha_max` reaches, if any (see the module docs).
-fn walked(problem: &Problem, x: &Extremal, alpha_max: f64, pulse: &dyn Fn()) -> Option<Extremal> {
+/// The admissible extremal cheaper than `bound` (the answer's cost, or a cheaper one's) that
+/// the walk of extremal `x` back up the central path under the limit `alpha_max` reaches, if
+/// any (see the module docs).
+fn walked(
+    problem: &Problem,
+    x: &Extremal,
+    bound: f64,
+    alpha_max: f64,
+    pulse: &dyn Fn(),
+) -> Option<Extremal> {
     let grid = Grid::mimic(problem, RECENTRE_STEPS.min(problem.steps as usize)).ok()?;
     let sampled = grid::prolong(&x.trajectory.controls, grid.steps);
     // Strictly inside the limit, as the barrier path needs it.
-    let bound = (1.0 - FINE_TAUS[0]) * alpha_max;
-    let inside = homotopy::clip_into(&sampled, &problem.alpha0, bound, grid.h());
+    let inside = (1.0 - FINE_TAUS[0]) * alpha_max;
+    let inside = homotopy::clip_into(&sampled, &problem.alpha0, inside, grid.h());
     let start = Point::new(&grid, inside, Vector5::zeros()).ok()?;
     let settings = Settings::barrier(PATIENCE[1]);
     let walk = homotopy::walk(&grid, alpha_max, CENTRAL_PATHS[1], start, &settings, pulse).ok()?;
     let end = &walk.run.point;
     let elsewhere = grid::path_distance(&end.u, &sampled, grid.h()) > RECENTRE_SAME;
-    if !walk.run.converged() || !elsewhere || grid.cost(&end.u, &end.states) >= x.cost {
+    if !walk.run.converged() || !elsewhere || grid.cost(&end.u, &end.states) >= bound {
         return None;
     }
     // The bound holds from the first finer grid, GRADUAL_STEPS steps: like with like there.
-    let (fine, run) = refine(problem, &end.u, &end.nu, x.cost * (1.0 + FINE_PRUNE), pulse).ok()?;
+    let (fine, run) = refine(problem, &end.u, &end.nu, bound * (1.0 + FINE_PRUNE), pulse).ok()?;
     let y = extremal(problem, &fine, &run);
-    let same = grid::same_path(&y.trajectory.controls, &x.trajectory.controls, problem.h);
-    (y.admissible && y.cost < x.cost && !same).then_some(Extremal {
+    // Cheaper than the answer, the cheapest admissible extremal: none of the solution's.
+    (y.admissible && y.cost < bound).then_some(Extremal {
         start: 0,
         hits: 0,
         ..y

@@ -296,12 +296,12 @@ pub const PERIODIC_PATIENCE: usize = 3000;
 /// Steps of the grid on which a flown gait is sampled for its refinement's second start
 /// ([`super::periodic`]): the first of the gradual grids ([`GRADUAL_STEPS`] / 4).
 pub const FLOWN_SAMPLE: usize = GRADUAL_STEPS / 4;
-/// Steps of the grid on which a limited answer is walked back up the central path and down
-/// again ([`super::recentre`]): the first of the gradual grids, as [`FLOWN_SAMPLE`].
+/// Steps of the grid on which a limited solve's gaits are walked back up the central path
+/// and down again ([`super::recentre`]): the first of the gradual grids, as [`FLOWN_SAMPLE`].
 pub const RECENTRE_STEPS: usize = GRADUAL_STEPS / 4;
 /// A recentred walk ([`super::recentre`]) that ends within this distance (radians, largest
-/// at any node, [`super::grid::path_distance`]) of the answer's own path sampled on its grid
-/// is in the answer's basin and is not refined. On 27 limited problems (issue 33, twenty-second
+/// at any node, [`super::grid::path_distance`]) of its gait's own path sampled on its grid
+/// is in that gait's basin and is not refined. On 27 limited problems (issue 33, twenty-second
 /// session) the walks back into the answer's basin ended 0.002–0.15 rad from it; the one that
 /// reached IPOPT's cheaper gait (`--alpha-max 1.5 --target -0.053,-0.226,0.53`) 1.72 rad.
 pub const RECENTRE_SAME: f64 = 0.25;

@@ -117,8 +117,9 @@ pub struct Solution {
     /// the gait of the target's `m`-th root in `N/m` steps flown `m` times
     /// ([`super::periodic`]).
     pub flown: Option<usize>,
-    /// Whether the returned extremal was reached by walking the search's cheapest gait back up
-    /// the central path and down again, and refining where that ended ([`super::recentre`]):
+    /// Whether the returned extremal was reached by walking one of the refinement's admissible
+    /// gaits back up the central path and down again, and refining where that ended
+    /// ([`super::recentre`]):
     /// it was reached from no start ([`Extremal::hits`] 0).
     pub recentred: bool,
 }
