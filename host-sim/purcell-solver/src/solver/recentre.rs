@@ -6,13 +6,13 @@
 //! probe, `peers/probe3.json` p17-5) first lifts it off its arcs with its first barrier
 //! weight `μ₀ = 0.1`, and the path down ends on 7 arcs at J = 4.1770333, where we returned
 //! 4.1967975 on 10. [`recentred`] does the same from each admissible extremal the refinement
-//! found, the answer and the dearer ones: the extremal sampled on [`RECENTRE_STEPS`] steps,
+//! found, the answer and the dearer ones: the extremal sampled on [`RECENTRE_STEPS`](super::settings::RECENTRE_STEPS) steps,
 //! just inside the limit, walked along the barrier path from `τ = 0.1`
-//! ([`CENTRAL_PATHS`]`[1]`, 0.01–0.1 s). A walk that ends in another basin (farther than
+//! ([`CENTRAL_PATHS`](super::settings::CENTRAL_PATHS)`[1]`, 0.01–0.1 s). A walk that ends in another basin (farther than
 //! [`RECENTRE_SAME`] from the extremal's path) and costs less there than the answer does on
 //! the problem's grid (or than a cheaper extremal already reached) is refined to the
-//! problem's grid as a candidate is ([`refine`], given up once it costs more than that on a
-//! grid of [`super::settings::GRADUAL_STEPS`] steps or more, [`FINE_PRUNE`]), and the cheapest
+//! problem's grid as a candidate is ([`refine`](super::refine), given up once it costs more than that on a
+//! grid of [`super::settings::GRADUAL_STEPS`] steps or more, [`FINE_PRUNE`](super::settings::FINE_PRUNE)), and the cheapest
 //! admissible extremal reached is returned, certified as every other. On 27 limited problems
 //! the walks back into the answer's basin cost 0.05 % less to 0.6 % more on their 256 steps
 //! than the answer on the problem's grid, and three walks that ended elsewhere (0.33–0.96 rad
@@ -21,16 +21,18 @@
 //! refinement now also reaches 4.1912378 (8 arcs), the answer, whose walk stays in its basin,
 //! while the walk of 4.1967975 reaches 4.1770333. A walk that ends in its extremal's basin,
 //! or dearer, costs only the walk.
+//!
+//! The refinement walks so too the coarse minima whose refinement stalled on both of its
+//! routes and that cost less on the coarse grid than its settled gait
+//! ([`super::refinement::refine_candidates`]): from the central path's far end Newton reaches
+//! on the finer grids what it does not from the coarse minimum prolonged (`--alpha-max 1.2
+//! --ratio 2.2 --target 0.087,0.28,0.14`, `peers/probe4.json` p18-3: 9.3519385 from the coarse
+//! minimum 9.7390, where the refinement had settled 9.9472948 and IPOPT found 9.9436241).
 
-use super::grid::{self, Grid, Point};
-use super::homotopy;
-use super::refinement::{extremal, refine};
-use super::settings::{
-    CENTRAL_PATHS, FINE_PRUNE, FINE_TAUS, PATIENCE, RECENTRE_SAME, RECENTRE_STEPS, Settings,
-};
+use super::refinement::walked;
+use super::settings::RECENTRE_SAME;
 use super::solution::{Extremal, Solution};
 use crate::problem::Problem;
-use nalgebra::Vector5;
 
 /// `solution` of `problem` (under a joint limit; otherwise as it is) with the cheapest
 /// extremal that the recentred walks of its admissible extremals reach, if that is admissible
@@ -46,7 +48,8 @@ pub fn recentred(problem: &Problem, mut solution: Solution, pulse: &dyn Fn()) ->
             .as_ref()
             .unwrap_or(&solution.extremals[solution.best])
             .cost;
-        cheapest = walked(problem, o, bound, alpha_max, pulse).or(cheapest);
+        let u = &o.trajectory.controls;
+        cheapest = walked(problem, u, (RECENTRE_SAME, bound), alpha_max, pulse).or(cheapest);
     }
     let Some(x) = cheapest else {
         return solution;
@@ -62,38 +65,4 @@ pub fn recentred(problem: &Problem, mut solution: Solution, pulse: &dyn Fn()) ->
     solution.best = at;
     solution.recentred = true;
     solution
-}
-
-/// The admissible extremal cheaper than `bound` (the answer's cost, or a cheaper one's) that
-/// the walk of extremal `x` back up the central path under the limit `alpha_max` reaches, if
-/// any (see the module docs).
-fn walked(
-    problem: &Problem,
-    x: &Extremal,
-    bound: f64,
-    alpha_max: f64,
-    pulse: &dyn Fn(),
-) -> Option<Extremal> {
-    let grid = Grid::mimic(problem, RECENTRE_STEPS.min(problem.steps as usize)).ok()?;
-    let sampled = grid::prolong(&x.trajectory.controls, grid.steps);
-    // Strictly inside the limit, as the barrier path needs it.
-    let inside = (1.0 - FINE_TAUS[0]) * alpha_max;
-    let inside = homotopy::clip_into(&sampled, &problem.alpha0, inside, grid.h());
-    let start = Point::new(&grid, inside, Vector5::zeros()).ok()?;
-    let settings = Settings::barrier(PATIENCE[1]);
-    let walk = homotopy::walk(&grid, alpha_max, CENTRAL_PATHS[1], start, &settings, pulse).ok()?;
-    let end = &walk.run.point;
-    let elsewhere = grid::path_distance(&end.u, &sampled, grid.h()) > RECENTRE_SAME;
-    if !walk.run.converged() || !elsewhere || grid.cost(&end.u, &end.states) >= bound {
-        return None;
-    }
-    // The bound holds from the first finer grid, GRADUAL_STEPS steps: like with like there.
-    let (fine, run) = refine(problem, &end.u, &end.nu, bound * (1.0 + FINE_PRUNE), pulse).ok()?;
-    let y = extremal(problem, &fine, &run);
-    // Cheaper than the answer, the cheapest admissible extremal: none of the solution's.
-    (y.admissible && y.cost < bound).then_some(Extremal {
-        start: 0,
-        hits: 0,
-        ..y
-    })
 }

@@ -4,6 +4,7 @@
 use purcell_solver::problem::{Problem, Spec};
 use purcell_solver::solver::continuation::{Warm, continue_to};
 use purcell_solver::solver::recentre::recentred;
+use purcell_solver::solver::refinement::walked;
 use purcell_solver::solver::settings::{LIMITED_MIN_STARTS, NEAR_TARGET, UNRESOLVED};
 use purcell_solver::solver::{
     Extremal, Solution, SolveOptions, Stop, refine, search_coarse, solve,
@@ -293,6 +294,40 @@ fn a_limited_gait_walked_back_up_the_central_path_reaches_ipopts_cheaper_gait() 
     assert!(!alone.recentred && alone.extremals.len() == 1);
     let both = walked(refined);
     assert!(both.recentred && both.extremals[both.best].cost == x.cost);
+}
+
+/// A random probe's far sideways move within 1.2 rad (`--alpha-max 1.2 --ratio 2.2 --target
+/// 0.087,0.28,0.14`, `peers/probe4.json` p18-3): on the 128-step grid (the 64-step one's
+/// minima do not refine) the coarse minimum of J 9.7390 stalls on both of the refinement's
+/// routes, while walked back up the central path from `τ = 0.1` on 256 steps and down it
+/// reaches 9.3519385 on 18 arcs, certified, where the refinement settled 9.9472948 before
+/// and IPOPT from a circle found 9.9436241 (`--max-cpu 900`). About 20 s.
+#[test]
+fn a_stalled_coarse_minimum_walked_back_up_the_central_path_reaches_a_cheaper_gait() {
+    let problem = Problem::new(&Spec {
+        target: [0.087, 0.28, 0.14],
+        ratio: 2.2,
+        alpha_max: Some(1.2),
+        ..Spec::default()
+    })
+    .unwrap();
+    let options = SolveOptions {
+        coarse_steps: 128,
+        ..SolveOptions::default()
+    };
+    let found = search_coarse(&problem, &options, &|| {}).unwrap();
+    let c = (found.candidates.iter())
+        .find(|c| (c.cost - 9.7390).abs() <= 1e-4)
+        .expect("the coarse minimum");
+    let stalled = refine(&problem, &c.u, &c.nu, f64::INFINITY, &|| {}).err();
+    assert!(
+        matches!(stalled, Some(Stop::Defect(_) | Stop::Stationarity { .. })),
+        "{stalled:?}"
+    );
+    let x = walked(&problem, &c.u, (0.0, 9.9472948), 1.2, &|| {}).expect("a cheaper gait");
+    assert!((x.cost - 9.3519385).abs() <= 1e-6, "{}", x.cost);
+    assert!(x.admissible && x.local_min && x.arcs.len() == 18);
+    assert!(x.kkt_residual.is_some_and(|r| r <= 1e-8));
 }
 
 /// An extremal's hits are every start whose coarse minimum the refinement carried to it, on

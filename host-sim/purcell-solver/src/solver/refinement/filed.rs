@@ -93,7 +93,7 @@ impl<'a> Filed<'a> {
     }
 
     /// Files `x`, refined from candidate `c` by a later route ([`super::candidates`]'s
-    /// primal–dual retries), `c`'s starts counted as its.
+    /// retries of stalled candidates), `c`'s starts counted as its.
     pub(super) fn retried(&mut self, x: Extremal, c: &search::Candidate, h: f64) {
         let (i, _) = self.file(x, c, h);
         self.reached(Some(i), c);

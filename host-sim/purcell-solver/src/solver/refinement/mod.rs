@@ -6,8 +6,10 @@
 //! and the answer: [`refine_candidates`].
 
 mod candidates;
+mod central;
 mod filed;
 pub use candidates::refine_candidates;
+pub use central::walked;
 
 use super::constraints::joint_limit::Limits;
 use super::cost::{Costs, StageCost};
