@@ -6,14 +6,15 @@
 //! probe, `peers/probe3.json` p17-5) first lifts it off its arcs with its first barrier
 //! weight `μ₀ = 0.1`, and the path down ends on 7 arcs at J = 4.1770333, where we returned
 //! 4.1967975 on 10. [`recentred`] does the same from each admissible extremal the refinement
-//! found, the answer and the dearer ones: the extremal sampled on [`RECENTRE_STEPS`](super::settings::RECENTRE_STEPS) steps,
-//! just inside the limit, walked along the barrier path from `τ = 0.1`
-//! ([`CENTRAL_PATHS`](super::settings::CENTRAL_PATHS)`[1]`, 0.01–0.1 s). A walk that ends in another basin (farther than
-//! [`RECENTRE_SAME`] from the extremal's path) and costs less there than the answer does on
-//! the problem's grid (or than a cheaper extremal already reached) is refined to the
-//! problem's grid as a candidate is ([`refine`](super::refine), given up once it costs more than that on a
-//! grid of [`super::settings::GRADUAL_STEPS`] steps or more, [`FINE_PRUNE`](super::settings::FINE_PRUNE)), and the cheapest
-//! admissible extremal reached is returned, certified as every other. On 27 limited problems
+//! found, the answer and the dearer ones ([`walked`]): the extremal sampled on
+//! [`RECENTRE_STEPS`](super::settings::RECENTRE_STEPS) steps, just inside the limit, walked
+//! along the barrier path from `τ = 0.1` ([`CENTRAL_PATHS`](super::settings::CENTRAL_PATHS)`[1]`,
+//! 0.01–0.1 s). A walk that ends in another basin (farther than [`RECENTRE_SAME`] from the
+//! extremal's path) and costs less there than the answer does on the problem's grid (or than
+//! a cheaper extremal already reached) is refined to the problem's grid as a candidate is
+//! ([`refine`](super::refine), given up once it costs more than that on a grid of
+//! [`super::settings::GRADUAL_STEPS`] steps or more, [`FINE_PRUNE`](super::settings::FINE_PRUNE)),
+//! and the cheapest admissible extremal reached is returned, certified as every other. On 27 limited problems
 //! the walks back into the answer's basin cost 0.05 % less to 0.6 % more on their 256 steps
 //! than the answer on the problem's grid, and three walks that ended elsewhere (0.33–0.96 rad
 //! away) 0.18–0.42 % more (refined without the cost test: none cheaper, one back at the

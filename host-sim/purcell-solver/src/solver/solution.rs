@@ -119,8 +119,7 @@ pub struct Solution {
     pub flown: Option<usize>,
     /// Whether the returned extremal was reached by walking one of the refinement's admissible
     /// gaits back up the central path and down again, and refining where that ended
-    /// ([`super::recentre`]):
-    /// it was reached from no start ([`Extremal::hits`] 0).
+    /// ([`super::recentre`]): it was reached from no start ([`Extremal::hits`] 0).
     pub recentred: bool,
 }
 

@@ -163,9 +163,12 @@ fn retry_stalls(
             refined.push(*i);
             continue;
         }
-        let settled = admissible(&filed.extremals, |x, _| x.cost);
-        let walk = || walked(problem, &c.u, (0.0, settled), alpha_max, &pulse);
-        if let Some(x) = before.filter(|b| c.cost < *b).and_then(|_| walk()) {
+        // Against the cheapest settled so far, the retries' included.
+        let walk = |_| {
+            let settled = admissible(&filed.extremals, |x, _| x.cost);
+            walked(problem, &c.u, (0.0, settled), alpha_max, &pulse)
+        };
+        if let Some(x) = before.filter(|b| c.cost < *b).and_then(walk) {
             filed.retried(x, c, problem.h);
             refined.push(*i);
         }

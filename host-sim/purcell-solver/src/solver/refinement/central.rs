@@ -41,10 +41,7 @@ pub fn walked(
     // The bound holds from the first finer grid, GRADUAL_STEPS steps: like with like there.
     let (fine, run) = refine(problem, &end.u, &end.nu, bound * (1.0 + FINE_PRUNE), pulse).ok()?;
     let y = extremal(problem, &fine, &run);
-    // Cheaper than the settled answer, the cheapest admissible extremal: none of those found.
-    (y.admissible && y.cost < bound).then_some(Extremal {
-        start: 0,
-        hits: 0,
-        ..y
-    })
+    // Cheaper than the settled answer, the cheapest admissible extremal: none of those found
+    // (reached from no start: `extremal` leaves its start and hits 0).
+    (y.admissible && y.cost < bound).then_some(y)
 }
