@@ -24,11 +24,13 @@
 //! or dearer, costs only the walk.
 //!
 //! The refinement walks so too the coarse minima whose refinement stalled on both of its
-//! routes and that cost less on the coarse grid than its settled gait
-//! ([`super::refinement::refine_candidates`]): from the central path's far end Newton reaches
-//! on the finer grids what it does not from the coarse minimum prolonged (`--alpha-max 1.2
-//! --ratio 2.2 --target 0.087,0.28,0.14`, `peers/probe4.json` p18-3: 9.3519385 from the coarse
-//! minimum 9.7390, where the refinement had settled 9.9472948 and IPOPT found 9.9436241).
+//! routes, and those that miss the target by more than 5 % on the next grid, that cost less
+//! on the coarse grid than its settled gait ([`super::refinement::refine_candidates`]): from
+//! the central path's far end Newton reaches on the finer grids what it does not from the
+//! coarse minimum prolonged (`--alpha-max 1.2 --ratio 2.2 --target 0.087,0.28,0.14`,
+//! `peers/probe4.json` p18-3: 9.3519385 from the coarse minimum 9.7390, where the refinement
+//! had settled 9.9472948 and IPOPT found 9.9436241; p17-5: twenty far misses reach
+//! 4.1770333, which the recentring found before).
 
 use super::refinement::walked;
 use super::settings::RECENTRE_SAME;

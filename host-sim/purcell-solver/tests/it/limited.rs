@@ -168,12 +168,13 @@ fn the_cheapest_gait_within_1_3_rad_is_every_seeds() {
 /// The paper's target within `|α_i| ≤ 0.95` (issue 33) from a coarse grid too coarse for it:
 /// on 32 steps no start of the search converges, the best ending within [`NEAR_TARGET`] of the
 /// displacement (of 128 starts, 3.0e-4 from the target), so `solve` searches again on 64 steps and returns
-/// the gait the default 64-step search does (3.5905650 on 14 arcs, `purcell-sim solve
+/// the gait the default 64-step search does (3.4649234 on 14 arcs, `purcell-sim solve
 /// --alpha-max 0.95`), dearer than the 2.9734287 of `α_max = 1` (a looser limit is never
 /// dearer). (With the search of main 5289f99 the 64-step grid's minima did not refine either
 /// and the finer grids' search returned 3.5905650 from 256 steps; until the unresolved
 /// candidates were refined as resolved ones where those settle none, the 64-step search
-/// returned 3.5985213 on 16 arcs.) The default budget of 512
+/// returned 3.5985213 on 16 arcs, then 3.5905650 until the coarse minima that miss the target
+/// by more than 5 % were walked back up the central path.) The default budget of 512
 /// starts: with 128 the 64-step search returns 3.8426862 (it did 3.5985213 while a path's
 /// weights were all solved to the run's tolerances). About 20 CPU-s.
 #[test]
@@ -192,7 +193,7 @@ fn a_tight_limit_whose_coarse_grid_is_too_coarse_is_searched_on_finer_grids() {
     assert!(found.best_residual <= NEAR_TARGET * problem.displacement());
     let s = solve(&problem, &options, &|| {}).unwrap();
     let best = &s.extremals[s.best];
-    assert!((best.cost - 3.5905650).abs() <= 1e-6, "{}", best.cost);
+    assert!((best.cost - 3.4649234).abs() <= 1e-6, "{}", best.cost);
     assert!(best.admissible && best.cost > 2.9734287);
     assert!(best.local_min && !best.arcs.is_empty());
 }
@@ -254,9 +255,12 @@ fn where_no_start_loop_reaches_the_limit_the_flown_gaits_are_tried_too() {
 /// rule not met), a later one 4.1912378 on 8, the answer of the refinement. IPOPT from
 /// 4.1967975 (its first barrier weight lifting it off its arcs) converges to 4.1770333 on 7
 /// arcs (`peers/ipopt-results/probe3.jsonl`). Walked back up the central path and down,
-/// 4.1912378 stays in its basin and 4.1967975 reaches IPOPT's gait, which is returned,
+/// 4.1912378 stays in its basin and 4.1967975 reaches IPOPT's gait, which was returned so,
 /// certified as every gait ([`recentre`](purcell_solver::solver::recentre)): so each admissible
-/// gait is walked, not only the answer. About 15 s.
+/// gait is walked, not only the answer. The refinement now reaches it first: its coarse
+/// minima that miss the target by more than 5 % on the next grid and cost less there than
+/// the settled gait are walked back up the central path too, and twenty of them reach it;
+/// the recentring then finds nothing cheaper. About 30 s.
 #[test]
 fn a_limited_gait_walked_back_up_the_central_path_reaches_ipopts_cheaper_gait() {
     let problem = Problem::new(&Spec {
@@ -266,10 +270,10 @@ fn a_limited_gait_walked_back_up_the_central_path_reaches_ipopts_cheaper_gait() 
     })
     .unwrap();
     let s = solve(&problem, &SolveOptions::default(), &|| {}).unwrap();
-    assert!(s.recentred && s.flown.is_none());
+    assert!(!s.recentred && s.flown.is_none());
     let x = &s.extremals[s.best];
     assert!((x.cost - 4.1770333).abs() <= 1e-6, "{}", x.cost);
-    assert!(x.admissible && x.local_min && x.hits == 0);
+    assert!(x.admissible && x.local_min && x.hits >= 10, "{}", x.hits);
     assert_eq!(x.arcs.len(), 7);
     let refined: Vec<Extremal> = (s.extremals.iter())
         .filter(|y| !std::ptr::eq(*y, x))
@@ -293,7 +297,11 @@ fn a_limited_gait_walked_back_up_the_central_path_reaches_ipopts_cheaper_gait() 
     let alone = walked(refined[..1].to_vec());
     assert!(!alone.recentred && alone.extremals.len() == 1);
     let both = walked(refined);
-    assert!(both.recentred && both.extremals[both.best].cost == x.cost);
+    let reached = both.extremals[both.best].cost;
+    assert!(
+        both.recentred && (reached - x.cost).abs() <= 1e-12 * x.cost,
+        "{reached}"
+    );
 }
 
 /// A random probe's far sideways move within 1.2 rad (`--alpha-max 1.2 --ratio 2.2 --target

@@ -85,6 +85,7 @@ pub fn refine(
     either(problem, |steps| {
         carry(problem, (u, nu), &bound, &[], (steps, PATIENCE[1]), pulse)
     })
+    .map(|(grid, run, _)| (grid, run))
 }
 
 /// [`refine`] without a bound, the barrier paths given `patience` iterations per weight where
@@ -101,6 +102,7 @@ pub fn refine_patiently(
     either(problem, |steps| {
         carry(problem, (u, nu), &none, &[], (steps, patience), pulse)
     })
+    .map(|(grid, run, _)| (grid, run))
 }
 
 /// [`carry`]'s first route of a search's candidate ([`refine_candidates`]): primal barrier
@@ -113,15 +115,14 @@ const PRIMAL: (Steps, usize) = (Steps::PrimalThenDual, PATIENCE[1]);
 fn either(
     problem: &Problem,
     carry: impl Fn(Steps) -> Result<(Grid, Run, Trail), Stop>,
-) -> Result<(Grid, Run), Stop> {
+) -> Result<(Grid, Run, Trail), Stop> {
     let primal = carry(Steps::Primal);
-    let carried = match primal {
+    match primal {
         Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
             carry(Steps::PrimalDual).or(primal)
         }
         _ => primal,
-    };
-    carried.map(|(grid, run, _)| (grid, run))
+    }
 }
 
 /// [`refine`], which also gives up with [`Stop::Repeat`] once an intermediate grid's path is
