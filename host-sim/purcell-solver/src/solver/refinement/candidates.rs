@@ -41,9 +41,9 @@ use crate::solver::symmetry;
 /// that misses by more than [`FAR_MISS`] comes last of all, and is carried only if nothing
 /// else settled an admissible extremal (at `α_max = 0.95` 31 such stalled, 25 s of Newton,
 /// before the one that settles); otherwise, if it costs less on the coarse grid than the
-/// settled one, it is walked back up the central path after the others. A candidate that costs more than the settled one on an
-/// intermediate grid (its cost on that grid, from its own refinement) stops there
-/// ([`PRUNE`]). Each extremal is kept with its candidate's
+/// settled one, it is walked back up the central path after the others. A candidate that
+/// costs more than the settled one on an intermediate grid (its cost on that grid, from its
+/// own refinement) stops there ([`PRUNE`]). Each extremal is kept with its candidate's
 /// coarse cost. The budget `options.refine` counts the candidates carried to a new extremal,
 /// not those that reach one already found (under a joint limit many coarse minima refine to
 /// the same extremal; most meet on the first finer grid and stop there, [`Stop::Repeat`]),
@@ -149,8 +149,9 @@ type Placed<'a> = (&'a search::Candidate, usize);
 /// returned 9.6629928 against 9.2280061). One that stalls on that route too and costs less on
 /// the coarse grid than the gait settled before these retries (any, if none settled), and
 /// each of the `far` ones (skipped as missing the target by more than [`FAR_MISS`] on the
-/// next grid, cheaper on the coarse grid than the gait settled then), is walked back up the central path and down, and carried from
-/// there as a candidate is ([`carry_walked`], against the settled gait and the paths known):
+/// next grid, cheaper on the coarse grid than the gait settled then), is walked back up the
+/// central path and down, and carried from there as a candidate is ([`carry_walked`],
+/// against the settled gait and the paths known):
 /// from the central path's far end Newton reaches what it does not from the coarse minimum
 /// prolonged. On `--alpha-max 1.2 --ratio 2.2 --target 0.087,0.28,0.14` the two cheapest
 /// coarse minima (9.4658, 9.7390 on 128 steps) stall on both routes, and walked reach

@@ -4,7 +4,7 @@
 //! coarse minimum whose refinement stalled or that the coarse grid does not resolve
 //! ([`carry_walked`], [`super::refine_candidates`]).
 
-use super::{Controls, PRIMAL, Stop, Trail, carry, either, extremal, refine};
+use super::{Controls, Stop, Trail, either, extremal, refine};
 use crate::problem::Problem;
 use crate::solver::direct::Run;
 use crate::solver::grid::{self, Grid, Point};
@@ -43,8 +43,9 @@ fn walk_down(
 
 /// The admissible extremal cheaper than `bound` that the controls `u` (of an extremal, on any
 /// grid) reach walked back up the central path under the limit `alpha_max` and down again
-/// (sampled on [`RECENTRE_STEPS`] steps, from `τ = 0.1`), and refined where the walk ends farther than `apart` from their own path
-/// and costs less than `bound` (see [`crate::solver::recentre`]'s docs).
+/// (sampled on [`RECENTRE_STEPS`] steps, from `τ = 0.1`), and refined where the walk ends
+/// farther than `apart` from their own path and costs less than `bound` (see
+/// [`crate::solver::recentre`]'s docs).
 pub fn walked(
     problem: &Problem,
     u: &[Vector2<f64>],
@@ -86,16 +87,13 @@ pub(super) fn carry_walked(
     if let Some(i) = (known.iter()).position(|k| grid::same_path(k, &end.u, grid.h())) {
         return Err(Stop::Repeat(i));
     }
-    let carried = either(problem, |steps| {
-        carry(
-            problem,
-            (&end.u, &end.nu),
-            bound,
-            known,
-            (steps, PRIMAL.1),
-            pulse,
-        )
-    });
+    let carried = either(
+        problem,
+        (&end.u, &end.nu),
+        (bound, known),
+        PATIENCE[1],
+        pulse,
+    );
     carried.map(|(fine, run, mut trail)| {
         trail.insert(0, (end.u, cost));
         (fine, run, trail)

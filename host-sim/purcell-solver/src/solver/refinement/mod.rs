@@ -82,10 +82,7 @@ pub fn refine(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let bound = |_| bound;
-    either(problem, |steps| {
-        carry(problem, (u, nu), &bound, &[], (steps, PATIENCE[1]), pulse)
-    })
-    .map(|(grid, run, _)| (grid, run))
+    either(problem, (u, nu), (&bound, &[]), PATIENCE[1], pulse).map(|(grid, run, _)| (grid, run))
 }
 
 /// [`refine`] without a bound, the barrier paths given `patience` iterations per weight where
@@ -99,10 +96,7 @@ pub fn refine_patiently(
     pulse: &dyn Fn(),
 ) -> Result<(Grid, Run), Stop> {
     let none = |_| f64::INFINITY;
-    either(problem, |steps| {
-        carry(problem, (u, nu), &none, &[], (steps, patience), pulse)
-    })
-    .map(|(grid, run, _)| (grid, run))
+    either(problem, (u, nu), (&none, &[]), patience, pulse).map(|(grid, run, _)| (grid, run))
 }
 
 /// [`carry`]'s first route of a search's candidate ([`refine_candidates`]): primal barrier
@@ -110,12 +104,17 @@ pub fn refine_patiently(
 /// ([`Steps::PrimalThenDual`]), [`PATIENCE`]`[1]`.
 const PRIMAL: (Steps, usize) = (Steps::PrimalThenDual, PATIENCE[1]);
 
-/// `carry(steps)` with primal barrier steps, and under a joint limit, if that stalls on some
-/// grid, with primal–dual ones (the first stop is returned if that stalls too).
+/// [`carry`] of `(u, nu)` against `(bound, known)` with primal barrier steps, and under a
+/// joint limit, if that stalls on some grid, with primal–dual ones (the first stop is
+/// returned if that stalls too); the barrier paths' second patience `patience`.
 fn either(
     problem: &Problem,
-    carry: impl Fn(Steps) -> Result<(Grid, Run, Trail), Stop>,
+    (u, nu): (&[Vector2<f64>], &Vector5<f64>),
+    (bound, known): (&dyn Fn(usize) -> f64, &[Controls]),
+    patience: usize,
+    pulse: &dyn Fn(),
 ) -> Result<(Grid, Run, Trail), Stop> {
+    let carry = |steps| carry(problem, (u, nu), bound, known, (steps, patience), pulse);
     let primal = carry(Steps::Primal);
     match primal {
         Err(Stop::Defect(_) | Stop::Stationarity { .. }) if problem.alpha_max.is_some() => {
